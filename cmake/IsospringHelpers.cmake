@@ -1,0 +1,43 @@
+# isospring_module(NAME DEPS...): the library isospring_NAME (alias isospring::NAME) built from
+# NAME/src/*.cpp with the public headers in NAME/include/isospring/NAME/.
+function(isospring_module name)
+  cmake_parse_arguments(ARG "" "" "PUBLIC;PRIVATE" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
+  if(NOT sources)
+    # A module still being written: header-only until its first source lands.
+    add_library(isospring_${name} INTERFACE)
+    add_library(isospring::${name} ALIAS isospring_${name})
+    target_include_directories(isospring_${name} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(isospring_${name} INTERFACE ${ARG_PUBLIC})
+    return()
+  endif()
+  add_library(isospring_${name} STATIC ${sources})
+  add_library(isospring::${name} ALIAS isospring_${name})
+  target_include_directories(isospring_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_link_libraries(isospring_${name} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
+  isospring_warnings(isospring_${name})
+endfunction()
+
+function(isospring_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra)
+endfunction()
+
+# isospring_test_suite(NAME LIBS...): one GoogleTest program per module from tests/NAME/*.cpp,
+# registered with CTest (label NAME). Tests find the repository and ../shared through
+# compile definitions so they run from any build directory.
+function(isospring_test_suite name)
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  if(NOT sources)
+    return()
+  endif()
+  add_executable(test_${name} ${sources})
+  target_link_libraries(test_${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(test_${name} PRIVATE
+    ISOSPRING_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    ISOSPRING_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared"
+    ISOSPRING_BINARY_DIR="${PROJECT_BINARY_DIR}"
+    ISOSPRING_EXECUTABLE="$<TARGET_FILE:isospring>")
+  target_include_directories(test_${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/common)
+  isospring_warnings(test_${name})
+  gtest_discover_tests(test_${name} PROPERTIES LABELS ${name} DISCOVERY_TIMEOUT 60)
+endfunction()
