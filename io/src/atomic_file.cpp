@@ -14,8 +14,11 @@ using nurbs::InputError;
 namespace {
 fs::path temporary_beside(const fs::path& path) {
   // The pid keeps two concurrent runs writing the same output from clobbering each other's temp.
-  return path.parent_path() /
-         ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
+  std::string name = ".";
+  name += path.filename().string();
+  name += ".tmp";
+  name += std::to_string(::getpid());
+  return path.parent_path() / name;
 }
 
 void ensure_parent(const fs::path& path) {

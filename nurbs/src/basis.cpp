@@ -85,6 +85,39 @@ void basis_derivatives(const KnotVector& knots, int span, double u, int n, doubl
   }
 }
 
+void basis_first_derivatives(const KnotVector& knots, int span, double u, double* out) {
+  const int p = knots.degree();
+  const double* t = knots.values().data();
+  std::array<double, kMaxDegree + 1> left{}, right{}, quotient{};
+  double* values = out;
+  double* derivs = out + p + 1;
+  values[0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = u - t[span + 1 - j];
+    right[j] = t[span + j] - u;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      // At j = p, temp = N_{span-p+1+r, p-1} / (t_{span+1+r} - t_{span+1-p+r}): exactly the
+      // quotients of the derivative formula, so they are kept instead of recomputed.
+      const double temp = values[r] / (right[r + 1] + left[j - r]);
+      if (j == p) quotient[static_cast<size_t>(r)] = temp;
+      values[r] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    values[j] = saved;
+  }
+  // N'_{i,p} = p (N_{i,p-1} / (t_{i+p} - t_i) - N_{i+1,p-1} / (t_{i+p+1} - t_{i+1})),
+  // i = span - p + r (The NURBS Book eq. 2.9).
+  if (p == 0) {
+    derivs[0] = 0.0;
+    return;
+  }
+  derivs[0] = -p * quotient[0];
+  for (int r = 1; r < p; ++r)
+    derivs[r] = p * (quotient[static_cast<size_t>(r - 1)] - quotient[static_cast<size_t>(r)]);
+  derivs[p] = p * quotient[static_cast<size_t>(p - 1)];
+}
+
 Eigen::MatrixXd basis_derivatives(const KnotVector& knots, double u, int n) {
   const int p = knots.degree();
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ders(n + 1, p + 1);

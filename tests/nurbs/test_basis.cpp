@@ -77,3 +77,20 @@ TEST(Quadrature, GaussLegendreIsExactToDegree2nMinus1) {
     }
   }
 }
+
+TEST(Basis, FirstDerivativeShortcutMatchesGeneralAlgorithm) {
+  std::mt19937 rng(16);
+  for (int p = 1; p <= 8; ++p) {
+    const KnotVector kv = isospring::testing::random_knots(rng, p, 6);
+    std::uniform_real_distribution<double> dist(0.0, 1.0);
+    for (int q = 0; q < 100; ++q) {
+      const double u = q == 0 ? 0.0 : q == 1 ? 1.0 : dist(rng);
+      const int span = kv.find_span(u);
+      std::vector<double> fast(static_cast<size_t>(2 * (p + 1))), general(fast.size());
+      basis_first_derivatives(kv, span, u, fast.data());
+      basis_derivatives(kv, span, u, 1, general.data());
+      for (size_t k = 0; k < fast.size(); ++k)
+        EXPECT_NEAR(fast[k], general[k], 1e-12 * (1 + std::abs(general[k])));
+    }
+  }
+}

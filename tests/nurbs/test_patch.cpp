@@ -108,3 +108,24 @@ TEST(Patch, RejectsInconsistentInput) {
     EXPECT_NE(std::string(e.what()).find("weights[1]"), std::string::npos);
   }
 }
+
+#include "isospring/nurbs/batch_evaluation.hpp"
+
+TEST(Patch, BatchEvaluationAgreesWithSinglePointEvaluation) {
+  std::mt19937 rng(15);
+  for (int dim = 1; dim <= 3; ++dim)
+    for (int trial = 0; trial < 6; ++trial) {
+      const Patch patch = random_patch(rng, dim, 4, trial % 2 == 1);
+      std::vector<Param> params;
+      for (int q = 0; q < 100; ++q) params.push_back(random_param(rng, patch));
+      Eigen::Matrix3Xd points, first;
+      BatchEvaluator(patch).evaluate(params, points, &first);
+      for (size_t q = 0; q < params.size(); ++q) {
+        const PatchDerivatives der = patch.derivatives(params[q], 1);
+        EXPECT_LT((points.col(static_cast<Eigen::Index>(q)) - der.point).norm(), 1e-13);
+        for (int a = 0; a < dim; ++a)
+          EXPECT_LT((first.col(dim * static_cast<Eigen::Index>(q) + a) - der.first.col(a)).norm(),
+                    1e-12 * (1 + der.first.col(a).norm()));
+      }
+    }
+}

@@ -17,6 +17,11 @@ void basis_functions(const KnotVector& knots, int span, double u, double* out);
 /// out[k*(p+1) + j] = d^k/du^k N_{span-p+j}(u). Derivatives above p are zero.
 void basis_derivatives(const KnotVector& knots, int span, double u, int n, double* out);
 
+/// Values and first derivatives only (the common case in evaluation and assembly): the same as
+/// basis_derivatives(..., 1, ...) but from the degree p-1 functions directly, about 3x cheaper.
+/// out[0..p] values, out[p+1..2p+1] derivatives.
+void basis_first_derivatives(const KnotVector& knots, int span, double u, double* out);
+
 /// Convenience form of basis_derivatives() returning an (n+1) x (p+1) matrix.
 Eigen::MatrixXd basis_derivatives(const KnotVector& knots, double u, int n);
 
