@@ -1,0 +1,54 @@
+#pragma once
+// Runs the `isospring` program for end-to-end tests: captures its output and exit status.
+#include <sys/wait.h>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <string>
+
+namespace isospring::testing {
+
+struct ProgramResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+/// Runs `isospring ARGS` (ARGS is passed to the shell as written).
+inline ProgramResult run_isospring(const std::string& args) {
+  const std::string command = std::string(ISOSPRING_EXECUTABLE) + " " + args + " 2>&1";
+  ProgramResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer{};
+  size_t n = 0;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+/// A fresh temporary folder for one test, removed when the object goes away.
+class TemporaryFolder {
+ public:
+  TemporaryFolder() {
+    std::random_device device;
+    path_ = std::filesystem::temp_directory_path() /
+            ("isospring-test-" + std::to_string(device()) + std::to_string(device()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TemporaryFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace isospring::testing
