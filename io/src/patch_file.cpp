@@ -134,7 +134,8 @@ std::vector<nurbs::Patch> read_patch_file(const std::filesystem::path& path) {
   json document;
   try {
     document = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error for syntax, out_of_range for numbers that overflow a double (e.g. 1e999).
     throw InputError(path.string() + ": not valid JSON (" + e.what() + ")");
   }
   return patches_from_json(document, path.string());
