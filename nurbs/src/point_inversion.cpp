@@ -70,76 +70,104 @@ Param best_sample(const Patch& patch, const Eigen::Vector3d& x) {
 
 }  // namespace
 
+namespace {
+
+/// Largest cosine between the residual X(u) - x and the tangents of the free directions: zero at
+/// a constrained stationary point (The NURBS Book eq. 6.4, zero-cosine criterion). Unlike the
+/// squared distance, it resolves the optimum to round-off rather than to sqrt(epsilon).
+double stationarity(const Patch& patch, const Param& u, const Eigen::Vector3d& residual,
+                    const std::array<bool, 3>& free) {
+  const double r = residual.norm();
+  if (r == 0.0) return 0.0;
+  const PatchDerivatives der = patch.derivatives(u, 1);
+  double worst = 0.0;
+  for (int a = 0; a < patch.param_dim(); ++a) {
+    if (!free[static_cast<size_t>(a)]) continue;
+    const double t = der.first.col(a).norm();
+    if (t > 0.0) worst = std::max(worst, std::abs(der.first.col(a).dot(residual)) / (t * r));
+  }
+  return worst;
+}
+
+}  // namespace
+
 Inversion invert_point(const Patch& patch, const Eigen::Vector3d& x, std::optional<Param> start,
                        double tolerance) {
   const int d = patch.param_dim();
   Param u = clamp_to_box(patch, start ? *start : best_sample(patch, x));
-  Objective current = objective(patch, u, x);
   const auto [lo, hi] = patch.control_bounds();
   const double scale = std::max((hi - lo).norm(), 1e-300);
+  // A parameter within round-off of a bound is on it (a start like v = 1 - 1e-16 must be pinned).
+  auto snap = [&](Param v) {
+    for (int a = 0; a < d; ++a) {
+      const double eps =
+          64 * std::numeric_limits<double>::epsilon() * (patch.param_max(a) - patch.param_min(a));
+      if (v[a] - patch.param_min(a) <= eps) v[a] = patch.param_min(a);
+      if (patch.param_max(a) - v[a] <= eps) v[a] = patch.param_max(a);
+    }
+    return v;
+  };
+  u = snap(u);
+  Objective current = objective(patch, u, x);
   Inversion result;
   for (int iteration = 1; iteration <= 100; ++iteration) {
     result.iterations = iteration;
-    // Newton step on the free parameters (those not pinned at a bound with the gradient pushing
-    // outwards): a projected Newton method for the box-constrained problem.
-    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    // Projected Newton for the box-constrained problem: directions pinned at a bound with the
+    // gradient pushing outwards are held; the others take a Newton step.
     std::array<bool, 3> free{false, false, false};
     for (int a = 0; a < d; ++a) {
       const bool at_min = u[a] <= patch.param_min(a) && current.gradient(a) > 0;
       const bool at_max = u[a] >= patch.param_max(a) && current.gradient(a) < 0;
-      free[a] = !(at_min || at_max);
+      free[static_cast<size_t>(a)] = !(at_min || at_max);
+    }
+    const double distance = std::sqrt(current.value);
+    if (distance <= tolerance * scale ||
+        stationarity(patch, u, current.point - x, free) <= tolerance) {
+      result.converged = true;
+      break;
     }
     Eigen::Matrix3d h = current.hessian;
     Eigen::Vector3d g = current.gradient;
     for (int a = 0; a < 3; ++a)
-      if (a >= d || !free[a]) {
+      if (a >= d || !free[static_cast<size_t>(a)]) {
         h.row(a).setZero();
         h.col(a).setZero();
         h(a, a) = 1.0;
         g(a) = 0.0;
       }
+    Eigen::Vector3d step;
     Eigen::LDLT<Eigen::Matrix3d> ldlt(h);
     if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
       step = -ldlt.solve(g);
     } else {
       // Indefinite Hessian (far from the minimum on a curved patch): steepest descent scaled by
-      // the Gauss-Newton curvature.
+      // the curvature.
       step = -g / std::max(h.diagonal().cwiseAbs().maxCoeff(), 1e-300);
     }
-    // Backtracking keeps every iterate inside the box and decreasing.
+    // Backtracking: accept a step that lowers the distance or, once the distance no longer
+    // resolves progress (near the optimum), the gradient.
     double factor = 1.0;
+    bool improved = false;
     Param trial = u;
     Objective next = current;
-    bool improved = false;
-    for (int halving = 0; halving < 30; ++halving) {
+    for (int halving = 0; halving < 40 && !improved; ++halving, factor *= 0.5) {
       for (int a = 0; a < d; ++a) trial[a] = u[a] + factor * step(a);
-      trial = clamp_to_box(patch, trial);
+      trial = snap(clamp_to_box(patch, trial));
       next = objective(patch, trial, x);
-      if (next.value <= current.value) {
-        improved = true;
-        break;
-      }
-      factor *= 0.5;
+      // Only the free components: a pinned direction's (large) gradient must not mask progress.
+      Eigen::Vector3d g_next = next.gradient;
+      for (int a = 0; a < 3; ++a)
+        if (a >= d || !free[static_cast<size_t>(a)]) g_next(a) = 0.0;
+      improved = next.value < current.value ||
+                 (next.value <= current.value * (1 + 1e-12) && g_next.norm() < g.norm());
     }
-    double moved = 0.0;
-    for (int a = 0; a < d; ++a)
-      moved =
-          std::max(moved, std::abs(trial[a] - u[a]) / (patch.param_max(a) - patch.param_min(a)));
-    if (improved) {
-      u = trial;
-      current = next;
-    }
-    // Converged: zero distance, or the projected gradient (cosine between the residual and the
-    // tangents) vanishes, or the parameter no longer moves.
-    const double distance = std::sqrt(current.value);
-    double projected = 0.0;
-    for (int a = 0; a < d; ++a)
-      if (free[a]) projected = std::max(projected, std::abs(current.gradient(a)));
-    if (distance <= tolerance * scale || projected <= tolerance * scale * scale ||
-        moved <= tolerance || !improved) {
+    if (!improved) {
+      // No step helps at the resolution of double precision: this is the optimum.
       result.converged = true;
       break;
     }
+    u = trial;
+    current = next;
   }
   result.param = u;
   result.point = current.point;

@@ -52,3 +52,30 @@ TEST(PointInversion, ClosestPointOnACircularArc) {
   EXPECT_NEAR(end.param[0], 0.0, 1e-14);
   EXPECT_NEAR((end.point - Eigen::Vector3d(2, 0, 0)).norm(), 0.0, 1e-14);
 }
+
+TEST(PointInversion, StartWithinRoundOffOfABoundIsPinned) {
+  // A start a rounding error inside v = 1 must still move along u (seen from the point locator).
+  const double w = std::sqrt(0.5);
+  const Patch annulus({KnotVector(2, {0, 0, 0, 1, 1, 1}), KnotVector(1, {0, 0, 1, 1})},
+                      {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}},
+                      {1, w, 1, 1, w, 1});
+  const Eigen::Vector3d x(3 * std::cos(0.3), 3 * std::sin(0.3), 0);  // outside the outer arc
+  const Inversion inv = invert_point(annulus, x, Param{0.9, 1.0 - 1e-16, 0});
+  EXPECT_TRUE(inv.converged);
+  EXPECT_NEAR(inv.distance, 1.0, 1e-13);
+  EXPECT_NEAR(std::atan2(inv.point.y(), inv.point.x()), 0.3, 1e-13);
+}
+
+TEST(PointInversion, ClosestPointIsAccurateToRoundOffNotSqrtEpsilon) {
+  // Off-surface point above a curved surface: the foot of the perpendicular on a sphere-like
+  // patch is radial. Comparing squared distances alone stops at ~1e-9 relative; the cosine
+  // criterion reaches ~1e-14.
+  const double w = std::sqrt(0.5);
+  const Patch arc({KnotVector(2, {0, 0, 0, 1, 1, 1})}, {{5, 0, 0}, {5, 5, 0}, {0, 5, 0}},
+                  {1, w, 1});
+  for (double angle : {0.1, 0.7, 1.3}) {
+    const Eigen::Vector3d x(6 * std::cos(angle), 6 * std::sin(angle), 0);
+    const Inversion inv = invert_point(arc, x, Param{0.5, 0, 0});
+    EXPECT_NEAR(std::atan2(inv.point.y(), inv.point.x()), angle, 1e-13);
+  }
+}
