@@ -1,0 +1,67 @@
+#pragma once
+// CAD parts in and out through OpenCascade 7.6: STEP (.step/.stp) and IGES (.iges/.igs).
+//
+// Import converts every face to NURBS (BRepBuilderAPI_NurbsConvert), in metres whatever unit the
+// file declares. A face becomes a patch when it is a whole (untrimmed) parameter rectangle of its
+// surface ("natural boundary"); periodic surfaces are made clamped. Faces are oriented so that
+// dX/du x dX/dv points out of the solid. Trimmed faces (holes, L-shapes, disks) are reported with
+// what to do. A solid bounded by six planar quadrilaterals (a hexahedral block) becomes one exact
+// trilinear volume patch; planar faces can be extruded along their normal into volumes.
+// Not handled (reported): 4-edge trimmed faces (Coons patches), general trivariate Coons volumes,
+// prism/revolution recognition of solids.
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "isospring/nurbs/patch.hpp"
+
+namespace isospring::geometry {
+
+struct CadFace {
+  int index = 0;             // 0-based, in TopExp_Explorer order
+  std::string surface_type;  // plane, cylinder, cone, sphere, torus, bspline, revolution, ...
+  int wires = 0;
+  int edges = 0;
+  double area = 0.0;     // of the trimmed face (OCCT, m^2)
+  bool natural = false;  // a whole parameter rectangle: usable as a patch
+  std::string note;      // why not usable and what to do
+};
+
+struct CadModel {
+  std::filesystem::path file;
+  std::string file_unit;  // as declared by the file (e.g. "MM", "M", "INCH")
+  int solids = 0, shells = 0, faces = 0, edges = 0;
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
+  double volume = 0.0;  // of the closed solids (OCCT, m^3); 0 without solids
+  double area = 0.0;    // of all faces (OCCT, m^2)
+  std::vector<CadFace> face_reports;
+  std::vector<nurbs::Patch> face_patches;    // one per natural face, in face order
+  std::vector<int> patch_face;               // face index of each face patch
+  std::vector<nurbs::Patch> volume_patches;  // hexahedral solids as trilinear patches
+};
+
+/// Reads a STEP or IGES file (by extension, case-insensitive). Throws nurbs::InputError naming the
+/// file when it is missing, empty, not STEP/IGES, unreadable or has no geometry.
+CadModel read_cad(const std::filesystem::path& file);
+
+/// Human-readable report: unit, counts, bounding box, volume/area and one line per face.
+std::string describe(const CadModel& model);
+
+/// The patches an analysis uses: the volume patches when every solid is a hexahedral block,
+/// otherwise the face patches; `thickness` > 0 extrudes planar faces along their normal (inwards
+/// for a solid's faces is not assumed: along +normal). Throws InputError (naming the file, the
+/// face and what to do) when a requested face cannot be used.
+std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness = 0.0,
+                                      const std::vector<int>& faces = {});
+
+/// Writes patches as B-spline faces (volumes as their six boundary faces) to STEP or IGES (by
+/// extension), in metres. Throws nurbs::InputError for an unknown extension, std::runtime_error
+/// when OpenCascade fails.
+void write_cad(const std::filesystem::path& file, const std::vector<nurbs::Patch>& patches);
+
+/// Side `end` (0 = min, 1 = max) of direction `dir` of a surface or volume patch as a patch of one
+/// dimension less (its control points and knots).
+nurbs::Patch boundary_side(const nurbs::Patch& patch, int dir, int end);
+
+}  // namespace isospring::geometry

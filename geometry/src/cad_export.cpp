@@ -1,0 +1,95 @@
+// Patches to STEP/IGES: B-spline faces (volumes as their boundary faces), in metres.
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRep_Builder.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Controller.hxx>
+#include <STEPControl_Writer.hxx>
+#include <Standard_Failure.hxx>
+#include <TopoDS_Compound.hxx>
+#include <algorithm>
+#include <cctype>
+
+#include "isospring/geometry/cad.hpp"
+#include "isospring/geometry/construction.hpp"
+#include "isospring/nurbs/error.hpp"
+#include "occt_conversion.hpp"
+
+namespace isospring::geometry {
+
+nurbs::Patch boundary_side(const nurbs::Patch& patch, int dir, int end) {
+  if (patch.param_dim() < 2 || dir < 0 || dir >= patch.param_dim())
+    throw std::invalid_argument("boundary_side: needs a surface or volume and a valid direction");
+  std::vector<nurbs::KnotVector> knots;
+  for (int d = 0; d < patch.param_dim(); ++d)
+    if (d != dir) knots.push_back(patch.knots(d));
+  const int layer = end == 0 ? 0 : patch.num_points(dir) - 1;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> weights;
+  // Net order is preserved (first remaining direction fastest).
+  for (int a = 0; a < patch.num_points(); ++a)
+    if (patch.net_position(a)[static_cast<size_t>(dir)] == layer) {
+      points.push_back(patch.control_point(a));
+      weights.push_back(patch.weight(a));
+    }
+  return nurbs::Patch(knots, points, weights);
+}
+
+void write_cad(const std::filesystem::path& file, const std::vector<nurbs::Patch>& patches) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool step = ext == ".step" || ext == ".stp", iges = ext == ".iges" || ext == ".igs";
+  if (!step && !iges)
+    throw nurbs::InputError(file.string() + ": unknown CAD extension '" + ext +
+                            "'; use .step, .stp, .iges or .igs");
+  std::vector<nurbs::Patch> surfaces;
+  for (const auto& patch : patches) {
+    if (patch.param_dim() == 2) {
+      surfaces.push_back(patch);
+    } else if (patch.param_dim() == 3) {
+      for (int dir = 0; dir < 3; ++dir)
+        for (int end = 0; end < 2; ++end) {
+          // Outward normals: the min side of a right-handed volume is reversed.
+          const nurbs::Patch side = boundary_side(patch, dir, end);
+          surfaces.push_back((end == 0) == (dir != 1) ? reverse_direction(side, 0) : side);
+        }
+    } else {
+      throw nurbs::InputError(file.string() + ": curves cannot be written as CAD faces");
+    }
+  }
+  try {
+    BRep_Builder builder;
+    TopoDS_Compound compound;
+    builder.MakeCompound(compound);
+    for (const auto& s : surfaces) {
+      BRepBuilderAPI_MakeFace face(detail::occt_from_patch(s), 1e-9);
+      if (!face.IsDone()) throw std::runtime_error("OpenCascade could not build a face");
+      builder.Add(compound, face.Face());
+    }
+    STEPControl_Controller::Init();  // the unit statics exist only after initialisation
+    IGESControl_Controller::Init();
+    Interface_Static::SetCVal("xstep.cascade.unit", "M");
+    const std::string name = file.string();
+    if (step) {
+      Interface_Static::SetCVal("write.step.unit", "M");  // before the writer builds its model
+      STEPControl_Writer writer;
+      if (writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone ||
+          writer.Write(name.c_str()) != IFSelect_RetDone)
+        throw std::runtime_error("OpenCascade could not write " + name);
+    } else {
+      IGESControl_Controller::Init();
+      IGESControl_Writer writer("M", 0);  // faces as trimmed B-spline surfaces (entity 144)
+      writer.AddShape(compound);
+      writer.ComputeModel();
+      if (!writer.Write(name.c_str()))
+        throw std::runtime_error("OpenCascade could not write " + name);
+    }
+  } catch (const Standard_Failure& e) {
+    throw std::runtime_error(file.string() + ": OpenCascade failed: " + e.GetMessageString());
+  }
+}
+
+}  // namespace isospring::geometry

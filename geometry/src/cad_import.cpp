@@ -1,0 +1,384 @@
+// STEP/IGES import through OpenCascade: faces to NURBS patches, hexahedral solids to volumes.
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepGProp.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <Eigen/Geometry>
+#include <GProp_GProps.hxx>
+#include <GeomConvert.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Reader.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Controller.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <TCollection_HAsciiString.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Solid.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <fstream>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include "isospring/geometry/cad.hpp"
+#include "isospring/geometry/construction.hpp"
+#include "isospring/geometry/measure.hpp"
+#include "isospring/nurbs/error.hpp"
+#include "occt_conversion.hpp"
+
+namespace isospring::geometry {
+
+namespace {
+
+using nurbs::InputError;
+
+std::string lower_extension(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+std::string surface_type_name(GeomAbs_SurfaceType type) {
+  switch (type) {
+    case GeomAbs_Plane:
+      return "plane";
+    case GeomAbs_Cylinder:
+      return "cylinder";
+    case GeomAbs_Cone:
+      return "cone";
+    case GeomAbs_Sphere:
+      return "sphere";
+    case GeomAbs_Torus:
+      return "torus";
+    case GeomAbs_BezierSurface:
+      return "bezier";
+    case GeomAbs_BSplineSurface:
+      return "bspline";
+    case GeomAbs_SurfaceOfRevolution:
+      return "revolution";
+    case GeomAbs_SurfaceOfExtrusion:
+      return "extrusion";
+    case GeomAbs_OffsetSurface:
+      return "offset";
+    default:
+      return "other";
+  }
+}
+
+// Reads the file into one shape, in metres; returns the unit the file declares.
+TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_unit) {
+  const std::string name = file.string();
+  if (!std::filesystem::exists(file))
+    throw InputError(name + ": file not found; give the path of a .step/.stp/.iges/.igs file");
+  if (std::filesystem::file_size(file) == 0)
+    throw InputError(name + ": the file is empty; export the part again from the CAD program");
+  const std::string ext = lower_extension(file);
+  // OCCT converts coordinates to this unit whatever the file declares (default: millimetres).
+  // The static exists only once the translators are initialised; setting it earlier is ignored.
+  STEPControl_Controller::Init();
+  IGESControl_Controller::Init();
+  if (!Interface_Static::SetCVal("xstep.cascade.unit", "M") ||
+      std::string(Interface_Static::CVal("xstep.cascade.unit")) != "M")
+    throw std::runtime_error("OpenCascade refused xstep.cascade.unit = M");
+  TopoDS_Shape shape;
+  if (ext == ".step" || ext == ".stp") {
+    {  // A STEP file starts with ISO-10303-21; anything else is not worth handing to OCCT.
+      std::ifstream in(file);
+      std::string head(64, '\0');
+      in.read(head.data(), 64);
+      if (head.find("ISO-10303-21") == std::string::npos)
+        throw InputError(name +
+                         ": not a STEP file (no ISO-10303-21 header); export it as STEP "
+                         "AP203/AP214 or use an .iges file");
+    }
+    STEPControl_Reader reader;
+    if (reader.ReadFile(name.c_str()) != IFSelect_RetDone)
+      throw InputError(name +
+                       ": OpenCascade cannot parse this STEP file (truncated or invalid); "
+                       "export it again");
+    TColStd_SequenceOfAsciiString length, angle, solid_angle;
+    reader.FileUnits(length, angle, solid_angle);
+    file_unit = length.IsEmpty() ? "unknown" : length.First().ToCString();
+    if (reader.NbRootsForTransfer() == 0)
+      throw InputError(name +
+                       ": the STEP file holds no transferable shapes (truncated or empty "
+                       "model); export it again");
+    reader.TransferRoots();
+    shape = reader.OneShape();
+  } else if (ext == ".iges" || ext == ".igs") {
+    IGESControl_Reader reader;
+    if (reader.ReadFile(name.c_str()) != IFSelect_RetDone)
+      throw InputError(name +
+                       ": OpenCascade cannot parse this IGES file (truncated or invalid); "
+                       "export it again");
+    const Handle(IGESData_IGESModel) model = reader.IGESModel();
+    if (model.IsNull() || reader.NbRootsForTransfer() == 0)
+      throw InputError(name +
+                       ": the IGES file holds no transferable entities (truncated or not "
+                       "IGES); export it again");
+    const Handle(TCollection_HAsciiString) unit = model->GlobalSection().UnitName();
+    file_unit = unit.IsNull() ? "unknown" : unit->ToCString();
+    reader.TransferRoots();
+    shape = reader.OneShape();
+  } else {
+    throw InputError(name + ": unknown CAD extension '" + ext +
+                     "'; use .step, .stp, .iges or .igs");
+  }
+  if (shape.IsNull())
+    throw InputError(name +
+                     ": the file holds no geometry OpenCascade can transfer (no solids, "
+                     "shells or faces)");
+  return shape;
+}
+
+// The face as a patch when it covers its whole UV rectangle; otherwise an explanation.
+bool natural_patch(const TopoDS_Face& face, CadFace& report, nurbs::Patch& patch) {
+  const TopoDS_Face nurbs_face = TopoDS::Face(BRepBuilderAPI_NurbsConvert(face, true).Shape());
+  // The face may carry a location (IGES unit scaling, assembly placement): convert the bare
+  // surface and apply the transformation to the control points (exact for NURBS).
+  TopLoc_Location location;
+  Handle(Geom_BSplineSurface) surface =
+      GeomConvert::SurfaceToBSplineSurface(BRep_Tool::Surface(nurbs_face, location));
+  surface = Handle(Geom_BSplineSurface)::DownCast(surface->Copy());
+  double u0, u1, v0, v1;
+  BRepTools::UVBounds(nurbs_face, u0, u1, v0, v1);
+  if (surface->IsUPeriodic()) surface->SetUNotPeriodic();
+  if (surface->IsVPeriodic()) surface->SetVNotPeriodic();
+  // Non-periodic OCCT surfaces may still have unclamped end knots (periodic origin); raising the
+  // face's bounds to full multiplicity and cutting there gives a clamped, exact patch.
+  surface->InsertUKnot(u0, surface->UDegree(), 1e-12, false);
+  surface->InsertUKnot(u1, surface->UDegree(), 1e-12, false);
+  surface->InsertVKnot(v0, surface->VDegree(), 1e-12, false);
+  surface->InsertVKnot(v1, surface->VDegree(), 1e-12, false);
+  surface->Segment(u0, u1, v0, v1);
+  patch = detail::patch_from_occt(surface);
+  // The conversion is exact; check it by sampling against OCCT's own evaluation.
+  std::mt19937 rng(1);
+  const auto [lo, hi] = patch.control_bounds();
+  const double size = (hi - lo).norm();
+  for (int n = 0; n < 16; ++n) {
+    const double u = std::uniform_real_distribution<double>(u0, u1)(rng);
+    const double v = std::uniform_real_distribution<double>(v0, v1)(rng);
+    const gp_Pnt p = surface->Value(u, v);
+    if ((patch.point({u, v, 0}) - Eigen::Vector3d(p.X(), p.Y(), p.Z())).norm() > 1e-9 * size)
+      throw std::runtime_error("face " + std::to_string(report.index) +
+                               ": NURBS conversion does not reproduce the surface");
+  }
+  if (!location.IsIdentity()) {
+    const gp_Trsf trsf = location.Transformation();
+    std::vector<Eigen::Vector3d> points;
+    for (const auto& x : patch.control_points()) {
+      gp_XYZ p(x.x(), x.y(), x.z());
+      trsf.Transforms(p);
+      points.emplace_back(p.X(), p.Y(), p.Z());
+    }
+    patch = nurbs::Patch(patch.all_knots(), points, patch.weights());
+  }
+  if (face.Orientation() == TopAbs_REVERSED) patch = reverse_direction(patch, 0);
+  // Natural boundary: one wire and the face's area equals the area of the whole patch.
+  const double patch_area = measure(patch);
+  if (report.wires != 1 || std::abs(patch_area - report.area) > 1e-6 * patch_area) {
+    std::ostringstream note;
+    note << "trimmed: " << report.wires << " wire(s), " << report.edges
+         << " edges, face area / patch area = " << report.area / patch_area
+         << "; split it into 4-sided faces in the CAD program (or drop it with \"faces\")";
+    report.note = note.str();
+    return false;
+  }
+  return true;
+}
+
+// A solid with 8 vertices, 12 straight edges and 6 planar faces as a trilinear volume patch
+// (exact: a bilinear patch through 4 coplanar corners is the planar quadrilateral).
+bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch) {
+  TopTools_IndexedMapOfShape vertices, edges, faces;
+  TopExp::MapShapes(solid, TopAbs_VERTEX, vertices);
+  TopExp::MapShapes(solid, TopAbs_EDGE, edges);
+  TopExp::MapShapes(solid, TopAbs_FACE, faces);
+  if (vertices.Extent() != 8 || edges.Extent() != 12 || faces.Extent() != 6) return false;
+  for (int f = 1; f <= 6; ++f)
+    if (BRepAdaptor_Surface(TopoDS::Face(faces(f))).GetType() != GeomAbs_Plane) return false;
+  std::array<std::set<int>, 8> adjacent;
+  for (int e = 1; e <= 12; ++e) {
+    TopoDS_Vertex a, b;
+    TopExp::Vertices(TopoDS::Edge(edges(e)), a, b);
+    const int i = vertices.FindIndex(a) - 1, j = vertices.FindIndex(b) - 1;
+    if (i < 0 || j < 0 || i == j) return false;
+    adjacent[static_cast<size_t>(i)].insert(j);
+    adjacent[static_cast<size_t>(j)].insert(i);
+  }
+  for (const auto& a : adjacent)
+    if (a.size() != 3) return false;
+  std::array<Eigen::Vector3d, 8> x;
+  for (int v = 0; v < 8; ++v) {
+    const gp_Pnt p = BRep_Tool::Pnt(TopoDS::Vertex(vertices(v + 1)));
+    x[static_cast<size_t>(v)] = {p.X(), p.Y(), p.Z()};
+  }
+  auto common = [&](int a, int b, int not_this) {
+    for (int c : adjacent[static_cast<size_t>(a)])
+      if (c != not_this && adjacent[static_cast<size_t>(b)].count(c)) return c;
+    return -1;
+  };
+  std::vector<int> n(adjacent[0].begin(), adjacent[0].end());
+  if ((x[n[0]] - x[0]).cross(x[n[1]] - x[0]).dot(x[n[2]] - x[0]) < 0) std::swap(n[0], n[1]);
+  const int c110 = common(n[0], n[1], 0), c101 = common(n[0], n[2], 0),
+            c011 = common(n[1], n[2], 0);
+  if (c110 < 0 || c101 < 0 || c011 < 0) return false;
+  const int c111 = common(c110, c101, n[0]);
+  if (c111 < 0) return false;
+  const std::array<int, 8> order{0, n[0], n[1], c110, n[2], c101, c011, c111};
+  if (std::set<int>(order.begin(), order.end()).size() != 8) return false;
+  std::vector<Eigen::Vector3d> points;
+  for (int v : order) points.push_back(x[static_cast<size_t>(v)]);
+  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
+  patch = nurbs::Patch({linear, linear, linear}, points);
+  return jacobian_range(patch).min > 0.0;
+}
+
+}  // namespace
+
+CadModel read_cad(const std::filesystem::path& file) {
+  CadModel model;
+  model.file = file;
+  TopoDS_Shape shape;
+  try {
+    shape = read_shape(file, model.file_unit);
+  } catch (const Standard_Failure& e) {
+    throw InputError(file.string() + ": OpenCascade failed reading it (" + e.GetMessageString() +
+                     "); the file is probably corrupt");
+  }
+  TopTools_IndexedMapOfShape solids, shells, faces, edges;
+  TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+  TopExp::MapShapes(shape, TopAbs_SHELL, shells);
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+  model.solids = solids.Extent();
+  model.shells = shells.Extent();
+  model.faces = faces.Extent();
+  model.edges = edges.Extent();
+  if (model.faces == 0)
+    throw InputError(file.string() +
+                     ": the file holds no faces (points or curves only); a part "
+                     "needs surfaces or solids");
+  Bnd_Box box;
+  BRepBndLib::AddOptimal(shape, box, false, false);
+  double x0, y0, z0, x1, y1, z1;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  model.bbox_min = {x0, y0, z0};
+  model.bbox_max = {x1, y1, z1};
+  for (int s = 1; s <= model.solids; ++s) {
+    GProp_GProps props;
+    BRepGProp::VolumeProperties(solids(s), props, 1e-9);
+    model.volume += props.Mass();
+  }
+  for (int f = 1; f <= model.faces; ++f) {
+    const TopoDS_Face face = TopoDS::Face(faces(f));
+    CadFace report;
+    report.index = f - 1;
+    report.surface_type = surface_type_name(BRepAdaptor_Surface(face).GetType());
+    TopTools_IndexedMapOfShape wires, face_edges;
+    TopExp::MapShapes(face, TopAbs_WIRE, wires);
+    TopExp::MapShapes(face, TopAbs_EDGE, face_edges);
+    report.wires = wires.Extent();
+    report.edges = face_edges.Extent();
+    GProp_GProps props;
+    BRepGProp::SurfaceProperties(face, props, 1e-9);
+    report.area = props.Mass();
+    model.area += report.area;
+    nurbs::Patch patch;
+    try {
+      report.natural = natural_patch(face, report, patch);
+    } catch (const Standard_Failure& e) {
+      report.note =
+          std::string("OpenCascade cannot convert it to NURBS (") + e.GetMessageString() + ")";
+    } catch (const std::exception& e) {
+      report.note = e.what();
+    }
+    if (report.natural) {
+      model.face_patches.push_back(patch);
+      model.patch_face.push_back(report.index);
+    }
+    model.face_reports.push_back(report);
+  }
+  for (int s = 1; s <= model.solids; ++s) {
+    nurbs::Patch patch;
+    if (hexahedron_patch(solids(s), patch)) model.volume_patches.push_back(patch);
+  }
+  return model;
+}
+
+std::string describe(const CadModel& model) {
+  std::ostringstream out;
+  out.precision(10);
+  out << model.file.string() << ": unit in file " << model.file_unit << " (coordinates in m)\n"
+      << "  solids " << model.solids << ", shells " << model.shells << ", faces " << model.faces
+      << ", edges " << model.edges << "\n"
+      << "  bounding box [" << model.bbox_min.transpose() << "] .. [" << model.bbox_max.transpose()
+      << "] m\n"
+      << "  volume " << model.volume << " m^3, area " << model.area << " m^2\n"
+      << "  hexahedral solids (one volume patch each): " << model.volume_patches.size() << "\n";
+  for (const auto& f : model.face_reports)
+    out << "  face " << f.index << ": " << f.surface_type << ", " << f.wires << " wire(s), "
+        << f.edges << " edges, area " << f.area << " m^2, "
+        << (f.natural ? "usable patch" : "NOT usable: " + f.note) << "\n";
+  return out.str();
+}
+
+std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
+                                      const std::vector<int>& faces) {
+  const std::string name = model.file.string();
+  if (!(thickness >= 0.0 && std::isfinite(thickness)))
+    throw InputError(name + ": thickness must be a non-negative number");
+  if (faces.empty() && thickness == 0.0 && model.solids > 0 &&
+      static_cast<int>(model.volume_patches.size()) == model.solids)
+    return model.volume_patches;
+  std::vector<int> chosen = faces;
+  if (chosen.empty())
+    for (int f = 0; f < model.faces; ++f) chosen.push_back(f);
+  std::vector<nurbs::Patch> patches;
+  for (int f : chosen) {
+    if (f < 0 || f >= model.faces)
+      throw InputError(name + ": face " + std::to_string(f) + " does not exist; the part has " +
+                       std::to_string(model.faces) + " faces (0-based, see `isospring info`)");
+    const CadFace& report = model.face_reports[static_cast<size_t>(f)];
+    if (!report.natural)
+      throw InputError(name + ": face " + std::to_string(f) + " (" + report.surface_type +
+                       ") cannot be one NURBS patch: " + report.note);
+    const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
+    const nurbs::Patch& patch =
+        model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
+    if (thickness == 0.0) {
+      patches.push_back(patch);
+      continue;
+    }
+    if (report.surface_type != "plane")
+      throw InputError(name + ": face " + std::to_string(f) + " is a " + report.surface_type +
+                       "; only planar faces can be extruded exactly along their normal (use a "
+                       "solid part instead)");
+    const nurbs::PatchDerivatives d =
+        patch.derivatives({(patch.param_min(0) + patch.param_max(0)) / 2,
+                           (patch.param_min(1) + patch.param_max(1)) / 2, 0});
+    const Eigen::Vector3d normal = d.first.col(0).cross(d.first.col(1)).normalized();
+    patches.push_back(extrude(patch, thickness * normal));
+  }
+  return patches;
+}
+
+}  // namespace isospring::geometry

@@ -1,0 +1,49 @@
+// End to end: `isospring import` and `isospring export-step` on the committed block part.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "isospring/geometry/cad.hpp"
+#include "isospring/geometry/measure.hpp"
+#include "isospring/io/patch_file.hpp"
+
+namespace isospring::geometry {
+namespace {
+
+namespace fs = std::filesystem;
+
+int run(const std::string& arguments) {
+  const std::string command =
+      std::string(ISOSPRING_EXECUTABLE) + " " + arguments + " >/dev/null 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(CadCommands, ImportThenExportStep) {
+  if (!fs::exists(ISOSPRING_EXECUTABLE)) GTEST_SKIP() << "build the isospring program first";
+  const fs::path dir = fs::temp_directory_path() / "isospring_test_cad_commands";
+  fs::create_directories(dir);
+  const fs::path block = fs::path(ISOSPRING_SOURCE_DIR) / "examples" / "cad" / "block.step";
+  ASSERT_EQ(run("import " + block.string() + " -o " + (dir / "block.json").string()), 0);
+  const auto patches = io::read_patch_file(dir / "block.json");
+  ASSERT_EQ(patches.size(), 1u);
+  EXPECT_NEAR(measure(patches) / 4e-5, 1.0, 1e-13);
+  ASSERT_EQ(
+      run("export-step " + (dir / "block.json").string() + " -o " + (dir / "out.step").string()),
+      0);
+  const CadModel back = read_cad(dir / "out.step");
+  EXPECT_EQ(back.face_patches.size(), 6u);
+  EXPECT_NEAR(measure(back.face_patches) / 0.0088, 1.0, 1e-12);
+  // Bad input: exit status 1 (InputError), the input untouched.
+  std::ofstream(dir / "bad.step") << "not a step file\n";
+  EXPECT_EQ(run("import " + (dir / "bad.step").string() + " -o " + (dir / "bad.json").string()), 1);
+  EXPECT_FALSE(fs::exists(dir / "bad.json"));
+  EXPECT_EQ(run("export-step " + (dir / "block.json").string() + " -o " + (dir / "x.obj").string()),
+            1);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace isospring::geometry
