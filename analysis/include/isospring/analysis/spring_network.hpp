@@ -7,12 +7,12 @@
 namespace isospring::analysis {
 
 struct Spring {
-  int i = 0;                // particle indices, i < j
+  int i = 0;  // particle indices, i < j
   int j = 0;
-  double stiffness = 0.0;   // k [N/m]
-  double damping = 0.0;     // c [N s/m], along the spring
-  double rest_length = 0.0; // L0 [m]
-  int group = -1;           // calibration group (rest-length group), -1 when ungrouped
+  double stiffness = 0.0;    // k [N/m]
+  double damping = 0.0;      // c [N s/m], along the spring
+  double rest_length = 0.0;  // L0 [m]
+  int group = -1;            // calibration group (rest-length group), -1 when ungrouped
 };
 
 struct SpringNetwork {
@@ -20,7 +20,7 @@ struct SpringNetwork {
   std::vector<double> masses;              // [kg]
   std::vector<bool> fixed;                 // particle held in place
   std::vector<Spring> springs;
-  int dimension = 3;                       // 2 for in-plane models (z ignored)
+  int dimension = 3;  // 2 for in-plane models (z ignored)
 };
 
 }  // namespace isospring::analysis

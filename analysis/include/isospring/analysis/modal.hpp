@@ -1,0 +1,27 @@
+#pragma once
+// Lowest natural modes K x = omega^2 M x (supports fix their DOFs to zero).
+#include <Eigen/Core>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+
+namespace isospring::analysis {
+
+struct ModalOptions {
+  int modes = 6;
+  bool lumped_mass = false;  // row-sum lumped instead of consistent mass
+};
+
+struct ModalResult {
+  Eigen::VectorXd eigenvalues;     // omega^2 [1/s^2], ascending
+  Eigen::VectorXd frequencies_hz;  // omega / (2 pi)
+  Eigen::MatrixXd shapes;          // global DOF vectors (DofMap numbering), M-orthonormal
+  int dofs = 0;
+};
+
+/// Spectra's shift-invert Lanczos with a CHOLMOD factorisation of K - sigma M, sigma slightly
+/// below zero so that unsupported (free-free) models work too (their rigid modes come out ~0).
+/// Needs density > 0. Throws std::runtime_error when the eigensolver does not converge.
+ModalResult compute_modes(const Problem& problem, const ModalOptions& options = {});
+
+}  // namespace isospring::analysis

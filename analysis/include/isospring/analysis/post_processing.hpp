@@ -1,0 +1,46 @@
+#pragma once
+// Fields of a solution anywhere in the parameter domain, and error norms against exact fields.
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+
+namespace isospring::analysis {
+
+/// Control displacements [patch][control point], as in LoadCaseResult.
+using ControlDisplacements = std::vector<std::vector<Eigen::Vector3d>>;
+
+struct FieldPoint {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();         // X(u)
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  // u(X(u))
+  Eigen::Matrix3d strain = Eigen::Matrix3d::Zero();        // 2D: in-plane, ezz for plane stress
+  Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();  // 2D: szz = nu (sxx + syy) in plane strain
+  double von_mises = 0.0;
+};
+
+/// Displacement, strain and stress at parameter u of a patch.
+FieldPoint evaluate_field(const Problem& problem, const ControlDisplacements& displacements,
+                          int patch, const nurbs::Param& u);
+
+/// Integrated errors: L2 norm of u - u_h and energy norm sqrt(int (s - s_h) : C^-1 (s - s_h))
+/// (2D: in-plane stress, times the thickness), with the norms of the exact fields for relative
+/// errors. Quadrature: `quadrature_points` Gauss points per direction and element (0: degree + 3,
+/// enough for the norms to converge; degree + 1 reproduces protocols that under-integrate).
+struct ErrorNorms {
+  double l2_error = 0.0;
+  double l2_norm = 0.0;
+  double energy_error = 0.0;
+  double energy_norm = 0.0;
+  double relative_l2() const { return l2_error / l2_norm; }
+  double relative_energy() const { return energy_error / energy_norm; }
+};
+ErrorNorms error_norms(const Problem& problem, const ControlDisplacements& displacements,
+                       const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& exact_u,
+                       const std::function<Eigen::Matrix3d(const Eigen::Vector3d&)>& exact_stress,
+                       int quadrature_points = 0);
+
+/// Strain energy 1/2 int s : e of a discrete field (equals 1/2 u^T K u).
+double strain_energy(const Problem& problem, const ControlDisplacements& displacements);
+
+}  // namespace isospring::analysis

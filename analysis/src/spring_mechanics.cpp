@@ -1,0 +1,187 @@
+// Forces and stiffness of a spring network. Each spring touches two particles only, so every
+// quantity is a loop over springs scattering dimension-sized blocks.
+#include "isospring/analysis/spring_mechanics.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::analysis {
+
+namespace {
+
+using Block = Eigen::Matrix3d;
+
+Eigen::Vector3d particle_vector(const Eigen::VectorXd& flat, int q, int dim) {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (int c = 0; c < dim; ++c) v[c] = flat[q * dim + c];
+  return v;
+}
+
+void add_vector(Eigen::VectorXd& flat, int q, int dim, const Eigen::Vector3d& v) {
+  for (int c = 0; c < dim; ++c) flat[q * dim + c] += v[c];
+}
+
+// Scatters +B on (i,i), (j,j) and -B on (i,j), (j,i).
+void add_spring_block(std::vector<Eigen::Triplet<double>>& triplets, int i, int j, int dim,
+                      const Block& block) {
+  for (int a = 0; a < dim; ++a)
+    for (int b = 0; b < dim; ++b) {
+      const double value = block(a, b);
+      if (value == 0.0) continue;
+      triplets.emplace_back(i * dim + a, i * dim + b, value);
+      triplets.emplace_back(j * dim + a, j * dim + b, value);
+      triplets.emplace_back(i * dim + a, j * dim + b, -value);
+      triplets.emplace_back(j * dim + a, i * dim + b, -value);
+    }
+}
+
+Eigen::SparseMatrix<double> from_triplets(const SpringNetwork& network,
+                                          const std::vector<Eigen::Triplet<double>>& triplets) {
+  const int n = static_cast<int>(network.positions.size()) * network.dimension;
+  Eigen::SparseMatrix<double> matrix(n, n);
+  matrix.setFromTriplets(triplets.begin(), triplets.end());
+  return matrix;
+}
+
+// Direction g_s restricted to one particle: the unit rest direction.
+Eigen::Vector3d rest_direction(const SpringNetwork& network, const Spring& s) {
+  Eigen::Vector3d l = network.positions[s.i] - network.positions[s.j];
+  if (network.dimension == 2) l.z() = 0.0;
+  const double length = l.norm();
+  return length > 0.0 ? Eigen::Vector3d(l / length) : Eigen::Vector3d::Zero();
+}
+
+Eigen::SparseMatrix<double> rest_matrix(const SpringNetwork& network, bool damping) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(network.springs.size() * 4 * static_cast<size_t>(network.dimension) *
+                   static_cast<size_t>(network.dimension));
+  for (const Spring& s : network.springs) {
+    const Eigen::Vector3d n = rest_direction(network, s);
+    add_spring_block(triplets, s.i, s.j, network.dimension,
+                     (damping ? s.damping : s.stiffness) * n * n.transpose());
+  }
+  return from_triplets(network, triplets);
+}
+
+}  // namespace
+
+Eigen::VectorXd flat_positions(const SpringNetwork& network) {
+  const int dim = network.dimension;
+  Eigen::VectorXd x(static_cast<Eigen::Index>(network.positions.size()) * dim);
+  for (size_t q = 0; q < network.positions.size(); ++q)
+    for (int c = 0; c < dim; ++c)
+      x[static_cast<Eigen::Index>(q) * dim + c] = network.positions[q][c];
+  return x;
+}
+
+double spring_energy(const SpringNetwork& network, const Eigen::VectorXd& x) {
+  double energy = 0.0;
+  for (const Spring& s : network.springs) {
+    const double stretch =
+        (particle_vector(x, s.i, network.dimension) - particle_vector(x, s.j, network.dimension))
+            .norm() -
+        s.rest_length;
+    energy += 0.5 * s.stiffness * stretch * stretch;
+  }
+  return energy;
+}
+
+Eigen::VectorXd spring_forces(const SpringNetwork& network, const Eigen::VectorXd& x) {
+  const int dim = network.dimension;
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  for (const Spring& s : network.springs) {
+    const Eigen::Vector3d l = particle_vector(x, s.i, dim) - particle_vector(x, s.j, dim);
+    const double length = l.norm();
+    if (length == 0.0) continue;
+    const Eigen::Vector3d force = -s.stiffness * (length - s.rest_length) * l / length;
+    add_vector(f, s.i, dim, force);
+    add_vector(f, s.j, dim, -force);
+  }
+  return f;
+}
+
+Eigen::VectorXd damping_forces(const SpringNetwork& network, const Eigen::VectorXd& x,
+                               const Eigen::VectorXd& v) {
+  const int dim = network.dimension;
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  for (const Spring& s : network.springs) {
+    if (s.damping == 0.0) continue;
+    const Eigen::Vector3d l = particle_vector(x, s.i, dim) - particle_vector(x, s.j, dim);
+    const double length = l.norm();
+    if (length == 0.0) continue;
+    const Eigen::Vector3d n = l / length;
+    const double rate = n.dot(particle_vector(v, s.i, dim) - particle_vector(v, s.j, dim));
+    add_vector(f, s.i, dim, -s.damping * rate * n);
+    add_vector(f, s.j, dim, s.damping * rate * n);
+  }
+  return f;
+}
+
+Eigen::SparseMatrix<double> tangent_stiffness(const SpringNetwork& network,
+                                              const Eigen::VectorXd& x) {
+  const int dim = network.dimension;
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(network.springs.size() * 4 * static_cast<size_t>(dim * dim));
+  for (const Spring& s : network.springs) {
+    const Eigen::Vector3d l = particle_vector(x, s.i, dim) - particle_vector(x, s.j, dim);
+    const double length = l.norm();
+    if (length == 0.0) continue;
+    const Eigen::Vector3d n = l / length;
+    const Block nn = n * n.transpose();
+    // Only the first `dim` rows/columns are scattered, so the 2D block is the in-plane one.
+    const Block block =
+        s.stiffness * (nn + (1.0 - s.rest_length / length) * (Block::Identity() - nn));
+    add_spring_block(triplets, s.i, s.j, dim, block);
+  }
+  return from_triplets(network, triplets);
+}
+
+Eigen::SparseMatrix<double> rest_stiffness(const SpringNetwork& network) {
+  return rest_matrix(network, false);
+}
+
+Eigen::SparseMatrix<double> rest_damping(const SpringNetwork& network) {
+  return rest_matrix(network, true);
+}
+
+Eigen::VectorXd mass_diagonal(const SpringNetwork& network) {
+  const int dim = network.dimension;
+  Eigen::VectorXd m(static_cast<Eigen::Index>(network.masses.size()) * dim);
+  for (size_t q = 0; q < network.masses.size(); ++q)
+    m.segment(static_cast<Eigen::Index>(q) * dim, dim).setConstant(network.masses[q]);
+  return m;
+}
+
+void assign_damping_alpha(SpringNetwork& network, double alpha) {
+  if (!(alpha > 0.0) || !std::isfinite(alpha))
+    throw nurbs::InputError("damping alpha = " + std::to_string(alpha) +
+                            " is not a positive number; [S15 4.18] uses alpha >= 1 (e.g. 200)");
+  for (Spring& s : network.springs)
+    s.damping = (1.0 / alpha) * 2.0 *
+                std::sqrt(s.stiffness * (network.masses[s.i] + network.masses[s.j])) /
+                s.rest_length;
+}
+
+void assign_damping_ratio(SpringNetwork& network, double zeta) {
+  if (!(zeta >= 0.0) || !std::isfinite(zeta))
+    throw nurbs::InputError("damping ratio = " + std::to_string(zeta) +
+                            " is not a non-negative number; use e.g. 0.05 for 5% of critical");
+  for (Spring& s : network.springs) {
+    const double mi = network.masses[s.i], mj = network.masses[s.j];
+    const double reduced = mi + mj > 0.0 ? mi * mj / (mi + mj) : 0.0;
+    s.damping = 2.0 * zeta * std::sqrt(s.stiffness * reduced);
+  }
+}
+
+std::vector<int> fixed_dofs(const SpringNetwork& network) {
+  std::vector<int> dofs;
+  for (size_t q = 0; q < network.fixed.size(); ++q)
+    if (network.fixed[q])
+      for (int c = 0; c < network.dimension; ++c)
+        dofs.push_back(static_cast<int>(q) * network.dimension + c);
+  return dofs;
+}
+
+}  // namespace isospring::analysis

@@ -1,0 +1,113 @@
+// Static solve: assembly, elimination of supported DOFs, one factorisation, all load cases.
+#include "isospring/analysis/static_solver.hpp"
+
+#include <omp.h>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
+#include <chrono>
+#include <memory>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/validation.hpp"
+#include "reduced_system.hpp"
+
+namespace isospring::analysis {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Restores the OpenMP thread count on scope exit.
+class ThreadScope {
+ public:
+  explicit ThreadScope(int threads) : previous_(omp_get_max_threads()) {
+    if (threads > 0) omp_set_num_threads(threads);
+  }
+  ~ThreadScope() { omp_set_num_threads(previous_); }
+
+ private:
+  int previous_;
+};
+
+}  // namespace
+
+StaticResult solve_static(const Problem& problem, const SolverOptions& options) {
+  validate_problem(problem);
+  const ThreadScope threads(options.threads);
+  const DofMap dofs(problem);
+  const Constraints constraints = build_constraints(problem, dofs);
+  check_rigid_body_modes(problem, dofs, constraints);
+
+  StaticResult result;
+  result.dofs = dofs.num_dofs();
+  auto start = std::chrono::steady_clock::now();
+  const Eigen::SparseMatrix<double> stiffness = assemble_stiffness(problem, dofs);
+  result.assembly_seconds = seconds_since(start);
+
+  const detail::ReducedSystem reduced(stiffness, constraints);
+  start = std::chrono::steady_clock::now();
+  using Cholesky = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>;
+  using CG = Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Upper,
+                                      Eigen::IncompleteCholesky<double, Eigen::Upper>>;
+  std::unique_ptr<Cholesky> cholesky;
+  std::unique_ptr<CG> cg;
+  if (options.method == SolverOptions::Method::kCholesky) {
+    cholesky = std::make_unique<Cholesky>();
+    cholesky->compute(reduced.free_matrix);
+    if (cholesky->info() != Eigen::Success)
+      throw std::runtime_error(
+          "the stiffness matrix could not be factorised (it is not positive definite): the "
+          "model may have parts not held by supports or patches that do not connect");
+  } else {
+    cg = std::make_unique<CG>();
+    cg->setTolerance(options.cg_tolerance);
+    cg->setMaxIterations(std::max<Eigen::Index>(1000, 10 * reduced.free_matrix.rows()));
+    cg->compute(reduced.free_matrix);
+    if (cg->info() != Eigen::Success)
+      throw std::runtime_error("the incomplete Cholesky preconditioner failed");
+  }
+  result.factorization_seconds = seconds_since(start);
+
+  const int dim = dofs.dofs_per_node();
+  for (const auto& load : problem.load_cases) {
+    start = std::chrono::steady_clock::now();
+    LoadCaseResult out;
+    out.id = load.id;
+    const Eigen::VectorXd force = assemble_load(problem, dofs, load);
+    const Eigen::VectorXd rhs = reduced.free_rhs(force);
+    Eigen::VectorXd free_solution;
+    if (cholesky) {
+      free_solution = cholesky->solve(rhs);
+    } else {
+      free_solution = cg->solve(rhs);
+      if (cg->info() != Eigen::Success)
+        throw std::runtime_error("conjugate gradients did not converge for load case \"" + load.id +
+                                 "\" in " + std::to_string(cg->iterations()) +
+                                 " iterations (residual " + std::to_string(cg->error()) +
+                                 "); use the Cholesky solver");
+    }
+    out.displacement = reduced.expand(free_solution);
+    const Eigen::VectorXd internal = stiffness.selfadjointView<Eigen::Upper>() * out.displacement;
+    out.strain_energy = 0.5 * out.displacement.dot(internal);
+    for (int d : constraints.dofs) out.reaction_sum[d % dim] += internal[d] - force[d];
+    out.control_displacements.resize(problem.patches.size());
+    for (size_t p = 0; p < problem.patches.size(); ++p) {
+      auto& u = out.control_displacements[p];
+      u.assign(static_cast<size_t>(problem.patches[p].num_points()), Eigen::Vector3d::Zero());
+      for (size_t i = 0; i < u.size(); ++i) {
+        for (int c = 0; c < dim; ++c)
+          u[i][c] = out.displacement[dofs.dof(static_cast<int>(p), static_cast<int>(i), c)];
+        out.max_displacement = std::max(out.max_displacement, u[i].norm());
+      }
+    }
+    out.solve_seconds = seconds_since(start);
+    result.load_cases.push_back(std::move(out));
+  }
+  return result;
+}
+
+}  // namespace isospring::analysis
