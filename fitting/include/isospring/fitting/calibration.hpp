@@ -1,0 +1,83 @@
+#pragma once
+// The whole NMSM calibration of a problem: IGA reference (analysis::solve_static), spring mesh,
+// masses, consistent loads, displacement fit (optionally a gamma sweep, Algorithm 5.1), metrics on
+// the fitted and on held-out load cases.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/displacement_fit.hpp"
+#include "isospring/fitting/error_metrics.hpp"
+#include "isospring/fitting/matrix_approach.hpp"
+#include "isospring/fitting/spring_masses.hpp"
+#include "isospring/fitting/spring_mesh.hpp"
+
+namespace isospring::fitting {
+
+struct CalibrationSettings {
+  /// Rest-length window; a non-empty gamma_sweep fits every value and keeps the lowest error.
+  double gamma = 0.01;
+  std::vector<double> gamma_sweep;
+  /// One stiffness per spring, pulled towards its gamma group's value with this weight (0: free).
+  bool per_spring = false;
+  double regularization = 0.0;
+  bool upper_bounds = false;  // [S15 4.19] bounds per group
+  MassModel mass_model = MassModel::kLumpedIga;
+  SpringMeshOptions mesh;
+  std::vector<std::string> fit_cases;      // ids; empty: every case not in holdout_cases
+  std::vector<std::string> holdout_cases;  // ids evaluated, not fitted
+  double damping_alpha = 0.0;              // > 0: [S15 4.18] damping on the fitted springs
+  int max_iterations = 200;
+  int field_samples = 11;  // per direction for the field metrics
+  /// Also fit ||K_IGA - K_NMSM||_F (matrix approach) with the same grouping, and per element when
+  /// every patch has degree 1, and evaluate those models on the same load cases.
+  bool matrix_approach = false;
+  /// Progress lines ("fit gamma 0.01 (4 groups): iteration 3, cost 1.2e-4"); empty: silent.
+  std::function<void(const std::string&)> progress;
+};
+
+struct CaseErrors {
+  std::string id;
+  ErrorMetrics control;                     // on the control points (nodes)
+  ErrorMetrics field;                       // on the displacement field
+  std::vector<Eigen::Vector3d> node_error;  // u_nmsm - u_ref per node
+};
+
+struct SweepEntry {
+  double gamma = 0.0;
+  int groups = 0;
+  double percent_e_rms = 0.0;  // root mean square over the fitted cases
+  double percent_e_max = 0.0;  // largest over the fitted cases
+};
+
+/// A matrix-approach model evaluated like the displacement fit. `solved` is false when its
+/// stiffness matrix is singular under the supports (negative springs can make it so).
+struct MatrixComparison {
+  std::string method;  // "global" or "per_element"
+  MatrixFitResult fit;
+  bool solved = false;
+  std::vector<CaseErrors> fit_cases;
+  std::vector<CaseErrors> holdout;
+};
+
+struct CalibrationResult {
+  SpringMesh mesh;  // springs with fitted stiffness (and damping), masses, fixed particles
+  Grouping grouping;
+  double gamma = 0.0;
+  int parameters = 0;
+  std::vector<CaseErrors> fit;
+  std::vector<CaseErrors> holdout;
+  std::vector<SweepEntry> sweep;
+  DisplacementFitResult fit_result;
+  std::vector<MatrixComparison> matrix;  // when settings.matrix_approach
+  double reference_seconds = 0.0;
+  double fit_seconds = 0.0;  // all fits, sweep included
+};
+
+/// Runs the calibration. Throws nurbs::InputError for bad settings or problems (unknown case ids,
+/// non-zero prescribed displacements, no fitted case) and std::runtime_error when the IGA solve
+/// fails or the fit does not converge.
+CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationSettings& settings);
+
+}  // namespace isospring::fitting

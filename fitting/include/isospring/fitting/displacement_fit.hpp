@@ -1,0 +1,73 @@
+#pragma once
+// The displacement objective [S15 5.7], generalised to several load cases and to one parameter
+// per spring: minimise sum_c (%e_rms,c / 100)^2 over the stiffnesses, where the NMSM response is
+// u(k) = K(k)^-1 f_c, K(k) = sum_s k_s g_s g_s^T linear in k.
+//
+// Residuals: r_c,a = (u_particle(a) - u_ref,a) / (o_max,c sqrt(n)) for every node a, so the sum of
+// squares of case c is (%e_rms,c / 100)^2. Parameters theta with k = exp(theta) (positivity).
+// Jacobian (analytic, no finite differences): du/dk_s = -K^-1 g_s (g_s^T u); one sparse LDL^T
+// factorisation per evaluation; the right-hand sides are solved column by column when there are
+// few parameters, or through K^-1 (the adjoint form) when there are many.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/spring_network.hpp"
+#include "isospring/fitting/stiffness_groups.hpp"
+
+namespace isospring::fitting {
+
+/// Everything the objective needs, in the particle numbering of the network. Reference
+/// displacements are per node (a control point after interface gluing) and mapped to particles by
+/// `particle_of_node` (several nodes may share a particle when coincident points were merged).
+struct DisplacementFitData {
+  analysis::SpringNetwork network;    // rest geometry, fixed particles
+  std::vector<int> constrained_dofs;  // extra particle DOFs held at zero (symmetry supports)
+  std::vector<int> particle_of_node;
+  std::vector<Eigen::VectorXd> loads;       // per case: particle forces, flat (particle * dim + c)
+  std::vector<Eigen::VectorXd> references;  // per case: node displacements, flat (node * dim + c)
+};
+
+struct DisplacementFitOptions {
+  Grouping grouping;                 // parameters: one stiffness per group
+  std::vector<double> initial;       // per group; empty: a scaled E * L0 guess (see .cpp)
+  std::vector<double> upper_bounds;  // per group; empty: none
+  /// > 0: per-spring parameters pulled towards a shared value per `regularization_groups` group
+  /// by residuals sqrt(w) (theta_s - theta_group) (w -> infinity recovers the grouped fit).
+  double regularization = 0.0;
+  Grouping regularization_groups;
+  int max_iterations = 200;
+  double youngs_modulus = 1.0;  // scale of the initial guess
+  /// Called after every Levenberg-Marquardt iteration with its number and the Ceres cost (progress
+  /// lines); empty: silent.
+  std::function<void(int iteration, double cost)> on_iteration;
+};
+
+struct DisplacementFitResult {
+  std::vector<double> group_stiffness;   // per group
+  std::vector<double> spring_stiffness;  // per spring
+  std::vector<double> percent_e_rms;     // per case, control points
+  double cost = 0.0;                     // Ceres cost: 1/2 sum of squared residuals
+  int iterations = 0;
+  bool converged = false;
+  std::string message;  // Ceres' report line (termination reason)
+  double seconds = 0.0;
+};
+
+/// Residuals of the displacement objective at theta (k_group = exp(theta)) and, when `jacobian`
+/// is not null, its analytic Jacobian with respect to theta (rows: residuals, columns: groups).
+/// Returns false when K(k) cannot be factorised (a mechanism).
+bool displacement_residuals(const DisplacementFitData& data, const Grouping& grouping,
+                            const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
+                            Eigen::MatrixXd* jacobian);
+
+/// Number of residuals of displacement_residuals().
+int num_displacement_residuals(const DisplacementFitData& data);
+
+/// Fits with Ceres (Levenberg-Marquardt). Throws nurbs::InputError for inconsistent data (sizes,
+/// a case with zero reference displacement) and std::runtime_error when the fit cannot start.
+DisplacementFitResult fit_displacements(const DisplacementFitData& data,
+                                        const DisplacementFitOptions& options);
+
+}  // namespace isospring::fitting

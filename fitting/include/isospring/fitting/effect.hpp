@@ -1,0 +1,76 @@
+#pragma once
+// Effects: physics the nominal model may miss (self-weight, compliant supports, a stiffness
+// gradient, rigid motion of the measuring frame, wrong load factors). Each effect adds parameters
+// and terms to the identification's forward model (identify_model.hpp) and says how it carries
+// over to the spring model.
+//
+// Library (effect_names()):
+//   gravity             self-weight rho * g of the declared density; g (2 or 3 components) fitted
+//   support_compliance  the fixed sides become Robin supports: springs per area k_n (normal) and
+//                       k_t (tangential), fitted as log(k / (E_prior / L))
+//   stiffness_gradient  E(x) = E (1 + a . (x - x_c) / L), a fitted (2 or 3 components)
+//   rigid_offset        rigid motion of the specimen in the measuring frame per load case:
+//                       translations and small rotations about x_c (2D: 2 + 1, 3D: 3 + 3)
+//   load_scale          actual load factor (1 + s_l) of every load case but the first (the first
+//                       one's is not separable from E)
+// x_c is the centre and L the diagonal of the model's bounding box.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/identify_assembly.hpp"
+#include "isospring/fitting/identify_model.hpp"
+
+namespace isospring::fitting {
+
+/// What effects see of the problem and the data.
+struct EffectContext {
+  const analysis::Problem* problem = nullptr;
+  const analysis::DofMap* dofs = nullptr;
+  const analysis::Constraints* constraints = nullptr;
+  const LameMatrices* stiffness = nullptr;  // homogeneous Lame parts
+  int dimension = 3;
+  /// Per load case: the positions of its markers (observation row = marker * dimension + c).
+  std::vector<std::vector<Eigen::Vector3d>> marker_positions;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // bounding-box centre of the model
+  double length = 1.0;                               // bounding-box diagonal of the model
+  double youngs_modulus_prior = 0.0;
+  Coefficient lambda;  // Lame parameters as functions of theta (material parameters)
+  Coefficient mu;
+};
+
+class Effect {
+ public:
+  virtual ~Effect() = default;
+  virtual std::string name() const = 0;
+  virtual std::vector<std::string> parameter_names() const = 0;
+  /// Units of the parameters as printed in reports ("m/s^2", "1", ...).
+  virtual std::vector<std::string> parameter_units() const = 0;
+  int num_parameters() const { return static_cast<int>(parameter_names().size()); }
+  /// Starting values: the effect switched off (or, for compliance, nearly rigid).
+  virtual Eigen::VectorXd initial_values() const { return Eigen::VectorXd::Zero(num_parameters()); }
+  /// Adds the effect's terms; its parameters are theta[first .. first + num_parameters()).
+  virtual void add_terms(const EffectContext& context, int first, ModelTerms& terms) const = 0;
+  /// Reportable values from the fitted parameters (e.g. k = k_ref exp(p)): name -> value.
+  virtual std::vector<std::pair<std::string, double>> derived(const Eigen::VectorXd& values) const {
+    (void)values;
+    return {};
+  }
+  /// How the effect carries over to the spring model, for people.
+  virtual std::string spring_model_note() const = 0;
+};
+
+/// Names of the effect library, in the order above.
+std::vector<std::string> effect_names();
+
+/// The named effect for this context, or nullptr with `why` set when it cannot apply here (e.g.
+/// gravity without a density, load_scale with one load case). Throws nurbs::InputError for an
+/// unknown name.
+std::unique_ptr<Effect> make_effect(const std::string& name, const EffectContext& context,
+                                    std::string* why);
+
+}  // namespace isospring::fitting

@@ -1,0 +1,121 @@
+#pragma once
+// The measured-data loop: fit the nominal model (E, optionally nu) to marker displacements,
+// then add effects (effect.hpp) one at a time while the best one is statistically significant,
+// refitting everything each time.
+//
+// Selection: nested-model F-test. With RSS the weighted residual sum of squares, n the number of
+// observations (markers x components) and p the number of parameters, adding an effect with q
+// parameters gives F = ((RSS_0 - RSS_1) / q) / (RSS_1 / (n - p_1)); the effect with the smallest
+// p-value is added when p < significance / (number of candidates tried in that round) (Bonferroni,
+// so a round adds a spurious effect with probability <= significance on pure noise). After an
+// addition, a backward step drops earlier effects whose removal F-test has p > significance
+// (stepwise selection: an early effect may only have stood in for a later one). The F-test
+// uses the residual variance of the larger model, so it needs no noise level.
+//
+// Noise level: given, or estimated from the baseline residual as 1.4826 MAD(r_m - r_nn) / sqrt(2)
+// over markers m and their nearest neighbours nn (same load case): neighbouring differences
+// cancel the smooth part of the residual (what the model misses) and keep the noise.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/measure.hpp"
+
+namespace isospring::fitting {
+
+struct IdentifyOptions {
+  bool fit_poisson = false;
+  double noise_sigma = 0.0;  // [m]; 0: estimate from the data
+  double significance = 0.01;
+  std::vector<std::string> candidates;  // empty: the whole library (effect_names())
+  bool holdout = true;                  // fit on even markers, validate on odd ones
+  int max_effects = 6;
+  std::function<void(const std::string&)> progress;  // progress lines (may be empty)
+};
+
+struct ParameterEstimate {
+  std::string effect;  // "material" or the effect's name
+  std::string name;
+  std::string unit;
+  double value = 0.0;
+  double standard_error = 0.0;  // from the Gauss-Newton covariance (ceres::Covariance); NaN when
+                                // the parameters are not identifiable
+};
+
+struct ErrorSummary {
+  double rms = 0.0;  // sqrt(mean |r_c|^2) over every component of every marker [m]
+  double max = 0.0;  // max |r_c| [m]
+};
+
+struct LoadCaseErrors {
+  std::string id;
+  int markers = 0;
+  ErrorSummary before, after;
+};
+
+struct CandidateTest {
+  std::string effect;
+  int parameters = 0;
+  double rss = 0.0;  // weighted RSS of the refit with the candidate
+  double f_statistic = 0.0;
+  double p_value = 1.0;
+  std::string note;  // why it was not tried (unavailable, fit failed)
+};
+
+struct SelectionRound {
+  double rss = 0.0;  // before the round
+  std::vector<CandidateTest> candidates;
+  std::string added;                 // empty: none significant, the loop stopped
+  std::vector<std::string> removed;  // earlier effects the backward step dropped
+};
+
+struct HoldoutCheck {
+  int fit_markers = 0, validation_markers = 0;
+  ErrorSummary validation_before, validation_after;  // on the validation markers
+};
+
+struct IdentifyResult {
+  std::vector<std::string> effects_added;
+  std::vector<ParameterEstimate> parameters;
+  std::vector<std::pair<std::string, double>> derived;  // e.g. support stiffness values
+  std::vector<std::string> spring_model_notes;          // per added effect
+  ErrorSummary before, after;
+  double noise_estimate = 0.0;  // [m]
+  bool noise_given = false;
+  double chi2_before = 0.0, chi2_after = 0.0;  // RSS / sigma^2 / (n - p)
+  int observations = 0;
+  std::vector<LoadCaseErrors> load_cases;
+  std::vector<SelectionRound> rounds;
+  HoldoutCheck holdout;
+  bool holdout_done = false;
+  std::vector<Eigen::Vector3d> model_before, model_after;  // per marker, model displacement [m]
+  double youngs_modulus = 0.0, poisson_ratio = 0.0;        // final material
+  double seconds = 0.0;
+};
+
+/// Runs the loop. `markers` must all lie on the model with `placements` from place_markers; each
+/// marker's load case must be one of problem.load_cases (nurbs::InputError otherwise).
+IdentifyResult identify(const analysis::Problem& problem, const std::vector<Marker>& markers,
+                        const std::vector<MarkerPlacement>& placements,
+                        const IdentifyOptions& options = {});
+
+/// Forward simulation for synthetic data and checks: the model displacement at every marker with
+/// the problem's material and the given effects at the given parameter values (each effect's
+/// parameters in its parameter_names() order).
+std::vector<Eigen::Vector3d> simulate_markers(
+    const analysis::Problem& problem, const std::vector<Marker>& markers,
+    const std::vector<MarkerPlacement>& placements,
+    const std::vector<std::pair<std::string, Eigen::VectorXd>>& effects);
+
+/// Upper tail of the F distribution: P(F(d1, d2) > f).
+double f_test_p_value(double f, int d1, int d2);
+
+/// The robust nearest-neighbour noise estimate described above, from per-marker residual vectors
+/// (only the first `dimension` components), markers grouped by `group`.
+double estimate_noise(const std::vector<Eigen::Vector3d>& positions,
+                      const std::vector<Eigen::Vector3d>& residuals, const std::vector<int>& group,
+                      int dimension);
+
+}  // namespace isospring::fitting

@@ -1,0 +1,84 @@
+#pragma once
+// The forward model of the identification: marker displacements as a function of parameters,
+// with exact first derivatives.
+//
+//   K(theta) = sum_j c_j(theta) K_j            (stiffness terms)
+//   f_l(theta) = sum_j d_j(theta) f_j           (load terms of load case l)
+//   u_l = K^-1 f_l on the free DOFs (supports prescribed), y_l = H_l u_l + sum_j o_j(theta) g_j
+//   du_l/dtheta = K^-1 (df_l/dtheta - dK/dtheta u_l)      (one factorisation per theta)
+//
+// where H_l evaluates the NURBS displacement at the load case's markers and g_j are offsets in
+// observation space (rigid motions of the measuring frame). The coefficients are scalar functions
+// of theta with their gradients; effects (effect.hpp) contribute terms.
+#include <Eigen/Core>
+#include <Eigen/Sparse>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace isospring::fitting {
+
+/// A scalar coefficient of theta: returns the value and writes the gradient (sized like theta).
+using Coefficient = std::function<double(const Eigen::VectorXd& theta, Eigen::VectorXd* gradient)>;
+
+/// c(theta) = theta[index] (gradient e_index) times `scale`.
+Coefficient linear_coefficient(int index, double scale = 1.0);
+/// c(theta) = value.
+Coefficient constant_coefficient(double value);
+/// c(theta) = a(theta) * b(theta).
+Coefficient product(Coefficient a, Coefficient b);
+
+struct MatrixTerm {
+  Eigen::SparseMatrix<double> matrix;  // full symmetric, over all DOFs
+  Coefficient coefficient;
+};
+
+struct VectorTerm {
+  int load_case = -1;  // -1: every load case
+  Eigen::VectorXd vector;
+  Coefficient coefficient;
+};
+
+struct ModelTerms {
+  int num_parameters = 0;
+  std::vector<MatrixTerm> stiffness;
+  std::vector<VectorTerm> loads;    // DOF space
+  std::vector<VectorTerm> offsets;  // observation space of the load case
+  std::vector<int> released_dofs;   // supported DOFs an effect frees (replaced by springs)
+};
+
+/// One load case's observations: y = H u (+ offsets), H is (markers * components) x DOFs.
+struct Observation {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> operator_;
+};
+
+struct ModelEvaluation {
+  std::vector<Eigen::VectorXd> predictions;    // per load case, observation space
+  std::vector<Eigen::MatrixXd> jacobians;      // per load case, observations x parameters
+  std::vector<Eigen::VectorXd> displacements;  // per load case, all DOFs
+};
+
+class ForwardModel {
+ public:
+  /// `constrained_dofs`/`constrained_values`: the supports (analysis::build_constraints).
+  ForwardModel(ModelTerms terms, std::vector<Observation> observations,
+               const std::vector<int>& constrained_dofs,
+               const std::vector<double>& constrained_values, int num_dofs, int num_load_cases);
+
+  int num_parameters() const { return terms_.num_parameters; }
+  /// Predictions (and Jacobians when `with_jacobian`) at theta. Throws std::runtime_error when
+  /// K(theta) is not positive definite (parameters outside the physical range).
+  ModelEvaluation evaluate(const Eigen::VectorXd& theta, bool with_jacobian) const;
+
+ private:
+  ModelTerms terms_;
+  std::vector<Observation> observations_;
+  int num_dofs_ = 0;
+  int num_load_cases_ = 0;
+  std::vector<int> free_index_;  // DOF -> free index or -1
+  std::vector<int> free_dofs_;
+  Eigen::VectorXd prescribed_;
+  std::vector<Eigen::SparseMatrix<double>> free_blocks_;  // upper triangles of K_j,ff
+};
+
+}  // namespace isospring::fitting

@@ -1,0 +1,48 @@
+#pragma once
+// The NMSM topology [S15 ch. 5]: every control point is a particle; springs on the control net.
+//
+// 2D nets: stretch springs on the net edges and shear springs on both diagonals of every cell.
+// 3D nets: the 12 edges, both diagonals of the 6 faces and the 4 body diagonals of every cell.
+// Cells share edges and faces, so springs are collected by particle pair: each spring exactly once.
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+#include "isospring/analysis/spring_network.hpp"
+
+namespace isospring::fitting {
+
+struct SpringMeshOptions {
+  /// Merge coincident control points of the model into one particle (seams of closed patches,
+  /// the collapsed points of a single-patch disk). Off: only the analysis' interface gluing.
+  bool merge_coincident = false;
+  /// Two points coincide when closer than this times the control-net bounding-box diagonal.
+  double relative_tolerance = 1e-9;
+};
+
+/// A spring network on the control nets of a model plus the map back to control points.
+struct SpringMesh {
+  analysis::SpringNetwork network;  // stiffness 0, masses 0, nothing fixed: set by the caller
+  /// particle[patch][control point]: the particle carrying that control point.
+  std::vector<std::vector<int>> particle;
+  /// Human-readable notes, e.g. "skipped 4 zero-length springs (collapsed net cells)".
+  std::vector<std::string> warnings;
+  int num_control_points() const;
+};
+
+/// Springs of the control nets of `problem.patches`. Control points glued by the analysis DofMap
+/// (conforming interfaces) share a particle, so the NMSM and the IGA reference live on the same
+/// nodes; the network's dimension is the problem's spatial dimension. Springs whose end points
+/// coincide (degenerate cells) are skipped with a warning, since they have no direction.
+/// Throws nurbs::InputError for curve patches (parametric dimension 1).
+SpringMesh build_spring_mesh(const analysis::Problem& problem,
+                             const SpringMeshOptions& options = {});
+
+/// Number of springs of one n0 x n1 (x n2) net by the closed-form count (no merging, no gluing).
+long expected_spring_count(int n0, int n1, int n2 = 1);
+
+/// The nodes of the analysis DofMap as particles: node_of[patch][cp] and, for each node, its
+/// particle (identity unless options.merge_coincident merged coincident nodes).
+std::vector<int> particle_of_node(const analysis::Problem& problem, const SpringMesh& mesh);
+
+}  // namespace isospring::fitting

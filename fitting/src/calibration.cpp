@@ -1,0 +1,264 @@
+// Calibration pipeline: reference, topology, loads, fit, metrics.
+#include "isospring/fitting/calibration.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/spring_mechanics.hpp"
+#include "isospring/analysis/spring_static.hpp"
+#include "isospring/analysis/static_solver.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool contains(const std::vector<std::string>& list, const std::string& id) {
+  return std::find(list.begin(), list.end(), id) != list.end();
+}
+
+// Supports -> fixed particles (every component held) or single held components. The NMSM holds
+// them at zero, so prescribed non-zero values cannot be represented.
+void apply_supports(const analysis::Problem& problem, const analysis::DofMap& dofs,
+                    const std::vector<int>& particle_of_node, SpringMesh& mesh,
+                    std::vector<int>& extra_constrained) {
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  const int dim = dofs.dofs_per_node();
+  std::vector<int> held(mesh.network.positions.size(), 0);
+  std::vector<int> particle_dofs;
+  for (size_t c = 0; c < constraints.dofs.size(); ++c) {
+    if (constraints.values[c] != 0.0)
+      throw nurbs::InputError(
+          "calibration: support values must be zero (the spring model holds "
+          "supported control points in place); remove prescribed "
+          "displacements from the calibrated case");
+    const int node = constraints.dofs[c] / dim, component = constraints.dofs[c] % dim;
+    particle_dofs.push_back(particle_of_node[node] * dim + component);
+  }
+  std::sort(particle_dofs.begin(), particle_dofs.end());
+  particle_dofs.erase(std::unique(particle_dofs.begin(), particle_dofs.end()), particle_dofs.end());
+  for (int d : particle_dofs) ++held[d / dim];
+  for (size_t q = 0; q < held.size(); ++q) mesh.network.fixed[q] = held[q] == dim;
+  for (int d : particle_dofs)
+    if (held[d / dim] != dim) extra_constrained.push_back(d);
+}
+
+Eigen::VectorXd particle_load(const Eigen::VectorXd& node_load,
+                              const std::vector<int>& particle_of_node, int num_particles,
+                              int dim) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_particles) * dim);
+  for (size_t a = 0; a < particle_of_node.size(); ++a)
+    f.segment(particle_of_node[a] * dim, dim) +=
+        node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
+  return f;
+}
+
+std::vector<Eigen::Vector3d> to_points(const Eigen::VectorXd& flat, int dim) {
+  std::vector<Eigen::Vector3d> points(static_cast<size_t>(flat.size() / dim),
+                                      Eigen::Vector3d::Zero());
+  for (size_t a = 0; a < points.size(); ++a)
+    for (int c = 0; c < dim; ++c) points[a][c] = flat[static_cast<Eigen::Index>(a) * dim + c];
+  return points;
+}
+
+std::vector<std::vector<Eigen::Vector3d>> per_patch(
+    const analysis::DofMap& dofs, const std::vector<Eigen::Vector3d>& node_values) {
+  std::vector<std::vector<Eigen::Vector3d>> result(static_cast<size_t>(dofs.num_patches()));
+  for (int p = 0; p < dofs.num_patches(); ++p)
+    for (int node : dofs.patch_nodes(p)) result[p].push_back(node_values[node]);
+  return result;
+}
+
+}  // namespace
+
+CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationSettings& settings) {
+  for (const auto& id : settings.fit_cases)
+    if (std::none_of(problem.load_cases.begin(), problem.load_cases.end(),
+                     [&](const auto& lc) { return lc.id == id; }))
+      throw nurbs::InputError("calibration.fit_cases: no load case '" + id + "' in the case file");
+  for (const auto& id : settings.holdout_cases)
+    if (std::none_of(problem.load_cases.begin(), problem.load_cases.end(),
+                     [&](const auto& lc) { return lc.id == id; }))
+      throw nurbs::InputError("calibration.holdout_cases: no load case '" + id +
+                              "' in the case file");
+
+  CalibrationResult result;
+  if (settings.progress) settings.progress("IGA reference: solving the load cases");
+  auto start = std::chrono::steady_clock::now();
+  const analysis::StaticResult reference = analysis::solve_static(problem);
+  result.reference_seconds = seconds_since(start);
+
+  const analysis::DofMap dofs(problem);
+  const int dim = dofs.dofs_per_node();
+  result.mesh = build_spring_mesh(problem, settings.mesh);
+  SpringMesh& mesh = result.mesh;
+  const std::vector<int> particle_of_node_map = particle_of_node(problem, mesh);
+  assign_masses(problem, mesh, settings.mass_model);
+
+  DisplacementFitData data;
+  apply_supports(problem, dofs, particle_of_node_map, mesh, data.constrained_dofs);
+  data.network = mesh.network;
+  data.particle_of_node = particle_of_node_map;
+  std::vector<int> fitted, held_out;
+  for (size_t c = 0; c < problem.load_cases.size(); ++c) {
+    const std::string& id = problem.load_cases[c].id;
+    const bool holdout = contains(settings.holdout_cases, id);
+    const bool fit = settings.fit_cases.empty() ? !holdout : contains(settings.fit_cases, id);
+    if (fit)
+      fitted.push_back(static_cast<int>(c));
+    else if (holdout)
+      held_out.push_back(static_cast<int>(c));
+  }
+  if (fitted.empty())
+    throw nurbs::InputError(
+        "calibration: no load case left to fit; list some in "
+        "calibration.fit_cases or remove them from holdout_cases");
+  std::vector<Eigen::VectorXd> loads(problem.load_cases.size());
+  for (size_t c = 0; c < problem.load_cases.size(); ++c)
+    loads[c] =
+        particle_load(analysis::assemble_load(problem, dofs, problem.load_cases[c]),
+                      particle_of_node_map, static_cast<int>(mesh.network.positions.size()), dim);
+  for (int c : fitted) {
+    data.loads.push_back(loads[c]);
+    data.references.push_back(reference.load_cases[c].displacement);
+  }
+
+  const std::vector<double> bounds =
+      settings.upper_bounds ? stiffness_upper_bounds(problem, mesh) : std::vector<double>{};
+  auto fit_with = [&](double gamma, Grouping& grouping) {
+    const Grouping groups = group_by_rest_length(mesh.network, gamma);
+    DisplacementFitOptions options;
+    options.max_iterations = settings.max_iterations;
+    options.youngs_modulus = problem.material.youngs_modulus;
+    if (settings.progress)
+      options.on_iteration = [&settings, gamma](int iteration, double cost) {
+        char line[160];
+        std::snprintf(line, sizeof line, "fit (gamma %g): iteration %d, cost %.6g", gamma,
+                      iteration, cost);
+        settings.progress(line);
+      };
+    if (settings.per_spring) {
+      // Start from the grouped optimum: the per-spring problem is large and underdetermined.
+      options.grouping = groups;
+      const DisplacementFitResult grouped = fit_displacements(data, options);
+      options.grouping = one_group_per_spring(mesh.network);
+      options.initial = grouped.spring_stiffness;
+      options.regularization = settings.regularization;
+      options.regularization_groups = groups;
+    } else {
+      options.grouping = groups;
+    }
+    if (!bounds.empty()) {
+      options.upper_bounds.assign(static_cast<size_t>(options.grouping.num_groups()), 0.0);
+      for (size_t s = 0; s < bounds.size(); ++s) {
+        double& b = options.upper_bounds[options.grouping.group_of_spring[s]];
+        b = std::max(b, bounds[s]);
+      }
+    }
+    grouping = options.grouping;
+    return fit_displacements(data, options);
+  };
+
+  start = std::chrono::steady_clock::now();
+  std::vector<double> gammas = settings.gamma_sweep;
+  if (gammas.empty()) gammas.push_back(settings.gamma);
+  double best_score = INFINITY;
+  for (double gamma : gammas) {
+    Grouping grouping;
+    DisplacementFitResult fit = fit_with(gamma, grouping);
+    SweepEntry entry;
+    entry.gamma = gamma;
+    entry.groups = group_by_rest_length(mesh.network, gamma).num_groups();
+    double sum = 0.0;
+    for (double e : fit.percent_e_rms) sum += e * e;
+    entry.percent_e_rms = std::sqrt(sum / fit.percent_e_rms.size());
+    result.sweep.push_back(entry);
+    if (entry.percent_e_rms < best_score) {
+      best_score = entry.percent_e_rms;
+      result.fit_result = fit;
+      result.grouping = grouping;
+      result.gamma = gamma;
+    }
+  }
+  result.fit_seconds = seconds_since(start);
+  const DisplacementFitResult& fit = result.fit_result;
+  if (!fit.converged)
+    throw std::runtime_error(
+        "calibration: the stiffness fit did not converge (" + fit.message +
+        "); raise calibration.max_iterations or use fewer groups (larger gamma)");
+  for (size_t s = 0; s < mesh.network.springs.size(); ++s) {
+    const double k = fit.spring_stiffness[s];
+    if (!(k > 0.0) || !std::isfinite(k))
+      throw std::runtime_error("calibration: the fit produced a non-positive or non-finite spring");
+    mesh.network.springs[s].stiffness = k;
+    mesh.network.springs[s].group = result.grouping.group_of_spring[s];
+  }
+  result.parameters = result.grouping.num_groups();
+  if (settings.damping_alpha > 0.0)
+    analysis::assign_damping_alpha(mesh.network, settings.damping_alpha);
+
+  // Metrics per case of a network (fitted and held-out cases); throws when K is singular.
+  auto evaluate = [&](const analysis::SpringNetwork& network, std::vector<CaseErrors>& fit_errors,
+                      std::vector<CaseErrors>& holdout_errors) {
+    for (size_t c = 0; c < problem.load_cases.size(); ++c) {
+      const bool is_fit =
+          std::find(fitted.begin(), fitted.end(), static_cast<int>(c)) != fitted.end();
+      const bool is_holdout =
+          std::find(held_out.begin(), held_out.end(), static_cast<int>(c)) != held_out.end();
+      if (!is_fit && !is_holdout) continue;
+      const Eigen::VectorXd u =
+          analysis::solve_spring_linear(network, loads[c], data.constrained_dofs).displacement;
+      Eigen::VectorXd node_u(dofs.num_dofs());
+      for (int a = 0; a < dofs.num_nodes(); ++a)
+        node_u.segment(a * dim, dim) = u.segment(particle_of_node_map[a] * dim, dim);
+      const auto ref_points = to_points(reference.load_cases[c].displacement, dim);
+      const auto model_points = to_points(node_u, dim);
+      CaseErrors errors;
+      errors.id = problem.load_cases[c].id;
+      errors.control = error_metrics(ref_points, model_points);
+      errors.field = field_error_metrics(problem.patches, per_patch(dofs, ref_points),
+                                         per_patch(dofs, model_points), settings.field_samples);
+      for (size_t a = 0; a < ref_points.size(); ++a)
+        errors.node_error.push_back(model_points[a] - ref_points[a]);
+      (is_fit ? fit_errors : holdout_errors).push_back(std::move(errors));
+    }
+  };
+  evaluate(mesh.network, result.fit, result.holdout);
+
+  if (settings.matrix_approach) {
+    auto compare = [&](const std::string& method, const MatrixFitResult& fit) {
+      MatrixComparison comparison;
+      comparison.method = method;
+      comparison.fit = fit;
+      analysis::SpringNetwork network = mesh.network;
+      for (size_t s = 0; s < network.springs.size(); ++s)
+        network.springs[s].stiffness = fit.spring_stiffness[s];
+      try {
+        evaluate(network, comparison.fit_cases, comparison.holdout);
+        comparison.solved = true;
+      } catch (const std::runtime_error&) {
+        comparison.fit_cases.clear();
+        comparison.holdout.clear();
+      }
+      result.matrix.push_back(std::move(comparison));
+    };
+    compare("global", fit_stiffness_matrix(problem, mesh, result.grouping));
+    bool linear = true;
+    for (const auto& patch : problem.patches)
+      for (int d = 0; d < patch.param_dim(); ++d) linear = linear && patch.degree(d) == 1;
+    if (linear) compare("per_element", fit_stiffness_matrix_per_element(problem, mesh));
+  }
+  return result;
+}
+
+}  // namespace isospring::fitting

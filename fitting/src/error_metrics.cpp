@@ -1,0 +1,62 @@
+// Error metrics on points and on sampled displacement fields.
+#include "isospring/fitting/error_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::fitting {
+
+ErrorMetrics error_metrics(const std::vector<Eigen::Vector3d>& reference,
+                           const std::vector<Eigen::Vector3d>& model) {
+  if (reference.size() != model.size() || reference.empty())
+    throw nurbs::InputError("error metrics: reference and model have different point counts");
+  ErrorMetrics m;
+  m.points = static_cast<int>(reference.size());
+  double sum = 0.0, worst = 0.0;
+  for (size_t a = 0; a < reference.size(); ++a) {
+    m.o_max = std::max(m.o_max, reference[a].norm());
+    const double e = (reference[a] - model[a]).norm();
+    sum += e * e;
+    worst = std::max(worst, e);
+  }
+  if (!(m.o_max > 0.0))
+    throw nurbs::InputError("error metrics: the reference displacement is zero everywhere");
+  m.percent_e_rms = 100.0 * std::sqrt(sum / m.points) / m.o_max;
+  m.percent_e_max = 100.0 * worst / m.o_max;
+  return m;
+}
+
+ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
+                                 const std::vector<std::vector<Eigen::Vector3d>>& reference,
+                                 const std::vector<std::vector<Eigen::Vector3d>>& model,
+                                 int samples) {
+  std::vector<Eigen::Vector3d> ref_points, model_points;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    const nurbs::Patch& patch = patches[p];
+    const int dims = patch.param_dim();
+    std::array<int, 3> count{1, 1, 1};
+    for (int d = 0; d < dims; ++d) count[d] = samples;
+    for (int k = 0; k < count[2]; ++k)
+      for (int j = 0; j < count[1]; ++j)
+        for (int i = 0; i < count[0]; ++i) {
+          nurbs::Param u{0.0, 0.0, 0.0};
+          const std::array<int, 3> at{i, j, k};
+          for (int d = 0; d < dims; ++d)
+            u[d] = patch.param_min(d) +
+                   (patch.param_max(d) - patch.param_min(d)) * at[d] / std::max(1, samples - 1);
+          const nurbs::RationalBasis basis = patch.basis(u, 0);
+          Eigen::Vector3d ur = Eigen::Vector3d::Zero(), um = Eigen::Vector3d::Zero();
+          for (size_t a = 0; a < basis.indices.size(); ++a) {
+            ur += basis.values[static_cast<Eigen::Index>(a)] * reference[p][basis.indices[a]];
+            um += basis.values[static_cast<Eigen::Index>(a)] * model[p][basis.indices[a]];
+          }
+          ref_points.push_back(ur);
+          model_points.push_back(um);
+        }
+  }
+  return error_metrics(ref_points, model_points);
+}
+
+}  // namespace isospring::fitting

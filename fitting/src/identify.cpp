@@ -1,0 +1,607 @@
+// The identification loop: baseline fit, F-test selection of effects, covariance, hold-out check.
+#include "isospring/fitting/identify.hpp"
+
+#include <ceres/ceres.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/validation.hpp"
+#include "isospring/fitting/effect.hpp"
+#include "isospring/fitting/identify_assembly.hpp"
+#include "isospring/fitting/identify_model.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+// Lame parameters of theta = (E / E_prior, [nu]) with exact gradients.
+Coefficient lame_coefficient(bool lambda, analysis::Formulation formulation, double e_prior,
+                             double nu_prior, int nu_index) {
+  return [=](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    const double e = e_prior * theta[0];
+    const double nu = nu_index >= 0 ? theta[nu_index] : nu_prior;
+    double g, dg;  // value per unit E and its derivative in nu
+    if (!lambda) {
+      g = 0.5 / (1.0 + nu);
+      dg = -0.5 / ((1.0 + nu) * (1.0 + nu));
+    } else if (formulation == analysis::Formulation::kPlaneStress) {
+      const double den = 1.0 - nu * nu;
+      g = nu / den;
+      dg = (1.0 + nu * nu) / (den * den);
+    } else {
+      const double den = (1.0 + nu) * (1.0 - 2.0 * nu);
+      g = nu / den;
+      dg = (1.0 + 2.0 * nu * nu) / (den * den);
+    }
+    if (gradient) {
+      gradient->setZero(theta.size());
+      (*gradient)[0] = e_prior * g;
+      if (nu_index >= 0) (*gradient)[nu_index] = e * dg;
+    }
+    return e * g;
+  };
+}
+
+// Everything that stays fixed while effects come and go.
+struct Setup {
+  const analysis::Problem* problem = nullptr;
+  analysis::DofMap dofs;
+  analysis::Constraints constraints;
+  LameMatrices lame;
+  EffectContext context;
+  int dim = 3;
+  int material_parameters = 1;
+  std::vector<Eigen::VectorXd> nominal_loads;  // per load case
+  std::vector<Observation> observations;       // per load case
+  std::vector<Eigen::VectorXd> measured;       // per load case, observation space
+  std::vector<Eigen::VectorXd> sigma;          // per load case, per row (0: use the global one)
+  std::vector<std::vector<int>> markers;       // per load case: marker indices, in row order
+  std::map<std::string, int> case_index;       // load case id -> index
+};
+
+struct Fit {
+  bool ok = false;
+  Eigen::VectorXd theta;
+  double rss = 0.0;
+  int rows = 0;  // observations with weight
+  std::string message;
+};
+
+class DataCost : public ceres::CostFunction {
+ public:
+  DataCost(const ForwardModel& model, const std::vector<Eigen::VectorXd>& measured,
+           const std::vector<Eigen::VectorXd>& weights)
+      : model_(model), measured_(measured), weights_(weights) {
+    int rows = 0;
+    for (const auto& m : measured) rows += static_cast<int>(m.size());
+    set_num_residuals(rows);
+    mutable_parameter_block_sizes()->push_back(model.num_parameters());
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const int p = model_.num_parameters();
+    const Eigen::VectorXd theta = Eigen::Map<const Eigen::VectorXd>(parameters[0], p);
+    const bool with_jacobian = jacobians && jacobians[0];
+    ModelEvaluation eval;
+    try {
+      eval = model_.evaluate(theta, with_jacobian);
+    } catch (const std::runtime_error&) {
+      return false;  // Ceres shortens the step
+    }
+    int row = 0;
+    for (size_t l = 0; l < measured_.size(); ++l)
+      for (Eigen::Index k = 0; k < measured_[l].size(); ++k, ++row) {
+        const double w = weights_[l][k];
+        residuals[row] = w * (measured_[l][k] - eval.predictions[l][k]);
+        if (with_jacobian)
+          for (int j = 0; j < p; ++j) jacobians[0][row * p + j] = -w * eval.jacobians[l](k, j);
+      }
+    return true;
+  }
+
+ private:
+  const ForwardModel& model_;
+  const std::vector<Eigen::VectorXd>& measured_;
+  const std::vector<Eigen::VectorXd>& weights_;
+};
+
+struct Model {
+  std::unique_ptr<ForwardModel> forward;
+  Eigen::VectorXd initial;
+  std::vector<std::pair<int, int>> blocks;  // per effect: first parameter, count
+};
+
+Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
+                  const Eigen::VectorXd& warm_start) {
+  ModelTerms terms;
+  terms.num_parameters = setup.material_parameters;
+  for (const Effect* effect : effects) terms.num_parameters += effect->num_parameters();
+  terms.stiffness.push_back({setup.lame.lambda_part, setup.context.lambda});
+  terms.stiffness.push_back({setup.lame.mu_part, setup.context.mu});
+  for (size_t l = 0; l < setup.nominal_loads.size(); ++l)
+    terms.loads.push_back({static_cast<int>(l), setup.nominal_loads[l], constant_coefficient(1.0)});
+  Model model;
+  model.initial.resize(terms.num_parameters);
+  model.initial[0] = 1.0;
+  if (setup.material_parameters > 1) model.initial[1] = setup.problem->material.poisson_ratio;
+  int first = setup.material_parameters;
+  for (const Effect* effect : effects) {
+    effect->add_terms(setup.context, first, terms);
+    model.initial.segment(first, effect->num_parameters()) = effect->initial_values();
+    model.blocks.emplace_back(first, effect->num_parameters());
+    first += effect->num_parameters();
+  }
+  // Warm start: the parameters already fitted keep their values (effects are appended).
+  const Eigen::Index keep = std::min(warm_start.size(), model.initial.size());
+  model.initial.head(keep) = warm_start.head(keep);
+  model.forward = std::make_unique<ForwardModel>(
+      std::move(terms), setup.observations, setup.constraints.dofs, setup.constraints.values,
+      setup.dofs.num_dofs(), static_cast<int>(setup.observations.size()));
+  return model;
+}
+
+std::vector<Eigen::VectorXd> make_weights(const Setup& setup, double sigma,
+                                          const std::vector<bool>& use_marker) {
+  std::vector<Eigen::VectorXd> weights;
+  for (size_t l = 0; l < setup.measured.size(); ++l) {
+    Eigen::VectorXd w(setup.measured[l].size());
+    for (Eigen::Index k = 0; k < w.size(); ++k) {
+      const int marker = setup.markers[l][static_cast<size_t>(k / setup.dim)];
+      const double s = setup.sigma[l][k] > 0.0 ? setup.sigma[l][k] : sigma;
+      w[k] = use_marker[static_cast<size_t>(marker)] ? 1.0 / s : 0.0;
+    }
+    weights.push_back(w);
+  }
+  return weights;
+}
+
+Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::VectorXd>& weights,
+            ceres::Covariance* covariance = nullptr, Eigen::MatrixXd* covariance_matrix = nullptr) {
+  Fit fit;
+  fit.theta = model.initial;
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  problem.AddResidualBlock(new DataCost(*model.forward, setup.measured, weights), nullptr,
+                           fit.theta.data());
+  problem.SetParameterLowerBound(fit.theta.data(), 0, 1e-3);
+  if (setup.material_parameters > 1) {
+    problem.SetParameterLowerBound(fit.theta.data(), 1, -0.9);
+    problem.SetParameterUpperBound(fit.theta.data(), 1, 0.49);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 100;
+  options.function_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-12;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  fit.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
+  fit.message = summary.message;
+  fit.rss = 2.0 * summary.final_cost;
+  for (const auto& w : weights) fit.rows += static_cast<int>((w.array() > 0.0).count());
+  if (fit.ok && covariance) {
+    const double* block = fit.theta.data();
+    std::vector<std::pair<const double*, const double*>> pairs{{block, block}};
+    const int p = static_cast<int>(fit.theta.size());
+    covariance_matrix->setConstant(p, p, std::numeric_limits<double>::quiet_NaN());
+    if (covariance->Compute(pairs, &problem))
+      covariance->GetCovarianceBlock(block, block, covariance_matrix->data());
+  }
+  return fit;
+}
+
+ErrorSummary summarize(const std::vector<Eigen::Vector3d>& residuals, const std::vector<int>& rows,
+                       int dim) {
+  ErrorSummary s;
+  double sum = 0.0;
+  int count = 0;
+  for (int m : rows)
+    for (int c = 0; c < dim; ++c) {
+      const double r = residuals[static_cast<size_t>(m)][c];
+      sum += r * r;
+      s.max = std::max(s.max, std::abs(r));
+      ++count;
+    }
+  s.rms = count > 0 ? std::sqrt(sum / count) : 0.0;
+  return s;
+}
+
+// Model displacement at every marker for theta.
+std::vector<Eigen::Vector3d> marker_predictions(const Setup& setup, const Model& model,
+                                                const Eigen::VectorXd& theta, size_t markers) {
+  const ModelEvaluation eval = model.forward->evaluate(theta, false);
+  std::vector<Eigen::Vector3d> out(markers, Eigen::Vector3d::Zero());
+  for (size_t l = 0; l < setup.markers.size(); ++l)
+    for (size_t k = 0; k < setup.markers[l].size(); ++k)
+      for (int c = 0; c < setup.dim; ++c)
+        out[static_cast<size_t>(setup.markers[l][k])][c] =
+            eval.predictions[l][static_cast<Eigen::Index>(k) * setup.dim + c];
+  return out;
+}
+
+// Validates the inputs and builds everything that stays fixed while effects come and go.
+void make_setup(Setup& setup, const analysis::Problem& problem, const std::vector<Marker>& markers,
+                const std::vector<MarkerPlacement>& placements, bool fit_poisson,
+                const std::function<void(const std::string&)>& say) {
+  analysis::validate_problem(problem);
+  if (markers.empty()) throw nurbs::InputError("measurements: no markers to fit");
+  if (placements.size() != markers.size())
+    throw std::invalid_argument("identify: one placement per marker expected");
+
+  setup.problem = &problem;
+  setup.dofs = analysis::DofMap(problem);
+  setup.constraints = analysis::build_constraints(problem, setup.dofs);
+  setup.dim = setup.dofs.dofs_per_node();
+  setup.material_parameters = fit_poisson ? 2 : 1;
+  const int dim = setup.dim;
+  if (say) say("assembling the stiffness (" + std::to_string(setup.dofs.num_dofs()) + " DOFs)");
+  setup.lame = assemble_lame_stiffness(problem, setup.dofs);
+
+  // Markers grouped by load case; observation operators from the NURBS basis at each marker.
+  std::map<std::string, int> case_index;
+  for (size_t l = 0; l < problem.load_cases.size(); ++l)
+    case_index[problem.load_cases[l].id] = static_cast<int>(l);
+  const size_t num_cases = problem.load_cases.size();
+  setup.case_index = case_index;
+  setup.markers.resize(num_cases);
+  for (size_t m = 0; m < markers.size(); ++m) {
+    const auto it = case_index.find(markers[m].load_case);
+    if (it == case_index.end())
+      throw nurbs::InputError("measurements: row " + std::to_string(markers[m].row) +
+                              ": load case \"" + markers[m].load_case +
+                              "\" is not in the case file; use one of its load_cases ids");
+    setup.markers[static_cast<size_t>(it->second)].push_back(static_cast<int>(m));
+  }
+  setup.context.marker_positions.resize(num_cases);
+  for (size_t l = 0; l < num_cases; ++l) {
+    const auto& ids = setup.markers[l];
+    const Eigen::Index rows = static_cast<Eigen::Index>(ids.size()) * dim;
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::VectorXd measured(rows), sigma(rows);
+    for (size_t k = 0; k < ids.size(); ++k) {
+      const Marker& marker = markers[static_cast<size_t>(ids[k])];
+      const MarkerPlacement& place = placements[static_cast<size_t>(ids[k])];
+      const nurbs::RationalBasis basis =
+          problem.patches[static_cast<size_t>(place.patch)].basis(place.param, 0);
+      for (int c = 0; c < dim; ++c) {
+        const Eigen::Index row = static_cast<Eigen::Index>(k) * dim + c;
+        for (size_t a = 0; a < basis.indices.size(); ++a)
+          triplets.emplace_back(row, setup.dofs.dof(place.patch, basis.indices[a], c),
+                                basis.values[static_cast<Eigen::Index>(a)]);
+        measured[row] = marker.displacement[c];
+        sigma[row] = marker.sigma;
+      }
+      setup.context.marker_positions[l].push_back(marker.position);
+    }
+    Observation obs;
+    obs.operator_.resize(rows, setup.dofs.num_dofs());
+    obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+    setup.observations.push_back(std::move(obs));
+    setup.measured.push_back(measured);
+    setup.sigma.push_back(sigma);
+    setup.nominal_loads.push_back(
+        analysis::assemble_load(problem, setup.dofs, problem.load_cases[l]));
+  }
+
+  // Effect context: model size, material coefficients.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const auto& patch : problem.patches)
+    for (const auto& x : patch.control_points()) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+  EffectContext& context = setup.context;
+  context.problem = &problem;
+  context.dofs = &setup.dofs;
+  context.constraints = &setup.constraints;
+  context.stiffness = &setup.lame;
+  context.dimension = dim;
+  context.centre = 0.5 * (lo + hi);
+  context.length = (hi - lo).norm();
+  context.youngs_modulus_prior = problem.material.youngs_modulus;
+  const int nu_index = fit_poisson ? 1 : -1;
+  context.lambda = lame_coefficient(true, problem.formulation, problem.material.youngs_modulus,
+                                    problem.material.poisson_ratio, nu_index);
+  context.mu = lame_coefficient(false, problem.formulation, problem.material.youngs_modulus,
+                                problem.material.poisson_ratio, nu_index);
+}
+
+}  // namespace
+
+IdentifyResult identify(const analysis::Problem& problem, const std::vector<Marker>& markers,
+                        const std::vector<MarkerPlacement>& placements,
+                        const IdentifyOptions& options) {
+  const auto start_time = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& message) {
+    if (options.progress) options.progress(message);
+  };
+  Setup setup;
+  make_setup(setup, problem, markers, placements, options.fit_poisson, say);
+  const int dim = setup.dim;
+  const size_t num_cases = problem.load_cases.size();
+  const std::map<std::string, int>& case_index = setup.case_index;
+  EffectContext& context = setup.context;
+
+  IdentifyResult result;
+  const std::vector<bool> all_markers(markers.size(), true);
+  std::vector<int> all_rows(markers.size());
+  for (size_t m = 0; m < markers.size(); ++m) all_rows[m] = static_cast<int>(m);
+
+  // Baseline fit. A provisional noise level makes the residuals O(1) for the solver's tolerances;
+  // uniform weights do not change the estimate.
+  double rms_data = 0.0;
+  for (const auto& m : setup.measured) rms_data += m.squaredNorm();
+  int total_rows = 0;
+  for (const auto& m : setup.measured) total_rows += static_cast<int>(m.size());
+  rms_data = std::sqrt(rms_data / std::max(1, total_rows));
+  const double provisional =
+      options.noise_sigma > 0.0 ? options.noise_sigma : std::max(1e-3 * rms_data, 1e-300);
+  say("fitting the nominal model");
+  Model baseline = build_model(setup, {}, Eigen::VectorXd());
+  const Fit first_fit = run_fit(setup, baseline, make_weights(setup, provisional, all_markers));
+  if (!first_fit.ok)
+    throw std::runtime_error("the nominal model's fit failed: " + first_fit.message);
+  result.model_before = marker_predictions(setup, baseline, first_fit.theta, markers.size());
+  std::vector<Eigen::Vector3d> residual_before(markers.size()), positions(markers.size());
+  std::vector<int> group(markers.size());
+  for (size_t m = 0; m < markers.size(); ++m) {
+    residual_before[m] = markers[m].displacement - result.model_before[m];
+    positions[m] = markers[m].position;
+    group[m] = case_index.at(markers[m].load_case);
+  }
+  result.before = summarize(residual_before, all_rows, dim);
+  result.noise_given = options.noise_sigma > 0.0;
+  result.noise_estimate = result.noise_given
+                              ? options.noise_sigma
+                              : estimate_noise(positions, residual_before, group, dim);
+  if (!(result.noise_estimate > 0.0)) result.noise_estimate = provisional;
+  std::vector<Eigen::VectorXd> weights = make_weights(setup, result.noise_estimate, all_markers);
+
+  // Candidates (matrices assembled once).
+  std::vector<std::string> names = options.candidates.empty() ? effect_names() : options.candidates;
+  std::vector<std::unique_ptr<Effect>> library;
+  std::vector<std::string> unavailable;
+  for (const std::string& name : names) {
+    std::string why;
+    auto effect = make_effect(name, context, &why);
+    if (effect)
+      library.push_back(std::move(effect));
+    else
+      unavailable.push_back(name + ": " + why);
+  }
+
+  // Forward selection.
+  std::vector<const Effect*> chosen;
+  Model current = build_model(setup, chosen, first_fit.theta);
+  Fit current_fit = run_fit(setup, current, weights);
+  const int p_before = static_cast<int>(current_fit.theta.size());
+  // Each effect can be added at most twice (once more after a backward step dropped it).
+  const size_t max_rounds = 2 * library.size() + 1;
+  while (static_cast<int>(chosen.size()) < options.max_effects &&
+         result.rounds.size() < max_rounds) {
+    SelectionRound round;
+    round.rss = current_fit.rss;
+    for (const std::string& note : unavailable)
+      round.candidates.push_back(
+          {note.substr(0, note.find(':')), 0, 0, 0, 1, note.substr(note.find(':') + 2)});
+    int tried = 0;
+    double best_p = 2.0;
+    const Effect* best = nullptr;
+    Fit best_fit;
+    for (const auto& effect : library) {
+      if (std::find(chosen.begin(), chosen.end(), effect.get()) != chosen.end()) continue;
+      std::vector<const Effect*> trial = chosen;
+      trial.push_back(effect.get());
+      const Model model = build_model(setup, trial, current_fit.theta);
+      say("trying " + effect->name());
+      const Fit fit = run_fit(setup, model, weights);
+      CandidateTest test;
+      test.effect = effect->name();
+      test.parameters = effect->num_parameters();
+      ++tried;
+      if (!fit.ok) {
+        test.note = "fit failed: " + fit.message;
+        round.candidates.push_back(test);
+        continue;
+      }
+      test.rss = fit.rss;
+      const int d1 = test.parameters;
+      const int d2 = fit.rows - static_cast<int>(fit.theta.size());
+      test.f_statistic = d2 > 0 ? ((current_fit.rss - fit.rss) / d1) / (fit.rss / d2) : 0.0;
+      test.p_value = f_test_p_value(test.f_statistic, d1, d2);
+      round.candidates.push_back(test);
+      // Strong effects have p-values that underflow to 0 in double; among equal p-values the
+      // candidate that explains the most (smallest refit RSS) wins, not the first one tried.
+      if (test.p_value < best_p || (test.p_value == best_p && best && fit.rss < best_fit.rss)) {
+        best_p = test.p_value;
+        best = effect.get();
+        best_fit = fit;
+      }
+    }
+    if (best && best_p < options.significance / std::max(1, tried)) {
+      round.added = best->name();
+      chosen.push_back(best);
+      say("added " + best->name() + " (p = " + std::to_string(best_p) + ")");
+      current = build_model(setup, chosen, best_fit.theta);
+      current_fit = best_fit;
+      // Backward step (stepwise selection): an effect added earlier may only have stood in for
+      // the new one; drop the least significant earlier effect while its F-test fails.
+      while (chosen.size() > 1) {
+        double worst_p = -1.0;
+        size_t worst = 0;
+        Fit worst_fit;
+        for (size_t e = 0; e + 1 < chosen.size(); ++e) {
+          std::vector<const Effect*> reduced = chosen;
+          reduced.erase(reduced.begin() + static_cast<std::ptrdiff_t>(e));
+          Eigen::VectorXd start = current_fit.theta.head(setup.material_parameters);
+          for (size_t k = 0; k < chosen.size(); ++k) {
+            if (k == e) continue;
+            const auto [first, count] = current.blocks[k];
+            start.conservativeResize(start.size() + count);
+            start.tail(count) = current_fit.theta.segment(first, count);
+          }
+          const Fit fit = run_fit(setup, build_model(setup, reduced, start), weights);
+          if (!fit.ok) continue;
+          const int d1 = chosen[e]->num_parameters();
+          const int d2 = current_fit.rows - static_cast<int>(current_fit.theta.size());
+          const double f = ((fit.rss - current_fit.rss) / d1) / (current_fit.rss / d2);
+          const double p = f_test_p_value(f, d1, d2);
+          if (p > worst_p) {
+            worst_p = p;
+            worst = e;
+            worst_fit = fit;
+          }
+        }
+        if (worst_p <= options.significance) break;
+        say("dropped " + chosen[worst]->name() + " (p = " + std::to_string(worst_p) + ")");
+        round.removed.push_back(chosen[worst]->name());
+        chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(worst));
+        current = build_model(setup, chosen, worst_fit.theta);
+        current_fit = worst_fit;
+      }
+      result.rounds.push_back(round);
+    } else {
+      result.rounds.push_back(round);
+      break;
+    }
+  }
+
+  // Without a given noise level, re-estimate it from the final residual: the baseline residual's
+  // smooth misfit leaks into neighbour differences when markers are coarse.
+  if (!result.noise_given) {
+    const auto predicted = marker_predictions(setup, current, current_fit.theta, markers.size());
+    std::vector<Eigen::Vector3d> residual(markers.size());
+    for (size_t m = 0; m < markers.size(); ++m)
+      residual[m] = markers[m].displacement - predicted[m];
+    const double sigma = estimate_noise(positions, residual, group, dim);
+    if (sigma > 0.0) result.noise_estimate = sigma;
+    weights = make_weights(setup, result.noise_estimate, all_markers);
+  }
+  const Fit baseline_final = run_fit(setup, build_model(setup, {}, first_fit.theta), weights);
+  const double rss_before = baseline_final.rss;
+
+  // Final fit with covariance.
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance covariance(cov_options);
+  Eigen::MatrixXd cov;
+  current_fit = run_fit(setup, current, weights, &covariance, &cov);
+  if (!current_fit.ok) throw std::runtime_error("the final fit failed: " + current_fit.message);
+  const Eigen::VectorXd& theta = current_fit.theta;
+  auto se = [&](int k) { return std::sqrt(cov(k, k)); };
+  const double e_prior = problem.material.youngs_modulus;
+  result.parameters.push_back({"material", "E", "Pa", e_prior * theta[0], e_prior * se(0)});
+  result.youngs_modulus = e_prior * theta[0];
+  result.poisson_ratio = problem.material.poisson_ratio;
+  if (options.fit_poisson) {
+    result.parameters.push_back({"material", "nu", "1", theta[1], se(1)});
+    result.poisson_ratio = theta[1];
+  }
+  for (size_t e = 0; e < chosen.size(); ++e) {
+    const auto [first, count] = current.blocks[e];
+    const auto names_e = chosen[e]->parameter_names();
+    const auto units_e = chosen[e]->parameter_units();
+    for (int k = 0; k < count; ++k)
+      result.parameters.push_back({chosen[e]->name(), names_e[static_cast<size_t>(k)],
+                                   units_e[static_cast<size_t>(k)], theta[first + k],
+                                   se(first + k)});
+    for (const auto& d : chosen[e]->derived(theta.segment(first, count)))
+      result.derived.emplace_back(chosen[e]->name() + "." + d.first, d.second);
+    result.effects_added.push_back(chosen[e]->name());
+    result.spring_model_notes.push_back(chosen[e]->name() + ": " + chosen[e]->spring_model_note());
+  }
+  result.model_after = marker_predictions(setup, current, theta, markers.size());
+  std::vector<Eigen::Vector3d> residual_after(markers.size());
+  for (size_t m = 0; m < markers.size(); ++m)
+    residual_after[m] = markers[m].displacement - result.model_after[m];
+  result.after = summarize(residual_after, all_rows, dim);
+  result.observations = current_fit.rows;
+  // Chi-square per degree of freedom against the noise level (weights are 1/sigma).
+  result.chi2_before = rss_before / std::max(1, current_fit.rows - p_before);
+  result.chi2_after =
+      current_fit.rss / std::max(1, current_fit.rows - static_cast<int>(theta.size()));
+  for (size_t l = 0; l < num_cases; ++l) {
+    LoadCaseErrors errors;
+    errors.id = problem.load_cases[l].id;
+    errors.markers = static_cast<int>(setup.markers[l].size());
+    errors.before = summarize(residual_before, setup.markers[l], dim);
+    errors.after = summarize(residual_after, setup.markers[l], dim);
+    result.load_cases.push_back(errors);
+  }
+
+  // Hold-out: fit on the even markers of every load case, validate on the odd ones.
+  if (options.holdout) {
+    std::vector<bool> fit_marker(markers.size(), false);
+    std::vector<int> validation;
+    for (const auto& ids : setup.markers)
+      for (size_t k = 0; k < ids.size(); ++k) {
+        if (k % 2 == 0)
+          fit_marker[static_cast<size_t>(ids[k])] = true;
+        else
+          validation.push_back(ids[k]);
+      }
+    const auto holdout_weights = make_weights(setup, result.noise_estimate, fit_marker);
+    const Model base = build_model(setup, {}, first_fit.theta);
+    const Fit base_fit = run_fit(setup, base, holdout_weights);
+    const Model full = build_model(setup, chosen, theta);
+    const Fit full_fit = run_fit(setup, full, holdout_weights);
+    if (base_fit.ok && full_fit.ok && !validation.empty()) {
+      auto residuals = [&](const Model& model, const Fit& fit) {
+        const auto predicted = marker_predictions(setup, model, fit.theta, markers.size());
+        std::vector<Eigen::Vector3d> r(markers.size());
+        for (size_t m = 0; m < markers.size(); ++m) r[m] = markers[m].displacement - predicted[m];
+        return r;
+      };
+      result.holdout.fit_markers = static_cast<int>(markers.size() - validation.size());
+      result.holdout.validation_markers = static_cast<int>(validation.size());
+      result.holdout.validation_before = summarize(residuals(base, base_fit), validation, dim);
+      result.holdout.validation_after = summarize(residuals(full, full_fit), validation, dim);
+      result.holdout_done = true;
+    }
+  }
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return result;
+}
+
+}  // namespace isospring::fitting
+
+namespace isospring::fitting {
+
+std::vector<Eigen::Vector3d> simulate_markers(
+    const analysis::Problem& problem, const std::vector<Marker>& markers,
+    const std::vector<MarkerPlacement>& placements,
+    const std::vector<std::pair<std::string, Eigen::VectorXd>>& effects) {
+  Setup setup;
+  make_setup(setup, problem, markers, placements, false, {});
+  std::vector<std::unique_ptr<Effect>> owned;
+  std::vector<const Effect*> chosen;
+  Eigen::VectorXd theta = Eigen::VectorXd::Ones(1);
+  for (const auto& [name, values] : effects) {
+    std::string why;
+    owned.push_back(make_effect(name, setup.context, &why));
+    if (!owned.back()) throw nurbs::InputError("effect " + name + " does not apply: " + why);
+    if (values.size() != owned.back()->num_parameters())
+      throw std::invalid_argument("simulate_markers: " + name + " takes " +
+                                  std::to_string(owned.back()->num_parameters()) + " parameters");
+    chosen.push_back(owned.back().get());
+    theta.conservativeResize(theta.size() + values.size());
+    theta.tail(values.size()) = values;
+  }
+  const Model model = build_model(setup, chosen, theta);
+  return marker_predictions(setup, model, theta, markers.size());
+}
+
+}  // namespace isospring::fitting

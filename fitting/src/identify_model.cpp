@@ -1,0 +1,158 @@
+// ForwardModel: one sparse Cholesky factorisation per theta, all load cases and all parameter
+// derivatives solved against it.
+#include "isospring/fitting/identify_model.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <stdexcept>
+
+namespace isospring::fitting {
+
+Coefficient linear_coefficient(int index, double scale) {
+  return [index, scale](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    if (gradient) {
+      gradient->setZero(theta.size());
+      (*gradient)[index] = scale;
+    }
+    return scale * theta[index];
+  };
+}
+
+Coefficient constant_coefficient(double value) {
+  return [value](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    if (gradient) gradient->setZero(theta.size());
+    return value;
+  };
+}
+
+Coefficient product(Coefficient a, Coefficient b) {
+  return [a, b](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    Eigen::VectorXd ga, gb;
+    const double va = a(theta, gradient ? &ga : nullptr);
+    const double vb = b(theta, gradient ? &gb : nullptr);
+    if (gradient) *gradient = va * gb + vb * ga;
+    return va * vb;
+  };
+}
+
+namespace {
+
+// Upper triangle of the free-free block of a full symmetric matrix.
+Eigen::SparseMatrix<double> free_block(const Eigen::SparseMatrix<double>& m,
+                                       const std::vector<int>& free_index, int num_free) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int c = 0; c < m.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m, c); it; ++it) {
+      const int fr = free_index[static_cast<size_t>(it.row())];
+      const int fc = free_index[static_cast<size_t>(it.col())];
+      if (fr >= 0 && fc >= 0 && fr <= fc) triplets.emplace_back(fr, fc, it.value());
+    }
+  Eigen::SparseMatrix<double> block(num_free, num_free);
+  block.setFromTriplets(triplets.begin(), triplets.end());
+  return block;
+}
+
+}  // namespace
+
+ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observations,
+                           const std::vector<int>& constrained_dofs,
+                           const std::vector<double>& constrained_values, int num_dofs,
+                           int num_load_cases)
+    : terms_(std::move(terms)),
+      observations_(std::move(observations)),
+      num_dofs_(num_dofs),
+      num_load_cases_(num_load_cases) {
+  prescribed_.setZero(num_dofs);
+  std::vector<bool> constrained(static_cast<size_t>(num_dofs), false);
+  for (size_t k = 0; k < constrained_dofs.size(); ++k) {
+    constrained[static_cast<size_t>(constrained_dofs[k])] = true;
+    prescribed_[constrained_dofs[k]] = constrained_values[k];
+  }
+  for (int d : terms_.released_dofs) {
+    constrained[static_cast<size_t>(d)] = false;
+    prescribed_[d] = 0.0;
+  }
+  free_index_.assign(static_cast<size_t>(num_dofs), -1);
+  for (int d = 0; d < num_dofs; ++d)
+    if (!constrained[static_cast<size_t>(d)]) {
+      free_index_[static_cast<size_t>(d)] = static_cast<int>(free_dofs_.size());
+      free_dofs_.push_back(d);
+    }
+  for (const MatrixTerm& term : terms_.stiffness)
+    free_blocks_.push_back(
+        free_block(term.matrix, free_index_, static_cast<int>(free_dofs_.size())));
+}
+
+ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_jacobian) const {
+  const int p = num_parameters();
+  const int nf = static_cast<int>(free_dofs_.size());
+  const size_t nt = terms_.stiffness.size();
+  std::vector<double> c(nt);
+  std::vector<Eigen::VectorXd> dc(nt);
+  Eigen::SparseMatrix<double> kff(nf, nf);
+  for (size_t j = 0; j < nt; ++j) {
+    c[j] = terms_.stiffness[j].coefficient(theta, &dc[j]);
+    kff += c[j] * free_blocks_[j];
+  }
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
+  cholesky.cholmod().print = 0;  // a failed trial step is handled below, not printed
+  cholesky.compute(kff);
+  if (cholesky.info() != Eigen::Success)
+    throw std::runtime_error(
+        "the stiffness at the current parameters is not positive definite (a parameter left "
+        "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
+
+  auto to_free = [&](const Eigen::VectorXd& global) {
+    Eigen::VectorXd f(nf);
+    for (int k = 0; k < nf; ++k) f[k] = global[free_dofs_[static_cast<size_t>(k)]];
+    return f;
+  };
+
+  ModelEvaluation out;
+  for (int l = 0; l < num_load_cases_; ++l) {
+    Eigen::VectorXd force = Eigen::VectorXd::Zero(num_dofs_);
+    Eigen::MatrixXd dforce = Eigen::MatrixXd::Zero(num_dofs_, with_jacobian ? p : 0);
+    for (const VectorTerm& term : terms_.loads) {
+      if (term.load_case >= 0 && term.load_case != l) continue;
+      Eigen::VectorXd g;
+      force += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
+      if (with_jacobian) dforce += term.vector * g.transpose();
+    }
+    // u = prescribed + free solution of K_ff u_f = f_f - (K u_c)_f.
+    Eigen::VectorXd ku_c = Eigen::VectorXd::Zero(num_dofs_);
+    if (prescribed_.squaredNorm() > 0.0)
+      for (size_t j = 0; j < nt; ++j) ku_c += c[j] * (terms_.stiffness[j].matrix * prescribed_);
+    const Eigen::VectorXd free_solution = cholesky.solve(to_free(force - ku_c));
+    Eigen::VectorXd u = prescribed_;
+    for (int k = 0; k < nf; ++k) u[free_dofs_[static_cast<size_t>(k)]] = free_solution[k];
+
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& h =
+        observations_[static_cast<size_t>(l)].operator_;
+    Eigen::VectorXd y = h * u;
+    Eigen::MatrixXd jac;
+    if (with_jacobian) {
+      // Right-hand sides df/dtheta - dK/dtheta u (prescribed DOFs do not depend on theta).
+      Eigen::MatrixXd rhs = dforce;
+      for (size_t j = 0; j < nt; ++j)
+        if (dc[j].cwiseAbs().maxCoeff() > 0.0)
+          rhs -= (terms_.stiffness[j].matrix * u) * dc[j].transpose();
+      Eigen::MatrixXd rhs_free(nf, p);
+      for (int k = 0; k < nf; ++k) rhs_free.row(k) = rhs.row(free_dofs_[static_cast<size_t>(k)]);
+      const Eigen::MatrixXd du_free = cholesky.solve(rhs_free);
+      Eigen::MatrixXd du = Eigen::MatrixXd::Zero(num_dofs_, p);
+      for (int k = 0; k < nf; ++k) du.row(free_dofs_[static_cast<size_t>(k)]) = du_free.row(k);
+      jac = h * du;
+    }
+    for (const VectorTerm& term : terms_.offsets) {
+      if (term.load_case >= 0 && term.load_case != l) continue;
+      Eigen::VectorXd g;
+      y += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
+      if (with_jacobian) jac += term.vector * g.transpose();
+    }
+    out.predictions.push_back(std::move(y));
+    out.jacobians.push_back(std::move(jac));
+    out.displacements.push_back(std::move(u));
+  }
+  return out;
+}
+
+}  // namespace isospring::fitting

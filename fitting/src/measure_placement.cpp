@@ -1,0 +1,49 @@
+// Marker placement by point inversion on every patch; the closest patch wins.
+#include <map>
+
+#include "isospring/fitting/measure.hpp"
+#include "isospring/nurbs/point_inversion.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+MarkerPlacement closest_point(const std::vector<nurbs::Patch>& patches, const Eigen::Vector3d& x) {
+  MarkerPlacement best;
+  best.distance = std::numeric_limits<double>::infinity();
+  for (size_t p = 0; p < patches.size(); ++p) {
+    // A patch whose control box (which contains it) is farther than the best distance so far
+    // cannot hold a closer point: skip the Newton iteration.
+    const auto [lo, hi] = patches[p].control_bounds();
+    const Eigen::Vector3d gap = (lo - x).cwiseMax(x - hi).cwiseMax(0.0);
+    if (gap.norm() > best.distance) continue;
+    const nurbs::Inversion inv = nurbs::invert_point(patches[p], x);
+    if (inv.distance < best.distance) {
+      best.patch = static_cast<int>(p);
+      best.param = inv.param;
+      best.distance = inv.distance;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+PlacementResult place_markers(const std::vector<nurbs::Patch>& patches,
+                              const std::vector<Marker>& markers, double tolerance) {
+  PlacementResult result;
+  result.placements.reserve(markers.size());
+  // Load cases usually share marker positions: place each distinct position once.
+  std::map<std::array<double, 3>, MarkerPlacement> cache;
+  for (size_t m = 0; m < markers.size(); ++m) {
+    const Eigen::Vector3d& x = markers[m].position;
+    const std::array<double, 3> key{x.x(), x.y(), x.z()};
+    auto it = cache.find(key);
+    if (it == cache.end()) it = cache.emplace(key, closest_point(patches, x)).first;
+    result.placements.push_back(it->second);
+    if (!(it->second.distance <= tolerance)) result.outside.push_back(static_cast<int>(m));
+  }
+  return result;
+}
+
+}  // namespace isospring::fitting

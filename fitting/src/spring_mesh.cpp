@@ -1,0 +1,162 @@
+// Springs on the control nets: all corner pairs of every net cell, collected once per particle
+// pair.
+#include "isospring/fitting/spring_mesh.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <set>
+#include <utility>
+
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+double bounding_box_diagonal(const std::vector<Eigen::Vector3d>& points) {
+  if (points.empty()) return 0.0;
+  Eigen::Vector3d lo = points.front(), hi = points.front();
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
+// Union of coincident points: sort along x and compare within the tolerance window, so the cost is
+// O(n log n) for nets without large clusters of equal x.
+std::vector<int> merge_coincident(const std::vector<Eigen::Vector3d>& points, double tolerance) {
+  const int n = static_cast<int>(points.size());
+  std::vector<int> order(static_cast<size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return points[a].x() < points[b].x(); });
+  std::vector<int> root(static_cast<size_t>(n));
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int a) {
+    while (root[a] != a) a = root[a] = root[root[a]];
+    return a;
+  };
+  for (int s = 0; s < n; ++s) {
+    for (int t = s + 1; t < n; ++t) {
+      const int a = order[s], b = order[t];
+      if (points[b].x() - points[a].x() > tolerance) break;
+      if ((points[a] - points[b]).norm() <= tolerance) root[find(b)] = find(a);
+    }
+  }
+  // Renumber the classes by first appearance so particle order follows node order.
+  std::vector<int> label(static_cast<size_t>(n), -1), result(static_cast<size_t>(n));
+  int next = 0;
+  for (int a = 0; a < n; ++a) {
+    const int r = find(a);
+    if (label[r] < 0) label[r] = next++;
+    result[a] = label[r];
+  }
+  return result;
+}
+
+}  // namespace
+
+int SpringMesh::num_control_points() const {
+  int count = 0;
+  for (const auto& p : particle) count += static_cast<int>(p.size());
+  return count;
+}
+
+long expected_spring_count(int n0, int n1, int n2) {
+  const long a = n0, b = n1, c = n2;
+  if (c <= 1) return a * (b - 1) + b * (a - 1) + 2 * (a - 1) * (b - 1);
+  const long edges = (a - 1) * b * c + a * (b - 1) * c + a * b * (c - 1);
+  const long face_diagonals =
+      2 * ((a - 1) * (b - 1) * c + (a - 1) * b * (c - 1) + a * (b - 1) * (c - 1));
+  const long body_diagonals = 4 * (a - 1) * (b - 1) * (c - 1);
+  return edges + face_diagonals + body_diagonals;
+}
+
+std::vector<int> particle_of_node(const analysis::Problem& problem, const SpringMesh& mesh) {
+  const analysis::DofMap dofs(problem);
+  std::vector<int> result(static_cast<size_t>(dofs.num_nodes()), -1);
+  for (int p = 0; p < dofs.num_patches(); ++p) {
+    const auto& nodes = dofs.patch_nodes(p);
+    for (size_t cp = 0; cp < nodes.size(); ++cp)
+      result[static_cast<size_t>(nodes[cp])] = mesh.particle[static_cast<size_t>(p)][cp];
+  }
+  return result;
+}
+
+SpringMesh build_spring_mesh(const analysis::Problem& problem, const SpringMeshOptions& options) {
+  for (size_t p = 0; p < problem.patches.size(); ++p) {
+    if (problem.patches[p].param_dim() < 2)
+      throw nurbs::InputError("spring mesh: patch " + std::to_string(p) +
+                              " is a curve; the NMSM needs surface (2D) or volume (3D) patches");
+  }
+  const analysis::DofMap dofs(problem);
+  const auto& node_positions = dofs.node_positions();
+  const double tolerance = options.relative_tolerance * bounding_box_diagonal(node_positions);
+
+  std::vector<int> particle_of(static_cast<size_t>(dofs.num_nodes()));
+  std::iota(particle_of.begin(), particle_of.end(), 0);
+  if (options.merge_coincident) particle_of = merge_coincident(node_positions, tolerance);
+  const int num_particles =
+      particle_of.empty() ? 0 : *std::max_element(particle_of.begin(), particle_of.end()) + 1;
+
+  SpringMesh mesh;
+  auto& net = mesh.network;
+  net.dimension = analysis::spatial_dimension(problem.formulation);
+  net.positions.assign(static_cast<size_t>(num_particles), Eigen::Vector3d::Zero());
+  std::vector<bool> placed(static_cast<size_t>(num_particles), false);
+  for (int node = 0; node < dofs.num_nodes(); ++node) {
+    const int q = particle_of[node];
+    if (!placed[q]) net.positions[q] = node_positions[node];
+    placed[q] = true;
+  }
+  net.masses.assign(static_cast<size_t>(num_particles), 0.0);
+  net.fixed.assign(static_cast<size_t>(num_particles), false);
+
+  mesh.particle.resize(problem.patches.size());
+  for (int p = 0; p < dofs.num_patches(); ++p)
+    for (int node : dofs.patch_nodes(p)) mesh.particle[p].push_back(particle_of[node]);
+
+  // Every pair of corners of a net cell is a spring (2D: 4 edges + 2 diagonals; 3D: 12 edges +
+  // 12 face diagonals + 4 body diagonals). The ordered set gives a deterministic spring order.
+  std::set<std::pair<int, int>> pairs;
+  int collapsed = 0;
+  for (size_t p = 0; p < problem.patches.size(); ++p) {
+    const nurbs::Patch& patch = problem.patches[p];
+    const int n0 = patch.num_points(0), n1 = patch.num_points(1), n2 = patch.num_points(2);
+    const int c2 = patch.param_dim() == 3 ? n2 - 1 : 1;
+    for (int k = 0; k < c2; ++k)
+      for (int j = 0; j + 1 < n1; ++j)
+        for (int i = 0; i + 1 < n0; ++i) {
+          std::vector<int> corners;
+          for (int dk = 0; dk < (patch.param_dim() == 3 ? 2 : 1); ++dk)
+            for (int dj = 0; dj < 2; ++dj)
+              for (int di = 0; di < 2; ++di)
+                corners.push_back(mesh.particle[p][patch.index(i + di, j + dj, k + dk)]);
+          for (size_t a = 0; a < corners.size(); ++a)
+            for (size_t b = a + 1; b < corners.size(); ++b) {
+              const int s = std::min(corners[a], corners[b]), t = std::max(corners[a], corners[b]);
+              if (s == t || (net.positions[s] - net.positions[t]).norm() <= tolerance) {
+                ++collapsed;
+                continue;
+              }
+              pairs.emplace(s, t);
+            }
+        }
+  }
+  for (const auto& [s, t] : pairs) {
+    analysis::Spring spring;
+    spring.i = s;
+    spring.j = t;
+    spring.rest_length = (net.positions[s] - net.positions[t]).norm();
+    net.springs.push_back(spring);
+  }
+  if (collapsed > 0)
+    mesh.warnings.push_back("skipped " + std::to_string(collapsed) +
+                            " zero-length corner pairs of degenerate (collapsed) net cells; they "
+                            "have no direction and cannot carry a spring");
+  return mesh;
+}
+
+}  // namespace isospring::fitting

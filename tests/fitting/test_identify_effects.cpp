@@ -1,0 +1,148 @@
+// The loop on synthetic data with undeclared effects: data from the forward model with a true E
+// 15% above the prior and hidden effects, plus Gaussian noise. The identification must find
+// exactly the hidden effects, estimate every parameter within 3 standard errors of the truth and
+// leave a residual at the noise level; on pure noise it must add nothing.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "isospring/fitting/identify.hpp"
+#include "isospring/nurbs/error.hpp"
+#include "test_identify_plate.hpp"
+
+namespace isospring::fitting {
+namespace {
+
+using Effects = std::vector<std::pair<std::string, Eigen::VectorXd>>;
+constexpr double kSigma = 1e-6;      // noise [m]; the displacements are 1e-4 .. 1e-3 m
+constexpr double kTrueScale = 1.15;  // E_true / E_prior
+
+struct Synthetic {
+  analysis::Problem prior;
+  std::vector<Marker> markers;
+  std::vector<MarkerPlacement> placements;
+};
+
+Synthetic make_data(const Effects& hidden, unsigned seed) {
+  Synthetic data;
+  data.prior = testing::plate_problem();
+  data.markers = testing::grid_markers(data.prior);
+  const PlacementResult placed = place_markers(data.prior.patches, data.markers, 1e-9);
+  data.placements = placed.placements;
+  analysis::Problem truth = data.prior;
+  truth.material.youngs_modulus *= kTrueScale;
+  testing::add_noise(data.markers, simulate_markers(truth, data.markers, data.placements, hidden),
+                     kSigma, seed);
+  return data;
+}
+
+const ParameterEstimate* find(const IdentifyResult& r, const std::string& effect, size_t k) {
+  size_t seen = 0;
+  for (const auto& p : r.parameters)
+    if (p.effect == effect && seen++ == k) return &p;
+  return nullptr;
+}
+
+void expect_identified(const Effects& hidden, unsigned seed = 1) {
+  const Synthetic data = make_data(hidden, seed);
+  IdentifyOptions options;
+  options.holdout = false;
+  const IdentifyResult r = identify(data.prior, data.markers, data.placements, options);
+  std::set<std::string> expected, found(r.effects_added.begin(), r.effects_added.end());
+  for (const auto& [name, values] : hidden) expected.insert(name);
+  EXPECT_EQ(found, expected);
+  // The estimated noise level is close to the true one, the residual at the noise level.
+  EXPECT_NEAR(r.noise_estimate, kSigma, 0.15 * kSigma);
+  EXPECT_LT(r.after.rms, 1.3 * kSigma);
+  EXPECT_GT(r.before.rms, 1.3 * kSigma);  // the hidden effect was visible
+  ASSERT_FALSE(r.parameters.empty());
+  const ParameterEstimate& e = r.parameters[0];
+  EXPECT_LT(std::abs(e.value - kTrueScale * 1e6), 3 * e.standard_error) << "E";
+  if (found != expected) return;
+  for (const auto& [name, values] : hidden)
+    for (Eigen::Index k = 0; k < values.size(); ++k) {
+      const ParameterEstimate* p = find(r, name, static_cast<size_t>(k));
+      ASSERT_NE(p, nullptr);
+      EXPECT_GT(p->standard_error, 0.0);
+      // Support stiffnesses are fitted relative to E_prior / L, the generator's to E_true / L.
+      const double truth = values[k] + (name == "support_compliance" ? std::log(kTrueScale) : 0.0);
+      EXPECT_LT(std::abs(p->value - truth), 3 * p->standard_error)
+          << name << "." << p->name << " = " << p->value << " +- " << p->standard_error
+          << ", truth " << truth;
+    }
+}
+
+const Eigen::VectorXd kGravity = Eigen::Vector2d(0.0, -9.81);
+// Spring stiffnesses 20 and 10 times E_true / L (the generator's reference stiffness).
+const Eigen::VectorXd kCompliance = Eigen::Vector2d(std::log(20.0), std::log(10.0));
+const Eigen::VectorXd kGradient = Eigen::Vector2d(0.3, -0.2);
+const Eigen::VectorXd kOffset =
+    (Eigen::VectorXd(6) << 3e-6, -2e-6, 4e-5, -1e-6, 3e-6, -2e-5).finished();
+const Eigen::VectorXd kLoadScale = Eigen::VectorXd::Constant(1, 0.05);
+
+TEST(IdentifyEffects, FindsGravity) {
+  expect_identified({{"gravity", kGravity}});
+}
+TEST(IdentifyEffects, FindsSupportCompliance) {
+  expect_identified({{"support_compliance", kCompliance}});
+}
+TEST(IdentifyEffects, FindsStiffnessGradient) {
+  expect_identified({{"stiffness_gradient", kGradient}});
+}
+TEST(IdentifyEffects, FindsRigidOffset) {
+  expect_identified({{"rigid_offset", kOffset}});
+}
+TEST(IdentifyEffects, FindsLoadScale) {
+  expect_identified({{"load_scale", kLoadScale}});
+}
+TEST(IdentifyEffects, FindsGravityAndRigidOffset) {
+  expect_identified({{"gravity", kGravity}, {"rigid_offset", kOffset}});
+}
+TEST(IdentifyEffects, FindsStiffnessGradientAndLoadScale) {
+  expect_identified({{"stiffness_gradient", kGradient}, {"load_scale", kLoadScale}});
+}
+
+TEST(IdentifyEffects, AddsNothingToPureNoiseIn19Of20Seeds) {
+  // The Bonferroni-corrected F-test at 1% adds a spurious effect with probability <= 1% per
+  // seed; 2 or more false additions in 20 seeds would happen with probability < 2%.
+  int clean = 0;
+  double worst_e_error = 0.0;
+  for (unsigned seed = 100; seed < 120; ++seed) {
+    const Synthetic data = make_data({}, seed);
+    IdentifyOptions options;
+    options.holdout = false;
+    const IdentifyResult r = identify(data.prior, data.markers, data.placements, options);
+    if (r.effects_added.empty()) ++clean;
+    worst_e_error = std::max(worst_e_error, std::abs(r.parameters[0].value - kTrueScale * 1e6) /
+                                                r.parameters[0].standard_error);
+    EXPECT_LT(r.after.rms, 1.3 * kSigma);
+  }
+  EXPECT_GE(clean, 19);
+  EXPECT_LT(worst_e_error, 3.5);  // max of 20 |z| values
+}
+
+TEST(IdentifyEffects, HoldoutImprovesWhenTheEffectIsReal) {
+  const Synthetic data = make_data({{"gravity", kGravity}}, 3);
+  const IdentifyResult r = identify(data.prior, data.markers, data.placements);
+  ASSERT_TRUE(r.holdout_done);
+  EXPECT_EQ(r.holdout.validation_markers + r.holdout.fit_markers,
+            static_cast<int>(data.markers.size()));
+  // Validation residual drops from the misfit to the noise level.
+  EXPECT_LT(r.holdout.validation_after.rms, 1.3 * kSigma);
+  EXPECT_GT(r.holdout.validation_before.rms, 2 * r.holdout.validation_after.rms);
+}
+
+TEST(IdentifyEffects, UnknownLoadCaseIsAnInputError) {
+  Synthetic data = make_data({}, 5);
+  data.markers[3].load_case = "L9";
+  try {
+    identify(data.prior, data.markers, data.placements);
+    FAIL() << "expected an InputError";
+  } catch (const nurbs::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("row 5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("L9"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace isospring::fitting
