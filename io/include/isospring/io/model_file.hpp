@@ -1,0 +1,57 @@
+#pragma once
+// Calibrated spring models as JSON (`model.json`, schema "isospring-spring-model" version 1): the
+// hand-off between calibration and every export (MuJoCo, SOFA, VTK) and third-party engines.
+//
+//   {"format": "isospring-spring-model", "version": 1,
+//    "units": {"length": "m", "mass": "kg", "time": "s", "force": "N"},
+//    "dimension": 3,                                   // 2: in-plane model, z ignored
+//    "particles": [{"x": [0, 0, 0], "mass": 0.01, "fixed": true}, ...],
+//    "springs": [{"i": 0, "j": 1, "k": 1200.0, "c": 0.5, "L0": 0.01, "group": 3}, ...],
+//    "provenance": {"case": "cantilever", "isospring_version": "0.1.0",
+//                   "fit": {"rms_displacement_error": 1.2e-6, ...}}}
+//
+// Fields: x rest position; mass > 0 (a fixed particle may have mass 0); fixed optional (false);
+// springs connect particle indices i != j (0-based), stiffness k >= 0 [N/m], damping c >= 0
+// [N s/m] (optional, 0), rest length L0 > 0 [m], group an integer >= -1 (optional, -1 = none).
+// "units" and "provenance" are free-form objects kept as written. Every problem found by the
+// reader is an nurbs::InputError naming the file and the field, e.g.
+//   "model.json: springs[4].k: must be finite and >= 0 (got -3); fix the calibration output".
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "isospring/analysis/spring_network.hpp"
+
+namespace isospring::io {
+
+struct SpringModel {
+  analysis::SpringNetwork network;
+  nlohmann::json units;       // {"length": "m", ...}
+  nlohmann::json provenance;  // object (empty when absent)
+};
+
+/// SI units as written by default.
+nlohmann::json default_model_units();
+
+/// The JSON document of a model (full double precision). `provenance` must be an object or null.
+nlohmann::json model_to_json(const analysis::SpringNetwork& network,
+                             const nlohmann::json& provenance = nlohmann::json::object(),
+                             const nlohmann::json& units = default_model_units());
+
+/// Parses and validates a document; `source` (a file name) starts every error message.
+SpringModel model_from_json(const nlohmann::json& document, const std::string& source);
+
+/// Writes model.json atomically. Throws InputError when the network itself is inconsistent
+/// (sizes disagree, NaN, negative stiffness, bad indices) so a bad model is never written.
+void write_model_json(const std::filesystem::path& path, const analysis::SpringNetwork& network,
+                      const nlohmann::json& provenance = nlohmann::json::object(),
+                      const nlohmann::json& units = default_model_units());
+
+/// Reads and validates model.json.
+SpringModel read_model_json(const std::filesystem::path& path);
+
+/// Empty when the network is consistent, else a sentence naming the first bad field
+/// ("springs[4].k: ..."); used by the writer and the exporters.
+std::string check_spring_network(const analysis::SpringNetwork& network);
+
+}  // namespace isospring::io

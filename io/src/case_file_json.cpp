@@ -1,0 +1,140 @@
+#include "case_file_json.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::io::case_json {
+using nlohmann::json;
+
+namespace {
+std::string type_name(const json& value) {
+  if (value.is_number_integer()) return "integer";
+  if (value.is_number()) return "number";
+  return value.type_name();
+}
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t substitute = diagonal + (std::tolower(a[i - 1]) != std::tolower(b[j - 1]));
+      diagonal = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitute});
+    }
+  }
+  return row[b.size()];
+}
+}  // namespace
+
+std::string closest_word(const std::string& word, const std::vector<std::string>& allowed) {
+  std::string best;
+  size_t best_distance = std::string::npos;
+  for (const std::string& candidate : allowed) {
+    const size_t d = edit_distance(word, candidate);
+    if (d < best_distance) best_distance = d, best = candidate;
+  }
+  // A typo changes a few characters; beyond a third of the word it is a different word.
+  const size_t limit = std::max<size_t>(2, word.size() / 3);
+  return best_distance <= limit ? best : "";
+}
+
+std::string Field::where() const {
+  return file_ + ": " + (path_.empty() ? "(document)" : path_);
+}
+
+void Field::fail(const std::string& message) const {
+  throw nurbs::InputError(where() + message);
+}
+
+void Field::expect_object(std::initializer_list<const char*> allowed) const {
+  if (!value_->is_object()) fail(" must be an object {...}, got " + type_name(*value_));
+  const std::vector<std::string> names(allowed.begin(), allowed.end());
+  for (const auto& [key, value] : value_->items()) {
+    if (std::find(names.begin(), names.end(), key) != names.end()) continue;
+    std::string message = ": unknown field";
+    const std::string suggestion = closest_word(key, names);
+    if (!suggestion.empty()) message += "; did you mean '" + suggestion + "'?";
+    message += " (allowed here:";
+    for (const std::string& name : names) message += " " + name;
+    message += ")";
+    throw nurbs::InputError(file_ + ": " + (path_.empty() ? key : path_ + "." + key) + message);
+  }
+}
+
+bool Field::has(const std::string& key) const {
+  return value_->is_object() && value_->contains(key);
+}
+
+Field Field::at(const std::string& key) const {
+  const std::string child = path_.empty() ? key : path_ + "." + key;
+  if (!has(key)) throw nurbs::InputError(file_ + ": " + child + " is missing");
+  return Field((*value_)[key], file_, child);
+}
+
+Field Field::at(size_t index) const {
+  return Field((*value_)[index], file_, path_ + "[" + std::to_string(index) + "]");
+}
+
+std::vector<Field> Field::elements(bool allow_empty) const {
+  if (!value_->is_array()) fail(" must be an array [...], got " + type_name(*value_));
+  if (!allow_empty && value_->empty()) fail(" must not be empty");
+  std::vector<Field> out;
+  for (size_t i = 0; i < value_->size(); ++i) out.push_back(at(i));
+  return out;
+}
+
+double Field::number() const {
+  if (!value_->is_number()) fail(" must be a number, got " + type_name(*value_));
+  const double x = value_->get<double>();
+  if (!std::isfinite(x)) fail(" is not finite (NaN or inf)");
+  return x;
+}
+
+double Field::positive() const {
+  const double x = number();
+  if (!(x > 0)) fail(" must be > 0, got " + nlohmann::json(x).dump());
+  return x;
+}
+
+double Field::non_negative() const {
+  const double x = number();
+  if (x < 0) fail(" must be >= 0, got " + nlohmann::json(x).dump());
+  return x;
+}
+
+int Field::integer() const {
+  if (!value_->is_number_integer()) fail(" must be an integer, got " + type_name(*value_));
+  const auto x = value_->get<long long>();
+  if (x < -1000000000LL || x > 1000000000LL) fail(" is out of range");
+  return static_cast<int>(x);
+}
+
+bool Field::boolean() const {
+  if (!value_->is_boolean()) fail(" must be true or false, got " + type_name(*value_));
+  return value_->get<bool>();
+}
+
+std::string Field::string() const {
+  if (!value_->is_string()) fail(" must be a string, got " + type_name(*value_));
+  return value_->get<std::string>();
+}
+
+Eigen::Vector3d Field::vector(int min_size, int max_size) const {
+  const std::string sizes = min_size == max_size
+                                ? std::to_string(min_size)
+                                : std::to_string(min_size) + " or " + std::to_string(max_size);
+  if (!value_->is_array() || static_cast<int>(value_->size()) < min_size ||
+      static_cast<int>(value_->size()) > max_size)
+    fail(" must be an array of " + sizes + " numbers, got " +
+         (value_->is_array() ? std::to_string(value_->size()) + " entries" : type_name(*value_)));
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < value_->size(); ++i) v[static_cast<int>(i)] = at(i).number();
+  return v;
+}
+
+}  // namespace isospring::io::case_json

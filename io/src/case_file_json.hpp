@@ -1,0 +1,50 @@
+#pragma once
+// Typed access to a JSON document with error messages naming the file and the field's path
+// ("case.json: load_cases[0].tractions[1].value[2] must be a number, got string").
+#include <Eigen/Core>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace isospring::io::case_json {
+
+/// A value in the document and where it is ("load_cases[0].id").
+class Field {
+ public:
+  Field(const nlohmann::json& value, std::string file, std::string path)
+      : value_(&value), file_(std::move(file)), path_(std::move(path)) {}
+
+  const nlohmann::json& json() const { return *value_; }
+  const std::string& path() const { return path_; }
+  /// "case.json: path" for messages.
+  std::string where() const;
+  [[noreturn]] void fail(const std::string& message) const;
+
+  /// This must be an object whose keys are all in `allowed` (unknown keys get a suggestion).
+  void expect_object(std::initializer_list<const char*> allowed) const;
+  bool has(const std::string& key) const;
+  Field at(const std::string& key) const;  // a missing key fails with "is missing"
+  Field at(size_t index) const;
+  /// Array elements (fails unless this is an array; `allow_empty` false fails on []).
+  std::vector<Field> elements(bool allow_empty = true) const;
+
+  double number() const;  // finite
+  double positive() const;
+  double non_negative() const;
+  int integer() const;
+  bool boolean() const;
+  std::string string() const;
+  /// A vector of `min_size`..3 finite numbers, padded with zeros to 3.
+  Eigen::Vector3d vector(int min_size, int max_size = 3) const;
+
+ private:
+  const nlohmann::json* value_;
+  std::string file_;
+  std::string path_;
+};
+
+/// The allowed word closest to `word` by edit distance when it is a plausible typo, else "".
+std::string closest_word(const std::string& word, const std::vector<std::string>& allowed);
+
+}  // namespace isospring::io::case_json

@@ -1,0 +1,109 @@
+#include "isospring/io/export_mjcf.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "export_xml.hpp"
+#include "isospring/io/atomic_file.hpp"
+#include "isospring/io/model_file.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::io {
+namespace {
+std::string name(const char* prefix, size_t index) {
+  return prefix + std::to_string(index);
+}
+}  // namespace
+
+double suggested_timestep(const analysis::SpringNetwork& network) {
+  std::vector<double> stiffness_sum(network.positions.size(), 0.0);
+  for (const analysis::Spring& s : network.springs) {
+    stiffness_sum[static_cast<size_t>(s.i)] += s.stiffness;
+    stiffness_sum[static_cast<size_t>(s.j)] += s.stiffness;
+  }
+  double omega_squared = 0.0;
+  for (size_t p = 0; p < network.positions.size(); ++p)
+    if (!network.fixed[p] && network.masses[p] > 0)
+      omega_squared = std::max(omega_squared, 2.0 * stiffness_sum[p] / network.masses[p]);
+  if (omega_squared <= 0) return 1e-3;  // no springs: any step is stable
+  return 0.2 * 2.0 / std::sqrt(omega_squared);
+}
+
+std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOptions& options) {
+  if (const std::string problem = check_spring_network(network); !problem.empty())
+    throw nurbs::InputError("cannot export to MuJoCo: the spring model is invalid: " + problem);
+  using detail::number;
+  using detail::vector3;
+  double radius = options.particle_radius;
+  if (radius <= 0) {
+    double shortest = std::numeric_limits<double>::infinity();
+    for (const analysis::Spring& s : network.springs) shortest = std::min(shortest, s.rest_length);
+    radius = std::isfinite(shortest) ? 0.1 * shortest : 0.01;
+  }
+  const double timestep = options.timestep > 0 ? options.timestep : suggested_timestep(network);
+  const char* axes[3][2] = {{"_x", "1 0 0"}, {"_y", "0 1 0"}, {"_z", "0 0 1"}};
+
+  std::ostringstream out;
+  out << "<mujoco model=\"" << detail::xml_escape(options.model_name) << "\">\n";
+  out << "  <!-- Exported by isospring from a spring model (model.json schema version 1).\n"
+      << "       Particles are bodies with slide joints (their coordinates are displacements),\n"
+      << "       springs are spatial tendons with stiffness, damping and springlength = L0.\n"
+      << "       Written for MuJoCo 2.2. -->\n";
+  if (!options.comment.empty())
+    out << "  <!-- " << detail::xml_comment(options.comment) << " -->\n";
+  out << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+      << "  <option timestep=\"" << number(timestep) << "\" gravity=\"" << vector3(options.gravity)
+      << "\" integrator=\"" << (options.implicit_integrator ? "implicit" : "Euler") << "\">\n"
+      << "    <flag contact=\"disable\"/>\n  </option>\n"
+      << "  <default>\n"
+      << "    <geom type=\"sphere\" size=\"" << number(radius)
+      << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0.2 0.5 0.9 1\"/>\n"
+      << "    <site type=\"sphere\" size=\"" << number(0.5 * radius) << "\"/>\n"
+      << "    <joint type=\"slide\" limited=\"false\" damping=\"0\"/>\n"
+      << "    <tendon width=\"" << number(0.25 * radius) << "\"/>\n"
+      << "  </default>\n  <worldbody>\n";
+  for (size_t p = 0; p < network.positions.size(); ++p) {
+    const std::string particle = name("particle_", p);
+    const std::string position = vector3(network.positions[p]);
+    if (network.fixed[p]) {
+      out << "    <site name=\"" << particle << "\" pos=\"" << position
+          << "\" rgba=\"0.9 0.2 0.2 1\"/>\n";
+      continue;
+    }
+    const double m = network.masses[p];
+    const double inertia = 0.4 * m * radius * radius;  // a solid sphere; slide joints ignore it
+    out << "    <body name=\"" << particle << "\" pos=\"" << position << "\">\n"
+        << "      <inertial pos=\"0 0 0\" mass=\"" << number(m) << "\" diaginertia=\""
+        << number(inertia) << " " << number(inertia) << " " << number(inertia) << "\"/>\n";
+    for (int a = 0; a < network.dimension; ++a)
+      out << "      <joint name=\"" << particle << axes[a][0] << "\" axis=\"" << axes[a][1]
+          << "\"/>\n";
+    out << "      <geom/>\n      <site name=\"" << particle << "\" pos=\"0 0 0\"/>\n"
+        << "    </body>\n";
+  }
+  out << "  </worldbody>\n";
+  if (!network.springs.empty()) {
+    out << "  <tendon>\n";
+    for (size_t s = 0; s < network.springs.size(); ++s) {
+      const analysis::Spring& spring = network.springs[s];
+      out << "    <spatial name=\"" << name("spring_", s) << "\" stiffness=\""
+          << number(spring.stiffness) << "\" damping=\"" << number(spring.damping)
+          << "\" springlength=\"" << number(spring.rest_length) << "\">\n"
+          << "      <site site=\"" << name("particle_", static_cast<size_t>(spring.i))
+          << "\"/>\n      <site site=\"" << name("particle_", static_cast<size_t>(spring.j))
+          << "\"/>\n    </spatial>\n";
+    }
+    out << "  </tendon>\n";
+  }
+  out << "</mujoco>\n";
+  return out.str();
+}
+
+void write_mjcf(const std::filesystem::path& path, const analysis::SpringNetwork& network,
+                const MjcfOptions& options) {
+  write_file_atomically(path, mjcf_document(network, options));
+}
+
+}  // namespace isospring::io

@@ -1,0 +1,59 @@
+#include "export_xml.hpp"
+
+#include <cstdio>
+
+namespace isospring::io::detail {
+
+std::string number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
+  return buffer;
+}
+
+std::string vector3(const Eigen::Vector3d& v) {
+  return number(v.x()) + " " + number(v.y()) + " " + number(v.z());
+}
+
+std::string numbers(const std::vector<double>& values) {
+  std::string out;
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (i > 0) out += ' ';
+    out += number(values[i]);
+  }
+  return out;
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string xml_comment(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '-' && !out.empty() && out.back() == '-') out += ' ';
+    out += c;
+  }
+  if (!out.empty() && out.back() == '-') out += ' ';
+  return out;
+}
+
+}  // namespace isospring::io::detail

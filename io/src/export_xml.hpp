@@ -1,0 +1,20 @@
+#pragma once
+// Private helpers for the XML exporters (MJCF, SOFA): exact numbers and escaping.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace isospring::io::detail {
+
+/// %.17g: reads back to the same double.
+std::string number(double value);
+/// "x y z" with number().
+std::string vector3(const Eigen::Vector3d& v);
+/// Space-separated numbers.
+std::string numbers(const std::vector<double>& values);
+/// Escapes & < > " for attribute values.
+std::string xml_escape(const std::string& text);
+/// Text safe inside <!-- -->: "--" is not allowed there.
+std::string xml_comment(const std::string& text);
+
+}  // namespace isospring::io::detail

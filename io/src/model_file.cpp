@@ -1,0 +1,223 @@
+#include "isospring/io/model_file.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "isospring/io/atomic_file.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::io {
+using nlohmann::json;
+using nurbs::InputError;
+
+namespace {
+constexpr const char* kFormat = "isospring-spring-model";
+constexpr int kVersion = 1;
+
+std::string describe(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+/// Reads one document field with its path for messages ("model.json: springs[3].k: ...").
+class FieldReader {
+ public:
+  FieldReader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+    throw InputError(source_ + ": " + field + ": " + problem);
+  }
+
+  const json& require(const json& object, const std::string& key, const std::string& path) const {
+    if (!object.contains(key)) fail(path + key, "missing; add it (see the model.json schema)");
+    return object.at(key);
+  }
+
+  double number(const json& value, const std::string& field) const {
+    if (!value.is_number())
+      fail(field, "must be a number (got " + std::string(value.type_name()) + ")");
+    const double x = value.get<double>();
+    if (!std::isfinite(x)) fail(field, "must be finite");
+    return x;
+  }
+
+  int integer(const json& value, const std::string& field) const {
+    if (!value.is_number_integer()) fail(field, "must be an integer");
+    return value.get<int>();
+  }
+
+  Eigen::Vector3d vector(const json& value, const std::string& field, int dimension) const {
+    if (!value.is_array() || (value.size() != 3 && value.size() != static_cast<size_t>(dimension)))
+      fail(field, "must be an array of 3 coordinates");
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (size_t c = 0; c < value.size(); ++c)
+      x[static_cast<int>(c)] = number(value[c], field + "[" + std::to_string(c) + "]");
+    return x;
+  }
+
+ private:
+  std::string source_;
+};
+
+void check_keys(const FieldReader& reader, const json& object, const std::string& path,
+                const std::set<std::string>& known) {
+  for (const auto& item : object.items())
+    if (!known.count(item.key()))
+      reader.fail(path + item.key(), "unknown field; remove it or check the spelling");
+}
+}  // namespace
+
+json default_model_units() {
+  return json{{"length", "m"}, {"mass", "kg"}, {"time", "s"}, {"force", "N"}};
+}
+
+std::string check_spring_network(const analysis::SpringNetwork& network) {
+  const size_t n = network.positions.size();
+  if (network.dimension != 2 && network.dimension != 3)
+    return "dimension: must be 2 or 3 (got " + std::to_string(network.dimension) + ")";
+  if (network.masses.size() != n || network.fixed.size() != n)
+    return "particles: positions, masses and fixed flags have different sizes";
+  for (size_t p = 0; p < n; ++p) {
+    const std::string where = "particles[" + std::to_string(p) + "]";
+    if (!network.positions[p].allFinite()) return where + ".x: must be finite";
+    const double m = network.masses[p];
+    if (!std::isfinite(m) || m < 0 || (m == 0 && !network.fixed[p]))
+      return where + ".mass: must be finite and > 0 for a free particle (got " + describe(m) + ")";
+  }
+  for (size_t s = 0; s < network.springs.size(); ++s) {
+    const analysis::Spring& spring = network.springs[s];
+    const std::string where = "springs[" + std::to_string(s) + "]";
+    const int count = static_cast<int>(n);
+    if (spring.i < 0 || spring.i >= count)
+      return where + ".i: particle index " + std::to_string(spring.i) + " out of range [0, " +
+             std::to_string(count) + ")";
+    if (spring.j < 0 || spring.j >= count)
+      return where + ".j: particle index " + std::to_string(spring.j) + " out of range [0, " +
+             std::to_string(count) + ")";
+    if (spring.i == spring.j) return where + ".j: a spring must connect two different particles";
+    if (!std::isfinite(spring.stiffness) || spring.stiffness < 0)
+      return where + ".k: must be finite and >= 0 (got " + describe(spring.stiffness) + ")";
+    if (!std::isfinite(spring.damping) || spring.damping < 0)
+      return where + ".c: must be finite and >= 0 (got " + describe(spring.damping) + ")";
+    if (!std::isfinite(spring.rest_length) || spring.rest_length <= 0)
+      return where + ".L0: must be finite and > 0 (got " + describe(spring.rest_length) + ")";
+    if (spring.group < -1) return where + ".group: must be >= -1 (-1 means no group)";
+  }
+  return {};
+}
+
+json model_to_json(const analysis::SpringNetwork& network, const json& provenance,
+                   const json& units) {
+  json particles = json::array();
+  for (size_t p = 0; p < network.positions.size(); ++p) {
+    const Eigen::Vector3d& x = network.positions[p];
+    particles.push_back(json{{"x", {x.x(), x.y(), x.z()}},
+                             {"mass", network.masses[p]},
+                             {"fixed", static_cast<bool>(network.fixed[p])}});
+  }
+  json springs = json::array();
+  for (const analysis::Spring& s : network.springs)
+    springs.push_back(json{{"i", s.i},
+                           {"j", s.j},
+                           {"k", s.stiffness},
+                           {"c", s.damping},
+                           {"L0", s.rest_length},
+                           {"group", s.group}});
+  return json{{"format", kFormat},
+              {"version", kVersion},
+              {"units", units},
+              {"dimension", network.dimension},
+              {"particles", std::move(particles)},
+              {"springs", std::move(springs)},
+              {"provenance", provenance.is_null() ? json::object() : provenance}};
+}
+
+SpringModel model_from_json(const json& document, const std::string& source) {
+  const FieldReader reader(source);
+  if (!document.is_object()) reader.fail("(document)", "must be a JSON object");
+  check_keys(reader, document, "",
+             {"format", "version", "units", "dimension", "particles", "springs", "provenance"});
+  const json& format = reader.require(document, "format", "");
+  if (format != kFormat)
+    reader.fail("format", std::string("must be \"") + kFormat +
+                              "\"; this file is not an isospring spring model");
+  if (reader.integer(reader.require(document, "version", ""), "version") != kVersion)
+    reader.fail("version", "unsupported version; this isospring reads version 1");
+
+  SpringModel model;
+  analysis::SpringNetwork& network = model.network;
+  network.dimension =
+      document.contains("dimension") ? reader.integer(document["dimension"], "dimension") : 3;
+  if (network.dimension != 2 && network.dimension != 3) reader.fail("dimension", "must be 2 or 3");
+  model.units = document.value("units", default_model_units());
+  if (!model.units.is_object()) reader.fail("units", "must be an object");
+  model.provenance = document.value("provenance", json::object());
+  if (!model.provenance.is_object()) reader.fail("provenance", "must be an object");
+
+  const json& particles = reader.require(document, "particles", "");
+  if (!particles.is_array() || particles.empty())
+    reader.fail("particles", "must be a non-empty array");
+  for (size_t p = 0; p < particles.size(); ++p) {
+    const std::string path = "particles[" + std::to_string(p) + "].";
+    const json& item = particles[p];
+    if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
+    check_keys(reader, item, path, {"x", "mass", "fixed"});
+    network.positions.push_back(
+        reader.vector(reader.require(item, "x", path), path + "x", network.dimension));
+    network.masses.push_back(reader.number(reader.require(item, "mass", path), path + "mass"));
+    bool fixed = false;
+    if (item.contains("fixed")) {
+      if (!item["fixed"].is_boolean()) reader.fail(path + "fixed", "must be true or false");
+      fixed = item["fixed"].get<bool>();
+    }
+    network.fixed.push_back(fixed);
+  }
+
+  const json& springs = reader.require(document, "springs", "");
+  if (!springs.is_array()) reader.fail("springs", "must be an array");
+  for (size_t s = 0; s < springs.size(); ++s) {
+    const std::string path = "springs[" + std::to_string(s) + "].";
+    const json& item = springs[s];
+    if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
+    check_keys(reader, item, path, {"i", "j", "k", "c", "L0", "group"});
+    analysis::Spring spring;
+    spring.i = reader.integer(reader.require(item, "i", path), path + "i");
+    spring.j = reader.integer(reader.require(item, "j", path), path + "j");
+    spring.stiffness = reader.number(reader.require(item, "k", path), path + "k");
+    spring.damping = item.contains("c") ? reader.number(item["c"], path + "c") : 0.0;
+    spring.rest_length = reader.number(reader.require(item, "L0", path), path + "L0");
+    spring.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
+    network.springs.push_back(spring);
+  }
+
+  // The remaining range checks are shared with the writer.
+  if (const std::string problem = check_spring_network(network); !problem.empty())
+    throw InputError(source + ": " + problem);
+  return model;
+}
+
+void write_model_json(const std::filesystem::path& path, const analysis::SpringNetwork& network,
+                      const json& provenance, const json& units) {
+  if (const std::string problem = check_spring_network(network); !problem.empty())
+    throw InputError("cannot write '" + path.string() +
+                     "': the spring model is invalid: " + problem);
+  if (!provenance.is_null() && !provenance.is_object())
+    throw InputError("cannot write '" + path.string() + "': provenance must be a JSON object");
+  write_file_atomically(path, model_to_json(network, provenance, units).dump(2) + "\n");
+}
+
+SpringModel read_model_json(const std::filesystem::path& path) {
+  const std::string text = read_text_file(path, "model file");
+  const std::string source = path.filename().string();
+  json document;
+  try {
+    document = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(source + ": not valid JSON (" + e.what() + "); check the file");
+  }
+  return model_from_json(document, source);
+}
+
+}  // namespace isospring::io
