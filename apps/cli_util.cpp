@@ -3,6 +3,12 @@
 #include <cmath>
 #include <sstream>
 
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "isospring/geometry/cad.hpp"
+#include "isospring/io/atomic_file.hpp"
+#include "isospring/io/case_file.hpp"
 #include "isospring/io/patch_file.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -29,7 +35,36 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
   return values;
 }
 
+InputKind input_kind(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".step" || extension == ".stp" || extension == ".iges" || extension == ".igs")
+    return InputKind::kCad;
+  // JSON: a patch file has "patches" at the top level, a case file has "geometry".
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(io::read_text_file(path, "input file"));
+  } catch (const nlohmann::json::exception& e) {
+    throw nurbs::InputError(path.string() + ": not valid JSON (" + e.what() +
+                            "); give a patch file, a case file or a STEP/IGES part");
+  }
+  if (document.is_object() && document.contains("patches")) return InputKind::kPatchFile;
+  if (document.is_object() && document.contains("geometry")) return InputKind::kCaseFile;
+  throw nurbs::InputError(path.string() +
+                          ": neither a patch file (no \"patches\") nor a case file (no "
+                          "\"geometry\"); see the README for both formats");
+}
+
 std::vector<nurbs::Patch> read_patches_any(const std::filesystem::path& path) {
+  switch (input_kind(path)) {
+    case InputKind::kCad:
+      return geometry::cad_patches(geometry::read_cad(path));
+    case InputKind::kCaseFile:
+      return io::read_case_file(path).problem.patches;
+    case InputKind::kPatchFile:
+      break;
+  }
   return io::read_patch_file(path);
 }
 

@@ -1,11 +1,16 @@
-// `isospring info FILE`: what a patch file holds: per patch its dimensions, degrees, knot vectors
-// (unique knots with multiplicities), control points, elements and bounding box.
+// `isospring info FILE`: what a patch file, a case file or a CAD part holds: per patch its
+// dimensions, degrees, knot vectors (unique knots with multiplicities), control points, elements,
+// bounding box and length/area/volume; for a case file also its material, supports and loads; for
+// a CAD part OpenCascade's own report (units, faces, volume and area).
 #include <iomanip>
 #include <iostream>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "isospring/geometry/cad.hpp"
+#include "isospring/geometry/measure.hpp"
+#include "isospring/io/case_file.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -30,20 +35,71 @@ void print_patch_summary(std::ostream& out, int index, const nurbs::Patch& patch
   const auto [lo, hi] = patch.control_bounds();
   out << "  bounding box of the control net: [" << lo.x() << ", " << hi.x() << "] x [" << lo.y()
       << ", " << hi.y() << "] x [" << lo.z() << ", " << hi.z() << "]\n";
+  static const char* kMeasure[] = {"", "length", "area", "volume"};
+  out << "  " << kMeasure[patch.param_dim()] << ": " << geometry::measure(patch) << "\n";
+}
+
+void print_patches(std::ostream& out, const std::vector<nurbs::Patch>& patches) {
+  for (size_t i = 0; i < patches.size(); ++i)
+    print_patch_summary(out, static_cast<int>(i), patches[i]);
+  if (patches.size() > 1) {
+    static const char* kMeasure[] = {"", "length", "area", "volume"};
+    out << "total " << kMeasure[patches.front().param_dim()] << ": " << geometry::measure(patches)
+        << "\n";
+  }
+}
+
+void print_case_summary(std::ostream& out, const io::Case& c) {
+  const analysis::Problem& problem = c.problem;
+  static const char* kFormulation[] = {"plane stress", "plane strain", "3D solid"};
+  out << "case '" << c.name << "': " << kFormulation[static_cast<int>(problem.formulation)]
+      << ", E = " << problem.material.youngs_modulus
+      << " Pa, nu = " << problem.material.poisson_ratio
+      << ", density = " << problem.material.density << " kg/m^3";
+  if (problem.formulation != analysis::Formulation::kSolid)
+    out << ", thickness = " << problem.material.thickness << " m";
+  out << "\n"
+      << problem.supports.size() << " supports, " << problem.load_cases.size() << " load cases:";
+  for (const auto& load_case : problem.load_cases) out << " " << load_case.id;
+  out << "\n" << problem.patches.size() << " discretised patches:\n";
 }
 
 void setup_info(CLI::App& app) {
   auto file = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand(
-      "info", "Describe a patch file: patches, degrees, knots, control points, elements, size");
-  cmd->add_option("FILE", *file, "Patch file (.json)")->required()->check(CLI::ExistingFile);
+      "info",
+      "Describe a patch file, case file or STEP/IGES part: patches, degrees, knots, "
+      "control points, elements, size");
+  cmd->add_option("FILE", *file, "Patch file or case file (.json), or CAD part (.step/.iges)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->callback([file] {
-    const auto patches = read_patches_any(*file);
-    std::cout << *file << ": " << patches.size() << (patches.size() == 1 ? " patch" : " patches")
-              << "\n";
     std::cout << std::setprecision(10);
-    for (size_t i = 0; i < patches.size(); ++i)
-      print_patch_summary(std::cout, static_cast<int>(i), patches[i]);
+    switch (input_kind(*file)) {
+      case InputKind::kCad: {
+        const geometry::CadModel model = geometry::read_cad(*file);
+        std::cout << geometry::describe(model);
+        std::vector<nurbs::Patch> patches = model.volume_patches;
+        if (patches.empty()) patches = model.face_patches;
+        std::cout << "NURBS patches usable for analysis: " << patches.size() << "\n";
+        print_patches(std::cout, patches);
+        break;
+      }
+      case InputKind::kCaseFile: {
+        const io::Case c = io::read_case_file(*file);
+        std::cout << *file << ": ";
+        print_case_summary(std::cout, c);
+        print_patches(std::cout, c.problem.patches);
+        break;
+      }
+      case InputKind::kPatchFile: {
+        const auto patches = read_patches_any(*file);
+        std::cout << *file << ": " << patches.size()
+                  << (patches.size() == 1 ? " patch" : " patches") << "\n";
+        print_patches(std::cout, patches);
+        break;
+      }
+    }
   });
 }
 

@@ -1,0 +1,148 @@
+// Parsing of the case file's "calibration" object; see calibration_settings.hpp.
+#include "calibration_settings.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::apps {
+namespace {
+
+class Fields {
+ public:
+  Fields(const nlohmann::json& object, std::string where)
+      : object_(object), where_(std::move(where)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& message) const {
+    throw nurbs::InputError(where_ + "." + field + ": " + message);
+  }
+
+  void expect_only(const std::set<std::string>& known) const {
+    for (const auto& [key, value] : object_.items())
+      if (!known.count(key)) {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        fail(key, "unknown field; known fields are " + list);
+      }
+  }
+
+  bool has(const std::string& field) const { return object_.contains(field); }
+
+  double number(const std::string& field, double fallback, double minimum, bool open) const {
+    if (!has(field)) return fallback;
+    const auto& v = object_.at(field);
+    if (!v.is_number()) fail(field, "must be a number");
+    const double x = v.get<double>();
+    if (!std::isfinite(x) || x < minimum || (open && x == minimum))
+      fail(field, std::string("must be a finite number ") + (open ? "> " : ">= ") +
+                      std::to_string(minimum) + " (got " + v.dump() + ")");
+    return x;
+  }
+
+  int integer(const std::string& field, int fallback, int minimum) const {
+    if (!has(field)) return fallback;
+    const auto& v = object_.at(field);
+    if (!v.is_number_integer() || v.get<long>() < minimum)
+      fail(field, "must be an integer >= " + std::to_string(minimum) + " (got " + v.dump() + ")");
+    return v.get<int>();
+  }
+
+  bool boolean(const std::string& field, bool fallback) const {
+    if (!has(field)) return fallback;
+    if (!object_.at(field).is_boolean()) fail(field, "must be true or false");
+    return object_.at(field).get<bool>();
+  }
+
+  std::vector<std::string> strings(const std::string& field) const {
+    std::vector<std::string> out;
+    if (!has(field)) return out;
+    const auto& v = object_.at(field);
+    if (!v.is_array()) fail(field, "must be a list of load-case ids, e.g. [\"L1\", \"L2\"]");
+    for (const auto& item : v) {
+      if (!item.is_string()) fail(field, "must be a list of load-case ids (strings)");
+      out.push_back(item.get<std::string>());
+    }
+    return out;
+  }
+
+  const nlohmann::json& at(const std::string& field) const { return object_.at(field); }
+  const std::string& where() const { return where_; }
+
+ private:
+  const nlohmann::json& object_;
+  std::string where_;
+};
+
+void parse_grouping(const nlohmann::json& grouping, const std::string& where,
+                    fitting::CalibrationSettings& settings) {
+  if (grouping.is_string()) {
+    if (grouping.get<std::string>() != "per_spring")
+      throw nurbs::InputError(where + ": unknown grouping " + grouping.dump() +
+                              "; use \"per_spring\" or an object {\"gamma\": 0.01}");
+    settings.per_spring = true;
+    return;
+  }
+  if (!grouping.is_object())
+    throw nurbs::InputError(where + ": must be \"per_spring\" or an object {\"gamma\": 0.01}");
+  const Fields f(grouping, where);
+  f.expect_only({"gamma", "gamma_sweep", "per_spring"});
+  if (f.has("gamma") && f.has("gamma_sweep"))
+    f.fail("gamma_sweep", "give either gamma or gamma_sweep, not both");
+  settings.gamma = f.number("gamma", settings.gamma, 0.0, false);
+  if (settings.gamma >= 1.0) f.fail("gamma", "must be below 1 (a relative rest-length window)");
+  if (f.has("gamma_sweep")) {
+    const auto& sweep = f.at("gamma_sweep");
+    if (!sweep.is_array() || sweep.empty())
+      f.fail("gamma_sweep", "must be a non-empty list of numbers in [0, 1)");
+    for (const auto& g : sweep) {
+      if (!g.is_number() || !(g.get<double>() >= 0.0 && g.get<double>() < 1.0))
+        f.fail("gamma_sweep", "every entry must be a number in [0, 1) (got " + g.dump() + ")");
+      settings.gamma_sweep.push_back(g.get<double>());
+    }
+  }
+  settings.per_spring = f.boolean("per_spring", false);
+}
+
+}  // namespace
+
+CalibrationRequest parse_calibration(const nlohmann::json& calibration, const std::string& file) {
+  CalibrationRequest request;
+  fitting::CalibrationSettings& s = request.settings;
+  if (calibration.is_null()) return request;
+  const std::string where = file + ": calibration";
+  if (!calibration.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
+  const Fields f(calibration, where);
+  f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
+                 "damping_alpha", "upper_bounds", "merge_coincident", "max_iterations",
+                 "field_samples", "matrix_approach"});
+  s.fit_cases = f.strings("fit_load_cases");
+  s.holdout_cases = f.strings("holdout_load_cases");
+  for (const auto& id : s.holdout_cases)
+    for (const auto& fit : s.fit_cases)
+      if (id == fit)
+        f.fail("holdout_load_cases",
+               "'" + id + "' is also in fit_load_cases; a held-out case must not be fitted");
+  if (f.has("grouping")) parse_grouping(f.at("grouping"), where + ".grouping", s);
+  s.regularization = f.number("regularization", 0.0, 0.0, false);
+  if (s.regularization > 0.0 && !s.per_spring)
+    f.fail("regularization", "only applies to per-spring fits (\"grouping\": \"per_spring\")");
+  if (f.has("mass")) {
+    const auto& m = f.at("mass");
+    if (m == "lumped")
+      s.mass_model = fitting::MassModel::kLumpedIga;
+    else if (m == "net_cells")
+      s.mass_model = fitting::MassModel::kNetCells;
+    else
+      f.fail("mass", "must be \"lumped\" or \"net_cells\" (got " + m.dump() + ")");
+  }
+  s.damping_alpha = f.number("damping_alpha", 0.0, 0.0, true);
+  s.upper_bounds = f.boolean("upper_bounds", false);
+  s.mesh.merge_coincident = f.boolean("merge_coincident", false);
+  s.max_iterations = f.integer("max_iterations", s.max_iterations, 1);
+  s.field_samples = f.integer("field_samples", s.field_samples, 2);
+  request.matrix_approach = f.boolean("matrix_approach", true);
+  return request;
+}
+
+}  // namespace isospring::apps

@@ -1,0 +1,242 @@
+// `isospring calibrate CASE.json -o OUTDIR`: the NMSM of a case, calibrated against the IGA
+// reference with the displacement objective (settings: the case's "calibration" object,
+// docs/calibration.md). Writes report.json, report.md, model.json, springs.vtp and
+// <load-case>_errors.csv.
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <memory>
+
+#include "calibration_settings.hpp"
+#include "command.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/fitting/calibration.hpp"
+#include "isospring/io/atomic_file.hpp"
+#include "isospring/io/case_file.hpp"
+#include "isospring/io/model_file.hpp"
+#include "isospring/io/report.hpp"
+#include "isospring/io/report_case.hpp"
+#include "isospring/io/vtk_spring_network.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::apps {
+namespace {
+
+struct CalibrateOptions {
+  std::string case_file;
+  std::string output;
+  bool quiet = false;
+};
+
+nlohmann::json metrics_json(const fitting::CaseErrors& e) {
+  return {{"id", e.id},
+          {"percent_e_rms", e.control.percent_e_rms},
+          {"percent_e_max", e.control.percent_e_max},
+          {"o_max", e.control.o_max},
+          {"field_percent_e_rms", e.field.percent_e_rms},
+          {"field_percent_e_max", e.field.percent_e_max}};
+}
+
+// Root mean square of %e_rms and the largest %e_max over a set of cases.
+nlohmann::json summary_json(const std::vector<fitting::CaseErrors>& cases) {
+  if (cases.empty()) return nullptr;
+  double sum = 0.0, worst = 0.0;
+  for (const auto& e : cases) {
+    sum += e.control.percent_e_rms * e.control.percent_e_rms;
+    worst = std::max(worst, e.control.percent_e_max);
+  }
+  nlohmann::json out = {{"percent_e_rms", std::sqrt(sum / static_cast<double>(cases.size()))},
+                        {"percent_e_max", worst},
+                        {"load_cases", nlohmann::json::array()}};
+  for (const auto& e : cases) out["load_cases"].push_back(metrics_json(e));
+  return out;
+}
+
+std::string protocol_text(const fitting::CalibrationSettings& s,
+                          const fitting::CalibrationResult& r) {
+  std::string text = "Displacement objective [S15 5.7] summed over the fitted load cases; ";
+  text += s.per_spring ? "one stiffness per spring (" + std::to_string(r.parameters) +
+                             " parameters, regularisation weight " +
+                             io::format_number(s.regularization) + ")"
+                       : "springs grouped by rest length, gamma " + io::format_number(r.gamma) +
+                             " (" + std::to_string(r.parameters) + " groups)";
+  if (!s.gamma_sweep.empty())
+    text += ", best of a sweep over " + std::to_string(s.gamma_sweep.size()) + " gamma values";
+  text +=
+      "; Levenberg-Marquardt on log-stiffnesses with the analytic Jacobian. Errors are on the "
+      "control points (o_max: largest reference control-point displacement).";
+  return text;
+}
+
+void write_errors_csv(const std::filesystem::path& path, const analysis::DofMap& dofs,
+                      const fitting::CaseErrors& errors) {
+  std::string text = "node,x,y,z,ex,ey,ez,error\n";
+  for (int a = 0; a < dofs.num_nodes(); ++a) {
+    const Eigen::Vector3d& x = dofs.node_positions()[a];
+    const Eigen::Vector3d& e = errors.node_error[a];
+    text += std::to_string(a);
+    for (double v : {x.x(), x.y(), x.z(), e.x(), e.y(), e.z(), e.norm()})
+      text += "," + io::format_exact(v);
+    text += "\n";
+  }
+  io::write_file_atomically(path, text);
+}
+
+void run_calibrate(const CalibrateOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const io::Progress progress("calibrate", options.quiet);
+  const std::filesystem::path out_dir(options.output);
+  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir))
+    throw nurbs::InputError("-o " + options.output +
+                            ": exists and is not a folder; give a folder for the outputs");
+
+  progress("reading " + options.case_file);
+  const io::Case c = io::read_case_file(options.case_file);
+  CalibrationRequest request = parse_calibration(c.calibration, options.case_file);
+  fitting::CalibrationSettings& settings = request.settings;
+  settings.matrix_approach = request.matrix_approach;
+  if (!options.quiet) settings.progress = [&progress](const std::string& line) { progress(line); };
+
+  const fitting::CalibrationResult result = fitting::calibrate(c.problem, settings);
+  const analysis::SpringNetwork& network = result.mesh.network;
+  for (const auto& warning : result.mesh.warnings) progress.warn(warning);
+
+  nlohmann::json report = io::report_header("calibrate", ISOSPRING_VERSION, options.case_file);
+  report["case"] = io::case_summary(c, c.problem);
+  report["protocol"] = protocol_text(settings, result);
+  report["particles"] = network.positions.size();
+  report["springs"] = network.springs.size();
+  report["groups"] = result.parameters;
+  report["gamma"] = result.gamma;
+  report["per_spring"] = settings.per_spring;
+  report["iterations"] = result.fit_result.iterations;
+  report["final_cost"] = result.fit_result.cost;
+  report["termination"] = result.fit_result.message;
+  report["fit_seconds"] = result.fit_seconds;
+  report["reference_seconds"] = result.reference_seconds;
+  const nlohmann::json fitted = summary_json(result.fit);
+  report["percent_e_rms"] = fitted["percent_e_rms"];
+  report["percent_e_max"] = fitted["percent_e_max"];
+  report["fit"] = fitted;
+  report["holdout"] = summary_json(result.holdout);
+  report["sweep"] = nlohmann::json::array();
+  for (const auto& entry : result.sweep)
+    report["sweep"].push_back(
+        {{"gamma", entry.gamma}, {"groups", entry.groups}, {"percent_e_rms", entry.percent_e_rms}});
+  report["matrix_approach"] = nlohmann::json::array();
+  for (const auto& m : result.matrix)
+    report["matrix_approach"].push_back(
+        {{"method", m.method},
+         {"relative_frobenius_residual", m.fit.relative_residual},
+         {"negative_springs", m.fit.negative_springs},
+         {"seconds", m.fit.seconds},
+         {"fit", m.solved ? summary_json(m.fit_cases) : nlohmann::json(nullptr)},
+         {"holdout", m.solved ? summary_json(m.holdout) : nlohmann::json(nullptr)}});
+
+  // Outputs: the model first (its writer refuses an inconsistent network), then the tables.
+  std::filesystem::create_directories(out_dir);
+  nlohmann::json provenance = {{"case", c.name},
+                               {"isospring_version", ISOSPRING_VERSION},
+                               {"fit",
+                                {{"objective", "displacement"},
+                                 {"percent_e_rms", report["percent_e_rms"]},
+                                 {"percent_e_max", report["percent_e_max"]},
+                                 {"groups", result.parameters},
+                                 {"gamma", result.gamma}}}};
+  io::write_model_json(out_dir / "model.json", network, provenance);
+  const analysis::DofMap dofs(c.problem);
+  std::vector<io::PointVectors> vectors;
+  for (const auto* cases : {&result.fit, &result.holdout})
+    for (const auto& e : *cases) {
+      const std::string csv = e.id + "_errors.csv";
+      write_errors_csv(out_dir / csv, dofs, e);
+      // Error per particle (a merged particle shows the last of its nodes; they agree in u_nmsm).
+      const std::vector<int> particle = fitting::particle_of_node(c.problem, result.mesh);
+      io::PointVectors v{"error_" + e.id, std::vector<Eigen::Vector3d>(network.positions.size(),
+                                                                       Eigen::Vector3d::Zero())};
+      for (size_t a = 0; a < particle.size(); ++a) v.values[particle[a]] = e.node_error[a];
+      vectors.push_back(std::move(v));
+    }
+  io::write_spring_network_vtp(out_dir / "springs.vtp", network, vectors);
+
+  io::MarkdownReport md;
+  md.heading(1, "isospring calibrate: " + c.name);
+  io::add_case_summary(md, report["case"]);
+  md.heading(2, "Protocol");
+  md.paragraph(report["protocol"].get<std::string>());
+  md.heading(2, "Errors");
+  std::vector<std::vector<std::string>> rows;
+  for (const auto* cases : {&result.fit, &result.holdout})
+    for (const auto& e : *cases)
+      rows.push_back({e.id, cases == &result.fit ? "fitted" : "held out",
+                      io::format_number(e.control.percent_e_rms, 4),
+                      io::format_number(e.control.percent_e_max, 4),
+                      io::format_number(e.field.percent_e_rms, 4), "`" + e.id + "_errors.csv`"});
+  md.table({"load case", "role", "%e_rms", "%e_max", "field %e_rms", "errors"}, rows);
+  md.paragraph(std::to_string(network.positions.size()) + " particles, " +
+               std::to_string(network.springs.size()) + " springs, " +
+               std::to_string(result.parameters) + " stiffness parameters; " +
+               std::to_string(result.fit_result.iterations) + " iterations, final cost " +
+               io::format_number(result.fit_result.cost) + ", fit " +
+               io::format_number(result.fit_seconds, 3) + " s.");
+  if (!result.matrix.empty()) {
+    md.heading(2, "Matrix approach (Frobenius) on the same springs");
+    std::vector<std::vector<std::string>> mrows;
+    for (const auto& m : result.matrix) {
+      const nlohmann::json errors = m.solved ? summary_json(m.fit_cases) : nlohmann::json();
+      auto cell = [&](const char* key) {
+        return errors.is_null() ? std::string("singular")
+                                : io::format_number(errors[key].get<double>(), 4);
+      };
+      mrows.push_back({m.method, io::format_number(m.fit.relative_residual, 4),
+                       std::to_string(m.fit.negative_springs), cell("percent_e_rms"),
+                       cell("percent_e_max")});
+    }
+    md.table({"method", "rel. Frobenius residual", "negative springs", "%e_rms (fitted cases)",
+              "%e_max (fitted cases)"},
+             mrows);
+  }
+  if (result.sweep.size() > 1) {
+    md.heading(2, "Gamma sweep");
+    std::vector<std::vector<std::string>> srows;
+    for (const auto& entry : result.sweep)
+      srows.push_back({io::format_number(entry.gamma), std::to_string(entry.groups),
+                       io::format_number(entry.percent_e_rms, 4)});
+    md.table({"gamma", "groups", "%e_rms (fitted cases)"}, srows);
+  }
+  report["total_seconds"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  io::write_json_report(out_dir / "report.json", report);
+  md.write(out_dir / "report.md");
+  progress("%e_rms " + io::format_number(report["percent_e_rms"].get<double>(), 4) + " (fitted)" +
+           (result.holdout.empty()
+                ? std::string()
+                : ", " + io::format_number(report["holdout"]["percent_e_rms"].get<double>(), 4) +
+                      " (held out)") +
+           "; wrote " + out_dir.string());
+}
+
+void setup_calibrate(CLI::App& app) {
+  auto options = std::make_shared<CalibrateOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "calibrate",
+      "Build the NURBS mass-spring model of a case and calibrate its stiffnesses "
+      "against the isogeometric reference");
+  cmd->footer(
+      "Settings: the case file's \"calibration\" object (docs/calibration.md).\n"
+      "Writes OUTDIR/report.json (springs, groups, %e_rms/%e_max of the fitted and held-out load\n"
+      "cases, iterations, final cost, fit time, matrix-approach comparison), OUTDIR/report.md,\n"
+      "OUTDIR/model.json (the calibrated spring model), OUTDIR/springs.vtp (springs with the\n"
+      "error fields) and OUTDIR/<load-case>_errors.csv (error per control point).\n"
+      "Exit status 3 when the fit does not converge.");
+  cmd->add_option("CASE", options->case_file, "Case file (.json)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", options->output, "Output folder (created if missing)")->required();
+  cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
+  cmd->callback([options] { run_calibrate(*options); });
+}
+
+}  // namespace
+ISOSPRING_REGISTER_COMMAND(50, setup_calibrate);
+}  // namespace isospring::apps

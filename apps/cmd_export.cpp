@@ -1,0 +1,110 @@
+// `isospring export MODEL.json -o OUT [--format json|mjcf|sofa|vtk]`: a calibrated spring model
+// (model.json) for real-time engines and viewers: MuJoCo MJCF, a SOFA scene, VTK poly data, or
+// a validated, normalised model.json.
+#include <iostream>
+#include <memory>
+
+#include "cli_util.hpp"
+#include "command.hpp"
+#include "isospring/io/export_mjcf.hpp"
+#include "isospring/io/export_sofa.hpp"
+#include "isospring/io/model_file.hpp"
+#include "isospring/io/vtk_multiblock.hpp"
+#include "isospring/io/vtk_spring_network.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::apps {
+namespace {
+namespace fs = std::filesystem;
+
+struct ExportOptions {
+  std::string input, output, format, gravity = "0,0,-9.81";
+  double timestep = 0.0;
+  bool quiet = false;
+};
+
+/// --format, or the output's extension when it is not given.
+std::string format_of(const ExportOptions& options) {
+  if (!options.format.empty()) return options.format;
+  const std::string ext = fs::path(options.output).extension().string();
+  if (ext == ".json") return "json";
+  if (ext == ".xml" || ext == ".mjcf") return "mjcf";
+  if (ext == ".scn") return "sofa";
+  if (ext == ".vtp" || ext == ".vtm") return "vtk";
+  throw nurbs::InputError("-o " + options.output +
+                          ": cannot tell the format from the extension; add --format "
+                          "json|mjcf|sofa|vtk (or use .json, .xml, .scn, .vtp, .vtm)");
+}
+
+Eigen::Vector3d parse_gravity(const std::string& text) {
+  const std::vector<double> g = parse_number_list(text, "--gravity");
+  if (g.size() != 3) throw nurbs::InputError("--gravity: give three numbers gx,gy,gz in m/s^2");
+  return {g[0], g[1], g[2]};
+}
+
+void run_export(const ExportOptions& options) {
+  const io::SpringModel model = io::read_model_json(options.input);
+  const std::string format = format_of(options);
+  const fs::path output = options.output;
+  const std::string provenance =
+      "source " + fs::path(options.input).filename().string() +
+      (model.provenance.empty() ? std::string() : "; provenance " + model.provenance.dump());
+  if (options.timestep < 0) throw nurbs::InputError("--timestep: must be >= 0 (0 = automatic)");
+  if (format == "json") {
+    io::write_model_json(output, model.network, model.provenance, model.units);
+  } else if (format == "mjcf") {
+    io::MjcfOptions o;
+    o.model_name = fs::path(options.input).stem().string();
+    o.gravity = parse_gravity(options.gravity);
+    o.timestep = options.timestep;
+    o.comment = provenance;
+    io::write_mjcf(output, model.network, o);
+  } else if (format == "sofa") {
+    io::SofaOptions o;
+    o.gravity = parse_gravity(options.gravity);
+    o.timestep = options.timestep;
+    o.comment = provenance;
+    io::write_sofa_scene(output, model.network, o);
+  } else if (output.extension() == ".vtm") {
+    io::VtkScene scene;
+    scene.network = model.network;
+    io::write_vtk_scene(output, scene);
+  } else {
+    io::write_spring_network_vtp(output, model.network);
+  }
+  if (!options.quiet)
+    std::cerr << "[export] wrote " << output.string() << " (" << format
+              << "): " << model.network.positions.size() << " particles, "
+              << model.network.springs.size() << " springs\n";
+}
+
+void setup_export(CLI::App& app) {
+  auto options = std::make_shared<ExportOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "export", "Export a calibrated spring model (model.json) to MuJoCo, SOFA, VTK or JSON");
+  cmd->add_option("MODEL", options->input, "Spring model written by `isospring calibrate`")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", options->output, "Output file")->required();
+  cmd->add_option("--format", options->format,
+                  "json | mjcf (MuJoCo 2.2 XML) | sofa (SOFA v22.12 .scn) | vtk (.vtp, or .vtm "
+                  "multiblock); default from the output's extension")
+      ->check(CLI::IsMember({"json", "mjcf", "sofa", "vtk"}));
+  cmd->add_option("--gravity", options->gravity, "Gravity gx,gy,gz [m/s^2] for mjcf and sofa")
+      ->capture_default_str();
+  cmd->add_option("--timestep", options->timestep,
+                  "Time step [s] for mjcf and sofa; 0 = 0.2 x the explicit stability limit");
+  cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
+  cmd->footer(
+      "mjcf: free particles are bodies with slide joints, fixed ones sites in the world, springs\n"
+      "spatial tendons (stiffness, damping, springlength = L0); contacts off.\n"
+      "sofa: MechanicalObject + UniformMass/DiagonalMass + StiffSpringForceField + "
+      "FixedConstraint.\n"
+      "vtk: particles and springs with mass, fixed, stiffness, damping, rest_length, group.");
+  cmd->callback([options] { run_export(*options); });
+}
+
+}  // namespace
+ISOSPRING_REGISTER_COMMAND(80, setup_export);
+
+}  // namespace isospring::apps

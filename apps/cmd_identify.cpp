@@ -1,0 +1,315 @@
+// `isospring identify CASE.json -o OUTDIR [--drop-outside] [--quiet]`: the measured-data loop.
+// Fits the case's model to the markers of `"measurements"`, adds the effects the residual calls
+// for (fitting/identify.hpp) and writes OUTDIR/report.json, report.md, markers.vtp (measured,
+// model and residual per load case, before and after) and residuals.svg (gnuplot, when present).
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+
+#include "command.hpp"
+#include "isospring/fitting/identify.hpp"
+#include "isospring/fitting/measure.hpp"
+#include "isospring/io/atomic_file.hpp"
+#include "isospring/io/case_file.hpp"
+#include "isospring/io/markers.hpp"
+#include "isospring/io/report.hpp"
+#include "isospring/io/report_case.hpp"
+#include "isospring/io/vtk_markers.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::apps {
+namespace {
+
+struct IdentifyCommandOptions {
+  std::string case_file;
+  std::string output;
+  bool drop_outside = false;
+  bool quiet = false;
+};
+
+nlohmann::json errors_json(const fitting::ErrorSummary& e) {
+  return {{"rms", e.rms}, {"max", e.max}};
+}
+
+double model_diagonal(const std::vector<nurbs::Patch>& patches) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& p : patches) {
+    const auto [a, b] = p.control_bounds();
+    lo = lo.cwiseMin(a);
+    hi = hi.cwiseMax(b);
+  }
+  return (hi - lo).norm();
+}
+
+// Residual magnitude at every marker before and after, as two scatter plots (gnuplot SVG).
+void write_residual_plot(const std::filesystem::path& out_dir,
+                         const std::vector<fitting::Marker>& markers,
+                         const fitting::IdentifyResult& r, const io::Progress& progress) {
+  const std::filesystem::path data = out_dir / "residuals.csv";
+  io::write_file_atomically(data, [&](std::ostream& out) {
+    out << "load_case,x,y,z,residual_before,residual_after\n";
+    for (size_t m = 0; m < markers.size(); ++m)
+      out << markers[m].load_case << "," << io::format_exact(markers[m].position.x()) << ","
+          << io::format_exact(markers[m].position.y()) << ","
+          << io::format_exact(markers[m].position.z()) << ","
+          << io::format_exact((markers[m].displacement - r.model_before[m]).norm()) << ","
+          << io::format_exact((markers[m].displacement - r.model_after[m]).norm()) << "\n";
+  });
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    progress.warn("gnuplot not found: residuals.svg not written (residuals.csv has the data)");
+    return;
+  }
+  io::write_via_temporary(out_dir / "residuals.svg", [&](const std::filesystem::path& svg) {
+    const std::filesystem::path script = out_dir / "residuals.gp";
+    std::ofstream gp(script);
+    gp << "set terminal svg size 1000,420 dynamic\nset output '" << svg.string() << "'\n"
+       << "set datafile separator ','\nset multiplot layout 1,2\nset size ratio -1\n"
+       << "set xlabel 'x [m]'\nset ylabel 'y [m]'\nset cblabel '|residual| [m]'\n"
+       << "set cbrange [0:" << io::format_exact(std::max(r.before.max, 1e-300) * std::sqrt(3.0))
+       << "]\nset title 'before: nominal model (rms " << io::format_number(r.before.rms, 3)
+       << " m)'\nplot '" << data.string()
+       << "' skip 1 using 2:3:5 with points pt 7 ps 0.6 lc palette notitle\n"
+       << "set title 'after: with effects (rms " << io::format_number(r.after.rms, 3)
+       << " m)'\nplot '" << data.string()
+       << "' skip 1 using 2:3:6 with points pt 7 ps 0.6 lc palette notitle\nunset multiplot\n";
+    gp.close();
+    const std::string command = "gnuplot '" + script.string() + "' 2>/dev/null";
+    if (std::system(command.c_str()) != 0) progress.warn("gnuplot failed: residuals.svg missing");
+    std::filesystem::remove(script);
+  });
+}
+
+void write_markers(const std::filesystem::path& out_dir, const analysis::Problem& problem,
+                   const std::vector<fitting::Marker>& markers, const fitting::IdentifyResult& r) {
+  // One point set per load case with measured/model/residual; "before" and "after" files.
+  for (const char* stage : {"before", "after"}) {
+    const auto& model = std::string(stage) == "before" ? r.model_before : r.model_after;
+    // Markers of different load cases may sit at different positions: one file per load case.
+    for (const auto& load : problem.load_cases) {
+      io::MarkerData one;
+      io::MarkerCase mc;
+      mc.load_case = load.id;
+      for (size_t m = 0; m < markers.size(); ++m) {
+        if (markers[m].load_case != load.id) continue;
+        one.positions.push_back(markers[m].position);
+        mc.measured.push_back(markers[m].displacement);
+        mc.model.push_back(model[m]);
+      }
+      if (one.positions.empty()) continue;
+      one.cases.push_back(mc);
+      io::write_markers_vtp(out_dir / ("markers_" + load.id + "_" + stage + ".vtp"), one);
+    }
+  }
+}
+
+void run_identify(const IdentifyCommandOptions& options) {
+  const io::Progress progress("identify", options.quiet);
+  const std::filesystem::path out_dir(options.output);
+  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir))
+    throw nurbs::InputError("-o " + options.output +
+                            ": exists and is not a folder; give a folder for the outputs");
+  progress("reading " + options.case_file);
+  const io::Case c = io::read_case_file(options.case_file);
+  if (!c.measurements)
+    throw nurbs::InputError(options.case_file +
+                            ": no \"measurements\" object; add {\"file\": \"markers.csv\"} "
+                            "(see io/markers.hpp for the fields)");
+  std::vector<std::string> ids;
+  for (const auto& load : c.problem.load_cases) ids.push_back(load.id);
+  const io::MeasurementSettings settings = io::read_measurement_settings(
+      c.measurements->raw, std::filesystem::path(options.case_file).parent_path(), c.dimension, ids,
+      options.case_file + ": measurements");
+  const fitting::Measurements data = io::read_markers_csv(settings.file, settings.file_options);
+  progress("read " + std::to_string(data.markers.size()) + " markers from " +
+           settings.file.string());
+
+  const double tolerance =
+      settings.placement_tolerance.value_or(1e-3 * model_diagonal(c.problem.patches));
+  const fitting::PlacementResult placed =
+      fitting::place_markers(c.problem.patches, data.markers, tolerance);
+  std::vector<fitting::Marker> kept;
+  std::vector<fitting::MarkerPlacement> placements;
+  nlohmann::json dropped = nlohmann::json::array();
+  {
+    size_t next = 0;
+    for (size_t m = 0; m < data.markers.size(); ++m) {
+      if (next < placed.outside.size() && placed.outside[next] == static_cast<int>(m)) {
+        ++next;
+        dropped.push_back({{"row", data.markers[m].row},
+                           {"load_case", data.markers[m].load_case},
+                           {"distance", placed.placements[m].distance}});
+        continue;
+      }
+      kept.push_back(data.markers[m]);
+      placements.push_back(placed.placements[m]);
+    }
+  }
+  if (!placed.outside.empty() && !options.drop_outside) {
+    std::string list;
+    for (size_t k = 0; k < std::min<size_t>(10, placed.outside.size()); ++k) {
+      const auto m = static_cast<size_t>(placed.outside[k]);
+      list += "\n  row " + std::to_string(data.markers[m].row) + ": " +
+              io::format_number(placed.placements[m].distance, 3) + " m off the model";
+    }
+    throw nurbs::InputError(
+        settings.file.string() + ": " + std::to_string(placed.outside.size()) +
+        " marker(s) lie farther than " + io::format_number(tolerance, 3) +
+        " m from the model (measurements.placement_tolerance):" + list +
+        (placed.outside.size() > 10 ? "\n  ..." : "") +
+        "\nfix the data or its units/columns, or pass --drop-outside to leave them out");
+  }
+  if (!placed.outside.empty())
+    progress.warn("dropped " + std::to_string(placed.outside.size()) +
+                  " marker(s) off the model (listed in report.json)");
+
+  fitting::IdentifyOptions identify_options = settings.identify;
+  identify_options.progress = [&progress](const std::string& s) { progress(s); };
+  const fitting::IdentifyResult r =
+      fitting::identify(c.problem, kept, placements, identify_options);
+
+  nlohmann::json report = io::report_header("identify", ISOSPRING_VERSION, options.case_file);
+  report["case"] = io::case_summary(c, c.problem);
+  report["data_file"] = settings.file.string();
+  report["markers"] = kept.size();
+  report["markers_dropped"] = dropped;
+  report["placement_tolerance"] = tolerance;
+  report["effects_added"] = r.effects_added;
+  for (const auto& p : r.parameters)
+    report["parameters"].push_back({{"effect", p.effect},
+                                    {"name", p.name},
+                                    {"unit", p.unit},
+                                    {"value", p.value},
+                                    {"standard_error", p.standard_error}});
+  for (const auto& [name, value] : r.derived) report["derived"][name] = value;
+  report["rms_before"] = r.before.rms;
+  report["rms_after"] = r.after.rms;
+  report["max_before"] = r.before.max;
+  report["max_after"] = r.after.max;
+  report["noise_estimate"] = r.noise_estimate;
+  report["noise_given"] = r.noise_given;
+  report["chi2_per_dof_before"] = r.chi2_before;
+  report["chi2_per_dof_after"] = r.chi2_after;
+  report["observations"] = r.observations;
+  for (const auto& lc : r.load_cases)
+    report["load_cases"].push_back({{"id", lc.id},
+                                    {"markers", lc.markers},
+                                    {"before", errors_json(lc.before)},
+                                    {"after", errors_json(lc.after)}});
+  for (const auto& round : r.rounds) {
+    nlohmann::json j{{"rss", round.rss}, {"added", round.added}, {"removed", round.removed}};
+    for (const auto& t : round.candidates)
+      j["candidates"].push_back({{"effect", t.effect},
+                                 {"parameters", t.parameters},
+                                 {"rss", t.rss},
+                                 {"f", t.f_statistic},
+                                 {"p_value", t.p_value},
+                                 {"note", t.note}});
+    report["selection"].push_back(j);
+  }
+  report["selection_rule"] = "F-test, significance " +
+                             io::format_number(identify_options.significance) +
+                             " / (candidates in the round); backward step at the same level";
+  if (r.holdout_done)
+    report["holdout"] = {{"fit_markers", r.holdout.fit_markers},
+                         {"validation_markers", r.holdout.validation_markers},
+                         {"validation_before", errors_json(r.holdout.validation_before)},
+                         {"validation_after", errors_json(r.holdout.validation_after)}};
+  report["spring_model"] = r.spring_model_notes;
+  report["seconds"] = r.seconds;
+
+  io::MarkdownReport md;
+  md.heading(1, "isospring identify: " + c.name);
+  io::add_case_summary(md, report["case"]);
+  md.heading(2, "Data");
+  md.paragraph(
+      std::to_string(kept.size()) + " markers from `" + settings.file.string() + "`" +
+      (dropped.empty() ? std::string(".")
+                       : ", " + std::to_string(dropped.size()) + " dropped (farther than " +
+                             io::format_number(tolerance, 3) + " m from the model).") +
+      " Noise level " + io::format_number(r.noise_estimate, 3) + " m (" +
+      (r.noise_given ? "given" : "estimated from neighbouring residual differences") + ").");
+  md.heading(2, "Effects");
+  md.paragraph(r.effects_added.empty()
+                   ? "None significant: the nominal model explains the data to the noise level."
+                   : "Added in order: " +
+                         [&] {
+                           std::string s;
+                           for (const auto& e : r.effects_added) s += (s.empty() ? "" : ", ") + e;
+                           return s;
+                         }() +
+                         ".");
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& p : r.parameters)
+    rows.push_back({p.effect, p.name, io::format_number(p.value),
+                    io::format_number(p.standard_error, 3), p.unit});
+  md.table({"effect", "parameter", "value", "std. error", "unit"}, rows);
+  for (const auto& [name, value] : r.derived) md.bullets({name + " = " + io::format_number(value)});
+  md.heading(2, "Errors");
+  rows.clear();
+  rows.push_back({"all", std::to_string(kept.size()), io::format_number(r.before.rms, 4),
+                  io::format_number(r.after.rms, 4), io::format_number(r.before.max, 4),
+                  io::format_number(r.after.max, 4)});
+  for (const auto& lc : r.load_cases)
+    rows.push_back({lc.id, std::to_string(lc.markers), io::format_number(lc.before.rms, 4),
+                    io::format_number(lc.after.rms, 4), io::format_number(lc.before.max, 4),
+                    io::format_number(lc.after.max, 4)});
+  md.table({"load case", "markers", "rms before [m]", "rms after [m]", "max before [m]",
+            "max after [m]"},
+           rows);
+  md.paragraph("chi^2 per degree of freedom: " + io::format_number(r.chi2_before, 4) + " before, " +
+               io::format_number(r.chi2_after, 4) + " after (1 is the noise level).");
+  if (r.holdout_done)
+    md.paragraph("Hold-out (fit on every other marker, validate on the rest): validation rms " +
+                 io::format_number(r.holdout.validation_before.rms, 4) + " m before, " +
+                 io::format_number(r.holdout.validation_after.rms, 4) + " m after.");
+  md.heading(2, "Selection");
+  for (size_t k = 0; k < r.rounds.size(); ++k) {
+    rows.clear();
+    for (const auto& t : r.rounds[k].candidates)
+      rows.push_back({t.effect, std::to_string(t.parameters), io::format_number(t.f_statistic, 4),
+                      io::format_number(t.p_value, 3), t.note});
+    md.paragraph(
+        "Round " + std::to_string(k + 1) + ": " +
+        (r.rounds[k].added.empty() ? "nothing significant, stop" : "added " + r.rounds[k].added));
+    md.table({"candidate", "parameters", "F", "p", "note"}, rows);
+  }
+  if (!r.spring_model_notes.empty()) {
+    md.heading(2, "Carrying over to the spring model");
+    md.bullets(r.spring_model_notes);
+  }
+  md.paragraph(
+      "Plot: `residuals.svg` (data `residuals.csv`); VTK: `markers_<case>_before.vtp`, "
+      "`markers_<case>_after.vtp`.");
+
+  write_markers(out_dir, c.problem, kept, r);
+  write_residual_plot(out_dir, kept, r, progress);
+  io::write_json_report(out_dir / "report.json", report);
+  md.write(out_dir / "report.md");
+  progress("rms " + io::format_number(r.before.rms, 3) + " m -> " +
+           io::format_number(r.after.rms, 3) + " m; wrote " + (out_dir / "report.json").string());
+}
+
+void setup_identify(CLI::App& app) {
+  auto options = std::make_shared<IdentifyCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "identify", "Fit the model to measured marker displacements and add missing effects");
+  cmd->footer(
+      "The case file's \"measurements\" object names the marker CSV (header\n"
+      "load_case,x,y,z,ux,uy,uz[,sigma] by default; columns and units can be mapped).\n"
+      "Fits E (and nu with fit_poisson), then adds effects (gravity, support_compliance,\n"
+      "stiffness_gradient, rigid_offset, load_scale) while an F-test finds them significant.\n"
+      "Writes OUTDIR/report.json, report.md, residuals.svg/.csv, markers_<case>_*.vtp.");
+  cmd->add_option("CASE", options->case_file, "Case file (.json) with \"measurements\"")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", options->output, "Output folder (created if missing)")->required();
+  cmd->add_flag("--drop-outside", options->drop_outside,
+                "Leave out markers off the model (listed in the report) instead of failing");
+  cmd->add_flag("-q,--quiet", options->quiet, "No progress lines");
+  cmd->callback([options] { run_identify(*options); });
+}
+
+}  // namespace
+ISOSPRING_REGISTER_COMMAND(60, setup_identify);
+}  // namespace isospring::apps

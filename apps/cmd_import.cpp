@@ -1,0 +1,49 @@
+// `isospring import PART.step -o patches.json`: a STEP/IGES part to a patch file (metres).
+#include <iostream>
+#include <memory>
+
+#include "command.hpp"
+#include "isospring/geometry/cad.hpp"
+#include "isospring/io/patch_file.hpp"
+
+namespace isospring::apps {
+namespace {
+
+struct ImportOptions {
+  std::string input, output;
+  double thickness = 0.0;
+  std::vector<int> faces;
+  bool report = false;
+};
+
+void setup_import(CLI::App& app) {
+  auto options = std::make_shared<ImportOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "import", "Convert a STEP/IGES part to a NURBS patch file (coordinates in metres)");
+  cmd->add_option("PART", options->input, "Input .step/.stp/.iges/.igs file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", options->output, "Output patch file (JSON)")->required();
+  cmd->add_option("--faces", options->faces,
+                  "Keep only these faces (0-based, as listed by --report or `isospring info`)");
+  cmd->add_option("--thickness", options->thickness,
+                  "Extrude the (planar) faces along their normal by this thickness [m]")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--report", options->report, "Print the per-face report");
+  cmd->footer(
+      "A solid made of six planar quadrilaterals becomes one trilinear volume patch; otherwise "
+      "each untrimmed face becomes a surface patch. Trimmed faces (holes, non-rectangular "
+      "outlines) are reported with what to do.");
+  cmd->callback([options] {
+    const geometry::CadModel model = geometry::read_cad(options->input);
+    if (options->report) std::cout << geometry::describe(model);
+    const auto patches = geometry::cad_patches(model, options->thickness, options->faces);
+    io::write_patch_file(options->output, patches);
+    std::cout << "wrote " << options->output << ": " << patches.size() << " patches from "
+              << options->input << " (file unit " << model.file_unit << ", written in m)\n";
+  });
+}
+
+}  // namespace
+ISOSPRING_REGISTER_COMMAND(15, setup_import);
+}  // namespace isospring::apps

@@ -1,0 +1,108 @@
+// NMSM speed: calibration time (cube n^3, grouped and per spring), linear static solves with a
+// prefactorised stiffness, and explicit (velocity Verlet) / implicit (backward Euler) step rates.
+// Targets (issue 4): cube 6^3 grouped fit < 0.1 s, per spring < 2 s.
+#include <benchmark/benchmark.h>
+
+#include <Eigen/SparseCholesky>
+#include <cmath>
+
+#include "isospring/analysis/spring_dynamics.hpp"
+#include "isospring/analysis/spring_mechanics.hpp"
+#include "isospring/analysis/spring_static.hpp"
+#include "isospring/fitting/calibration.hpp"
+#include "isospring/fitting/spring_masses.hpp"
+#include "isospring/fitting/thesis_experiments.hpp"
+
+namespace {
+
+using namespace isospring;
+
+// Calibration of the [S15] cube with an n^3 net; the counter is the fit alone (no IGA solve).
+void calibrate_cube(benchmark::State& state, bool per_spring) {
+  const fitting::ThesisObject cube = fitting::thesis_cube(static_cast<int>(state.range(0)), 2);
+  fitting::CalibrationSettings settings;
+  settings.fit_cases = {"fit_points"};
+  settings.per_spring = per_spring;
+  settings.regularization = per_spring ? 1e-7 : 0.0;
+  double fit_seconds = 0;
+  for (auto _ : state) {
+    const fitting::CalibrationResult result = fitting::calibrate(cube.problem, settings);
+    fit_seconds = result.fit_seconds;
+    state.counters["parameters"] = result.parameters;
+    state.counters["e_rms"] = result.fit[0].control.percent_e_rms;
+  }
+  state.counters["fit_seconds"] = fit_seconds;
+}
+void BM_CalibrateCubeGrouped(benchmark::State& state) {
+  calibrate_cube(state, false);
+}
+void BM_CalibrateCubePerSpring(benchmark::State& state) {
+  calibrate_cube(state, true);
+}
+BENCHMARK(BM_CalibrateCubeGrouped)->Arg(6)->Arg(12)->Arg(20)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CalibrateCubePerSpring)->Arg(6)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+// A cube lattice of n^3 particles (unit spacing, edge/face/body springs of the NMSM topology),
+// face x = 0 fixed, closed-form isotropic stiffnesses [W05] and unit masses.
+analysis::SpringNetwork lattice(int n) {
+  const fitting::ThesisObject cube = fitting::thesis_cube(n, 1);
+  fitting::SpringMesh mesh = fitting::build_spring_mesh(cube.problem);
+  for (auto& s : mesh.network.springs) s.stiffness = 1000.0 * s.rest_length;
+  for (size_t q = 0; q < mesh.network.positions.size(); ++q) {
+    mesh.network.masses[q] = 1.0;
+    mesh.network.fixed[q] = mesh.network.positions[q].x() == 0.0;
+  }
+  return mesh.network;
+}
+
+int side_for(int particles) {
+  return static_cast<int>(std::lround(std::cbrt(particles)));
+}
+
+void BM_StaticSolvePrefactorised(benchmark::State& state) {
+  const analysis::SpringNetwork net = lattice(side_for(static_cast<int>(state.range(0))));
+  const int dofs = static_cast<int>(net.positions.size()) * 3;
+  const analysis::FreeDofSet free(dofs, analysis::constrained_dofs(net, {}));
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(
+      free.restrict(analysis::rest_stiffness(net)));
+  const Eigen::VectorXd f = Eigen::VectorXd::Ones(free.num_free());
+  Eigen::VectorXd u(f.size());
+  for (auto _ : state) {
+    u = solver.solve(f);  // assign: a bare solve() is a lazy expression that does no work
+    benchmark::DoNotOptimize(u.data());
+  }
+  state.counters["particles"] = static_cast<double>(net.positions.size());
+  state.counters["solves_per_s"] =
+      benchmark::Counter(1, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_StaticSolvePrefactorised)
+    ->Arg(1000)
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_VerletStep(benchmark::State& state) {
+  const analysis::SpringNetwork net = lattice(side_for(static_cast<int>(state.range(0))));
+  analysis::SpringState s = analysis::rest_state(net);
+  const Eigen::VectorXd f = Eigen::VectorXd::Constant(s.x.size(), 0.01);
+  for (auto _ : state) analysis::step_velocity_verlet(net, s, f, 1e-4);
+  state.counters["particles"] = static_cast<double>(net.positions.size());
+  state.counters["steps_per_s"] =
+      benchmark::Counter(1, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_VerletStep)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+void BM_BackwardEulerStep(benchmark::State& state) {
+  const analysis::SpringNetwork net = lattice(side_for(static_cast<int>(state.range(0))));
+  analysis::SpringState s = analysis::rest_state(net);
+  const Eigen::VectorXd f = Eigen::VectorXd::Constant(s.x.size(), 0.01);
+  for (auto _ : state) analysis::step_backward_euler(net, s, f, 1e-3);
+  state.counters["particles"] = static_cast<double>(net.positions.size());
+  state.counters["steps_per_s"] =
+      benchmark::Counter(1, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_BackwardEulerStep)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
