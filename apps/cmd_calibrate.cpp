@@ -100,6 +100,7 @@ void run_calibrate(const CalibrateOptions& options) {
   const fitting::CalibrationResult result = fitting::calibrate(c.problem, settings);
   const analysis::SpringNetwork& network = result.mesh.network;
   for (const auto& warning : result.mesh.warnings) progress.warn(warning);
+  for (const auto& warning : result.warnings) progress.warn(warning);
 
   nlohmann::json report = io::report_header("calibrate", ISOSPRING_VERSION, options.case_file);
   report["case"] = io::case_summary(c, c.problem);
@@ -107,6 +108,9 @@ void run_calibrate(const CalibrateOptions& options) {
   report["particles"] = network.positions.size();
   report["springs"] = network.springs.size();
   report["groups"] = result.parameters;
+  report["groups_at_lower_bound"] = result.fit_result.groups_at_lower_bound;
+  report["warnings"] = result.mesh.warnings;
+  for (const auto& warning : result.warnings) report["warnings"].push_back(warning);
   report["gamma"] = result.gamma;
   report["per_spring"] = settings.per_spring;
   report["iterations"] = result.fit_result.iterations;

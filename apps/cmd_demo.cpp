@@ -126,6 +126,7 @@ void run_demo(const DemoOptions& options) {
   progress("4/6 NMSM calibration: " + std::to_string(calibration.mesh.network.springs.size()) +
            " springs, " + std::to_string(calibration.parameters) + " stiffness groups, fitted in " +
            io::format_number(calibration.fit_seconds, 3) + " s");
+  for (const auto& warning : calibration.warnings) progress.warn(warning);
   for (const auto& e : calibration.fit)
     progress("   fitted  " + e.id + ": %e_rms " + io::format_number(e.control.percent_e_rms, 3) +
              ", %e_max " + io::format_number(e.control.percent_e_max, 3));

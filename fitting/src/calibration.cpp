@@ -204,6 +204,11 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     mesh.network.springs[s].group = result.grouping.group_of_spring[s];
   }
   result.parameters = result.grouping.num_groups();
+  if (fit.groups_at_lower_bound > 0)
+    result.warnings.push_back(
+        std::to_string(fit.groups_at_lower_bound) + " of " + std::to_string(result.parameters) +
+        " stiffness groups sit at the lower bound (1e-6 of the stiffest): the data would rather "
+        "switch those springs off; they carry no load in the calibrated model");
   if (settings.damping_alpha > 0.0)
     analysis::assign_damping_alpha(mesh.network, settings.damping_alpha);
 

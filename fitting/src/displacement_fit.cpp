@@ -232,11 +232,12 @@ DisplacementFitResult fit_displacements(const DisplacementFitData& data,
   Eigen::VectorXd k0 = options.initial.empty()
                            ? initial_stiffness(data, grouping, options.youngs_modulus)
                            : Eigen::Map<const Eigen::VectorXd>(options.initial.data(), groups);
+  const double log_floor = std::log(options.min_stiffness_ratio * k0.maxCoeff());
   std::vector<double> theta(static_cast<size_t>(groups));
   for (int g = 0; g < groups; ++g) {
     double k = k0[g];
     if (!options.upper_bounds.empty()) k = std::min(k, 0.5 * options.upper_bounds[g]);
-    theta[g] = std::log(k);
+    theta[g] = std::max(std::log(k), log_floor);
   }
 
   ceres::Problem problem;
@@ -245,6 +246,7 @@ DisplacementFitResult fit_displacements(const DisplacementFitData& data,
   problem.AddResidualBlock(new DisplacementCost(data, grouping), nullptr, blocks);
   for (int g = 0; g < groups && !options.upper_bounds.empty(); ++g)
     problem.SetParameterUpperBound(blocks[g], 0, std::log(options.upper_bounds[g]));
+  for (int g = 0; g < groups; ++g) problem.SetParameterLowerBound(blocks[g], 0, log_floor);
   std::vector<double> shared;
   if (options.regularization > 0.0) {
     const Grouping& reg = options.regularization_groups;
@@ -284,7 +286,11 @@ DisplacementFitResult fit_displacements(const DisplacementFitData& data,
   result.cost = summary.final_cost;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.message;
-  for (int g = 0; g < groups; ++g) result.group_stiffness.push_back(std::exp(theta[g]));
+  for (int g = 0; g < groups; ++g) {
+    result.group_stiffness.push_back(std::exp(theta[g]));
+    // Within 1e-9 in log: the bound is active (Ceres projects onto it exactly).
+    if (theta[g] <= log_floor + 1e-9) ++result.groups_at_lower_bound;
+  }
   for (int g : grouping.group_of_spring)
     result.spring_stiffness.push_back(result.group_stiffness[g]);
   Eigen::VectorXd r;

@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <random>
 #include <set>
@@ -236,15 +237,34 @@ bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch) {
       if (c != not_this && adjacent[static_cast<size_t>(b)].count(c)) return c;
     return -1;
   };
-  std::vector<int> n(adjacent[0].begin(), adjacent[0].end());
-  if ((x[n[0]] - x[0]).cross(x[n[1]] - x[0]).dot(x[n[2]] - x[0]) < 0) std::swap(n[0], n[1]);
-  const int c110 = common(n[0], n[1], 0), c101 = common(n[0], n[2], 0),
-            c011 = common(n[1], n[2], 0);
-  if (c110 < 0 || c101 < 0 || c011 < 0) return false;
-  const int c111 = common(c110, c101, n[0]);
-  if (c111 < 0) return false;
-  const std::array<int, 8> order{0, n[0], n[1], c110, n[2], c101, c011, c111};
-  if (std::set<int>(order.begin(), order.end()).size() != 8) return false;
+  // Of the 48 right-handed ways to number the corners (origin corner, order of its 3 edges), take
+  // the one whose u, v, w edges point most along +x, +y, +z: the vertex order in the file is
+  // arbitrary, and users expect an axis-aligned block to have u along x (u0 at the smallest x),
+  // as the `box` primitive does.
+  std::array<int, 8> order{};
+  double best_score = -INFINITY;
+  for (int origin = 0; origin < 8; ++origin) {
+    std::vector<int> n(adjacent[static_cast<size_t>(origin)].begin(),
+                       adjacent[static_cast<size_t>(origin)].end());
+    std::sort(n.begin(), n.end());
+    do {
+      const Eigen::Vector3d eu = x[n[0]] - x[origin], ev = x[n[1]] - x[origin],
+                            ew = x[n[2]] - x[origin];
+      if (eu.cross(ev).dot(ew) <= 0.0) continue;
+      const int c110 = common(n[0], n[1], origin), c101 = common(n[0], n[2], origin),
+                c011 = common(n[1], n[2], origin);
+      if (c110 < 0 || c101 < 0 || c011 < 0) continue;
+      const int c111 = common(c110, c101, n[0]);
+      if (c111 < 0) continue;
+      const double score = eu.normalized().x() + ev.normalized().y() + ew.normalized().z();
+      if (score > best_score + 1e-12) {
+        best_score = score;
+        order = {origin, n[0], n[1], c110, n[2], c101, c011, c111};
+      }
+    } while (std::next_permutation(n.begin(), n.end()));
+  }
+  if (best_score == -INFINITY || std::set<int>(order.begin(), order.end()).size() != 8)
+    return false;
   std::vector<Eigen::Vector3d> points;
   for (int v : order) points.push_back(x[static_cast<size_t>(v)]);
   const nurbs::KnotVector linear(1, {0, 0, 1, 1});

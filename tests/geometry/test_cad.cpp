@@ -2,6 +2,7 @@
 // exact round trips and bad files.
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepGProp.hxx>
 #include <Eigen/Geometry>
 #include <GProp_GProps.hxx>
@@ -12,6 +13,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <gp_Ax1.hxx>
+#include <gp_Trsf.hxx>
 #include <random>
 
 #include "cad_test_parts.hpp"
@@ -74,6 +77,23 @@ TEST(CadImport, HexahedralBlockIsOneExactVolumePatch) {
   EXPECT_NEAR(measure(model.volume_patches) / 4e-5, 1.0, 1e-13);
   EXPECT_GT(jacobian_range(model.volume_patches[0]).min, 0.0);
   EXPECT_EQ(cad_patches(model).size(), 1u);
+  // Axis-aligned block: u along x, v along y, w along z from the smallest corner, whatever the
+  // vertex order in the file (the case-file sides u0/u1 then mean x = 0 / x = 0.1, as for `box`).
+  const nurbs::Patch& volume = model.volume_patches[0];
+  EXPECT_LT(volume.point({0, 0, 0}).norm(), 1e-15);
+  EXPECT_LT((volume.point({1, 0, 0}) - Eigen::Vector3d(0.1, 0, 0)).norm(), 1e-15);
+  EXPECT_LT((volume.point({0, 1, 0}) - Eigen::Vector3d(0, 0.02, 0)).norm(), 1e-15);
+  EXPECT_LT((volume.point({0, 0, 1}) - Eigen::Vector3d(0, 0, 0.02)).norm(), 1e-15);
+  // A rotated copy keeps a right-handed numbering (positive Jacobian) with u nearest to x.
+  gp_Trsf rotation;
+  rotation.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 2, 3)), 0.7);
+  const fs::path turned = temp_folder() / "block_turned.step";
+  write_step(BRepBuilderAPI_Transform(test::cad_test_parts()["block.step"].shape, rotation).Shape(),
+             turned);
+  const CadModel turned_model = read_cad(turned);
+  ASSERT_EQ(turned_model.volume_patches.size(), 1u);
+  EXPECT_GT(jacobian_range(turned_model.volume_patches[0]).min, 0.0);
+  EXPECT_NEAR(measure(turned_model.volume_patches) / 4e-5, 1.0, 1e-12);
   // Every face is a natural rectangle, oriented outwards: the divergence theorem with the
   // face patches gives the volume (sum over faces of integral x . n / 3).
   ASSERT_EQ(model.face_patches.size(), 6u);

@@ -72,7 +72,8 @@ struct CalibrationResult {
   DisplacementFitResult fit_result;
   std::vector<MatrixComparison> matrix;  // when settings.matrix_approach
   double reference_seconds = 0.0;
-  double fit_seconds = 0.0;  // all fits, sweep included
+  double fit_seconds = 0.0;           // all fits, sweep included
+  std::vector<std::string> warnings;  // e.g. stiffness groups held at the lower bound
 };
 
 /// Runs the calibration. Throws nurbs::InputError for bad settings or problems (unknown case ids,

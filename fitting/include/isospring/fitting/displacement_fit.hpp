@@ -33,6 +33,12 @@ struct DisplacementFitOptions {
   Grouping grouping;                 // parameters: one stiffness per group
   std::vector<double> initial;       // per group; empty: a scaled E * L0 guess (see .cpp)
   std::vector<double> upper_bounds;  // per group; empty: none
+  /// Every stiffness is bounded below by this fraction of the largest initial group stiffness.
+  /// Log-parameters alone only keep k > 0: a group that the data would rather switch off drifts
+  /// towards k = 0, K(k) becomes numerically singular and its solves turn to noise. A spring
+  /// 1e-6 times softer than the network's stiffest contributes nothing measurable, so the bound
+  /// costs no accuracy while keeping cond(K) within ~1e6 of the rest network's.
+  double min_stiffness_ratio = 1e-6;
   /// > 0: per-spring parameters pulled towards a shared value per `regularization_groups` group
   /// by residuals sqrt(w) (theta_s - theta_group) (w -> infinity recovers the grouped fit).
   double regularization = 0.0;
@@ -48,6 +54,7 @@ struct DisplacementFitResult {
   std::vector<double> group_stiffness;   // per group
   std::vector<double> spring_stiffness;  // per spring
   std::vector<double> percent_e_rms;     // per case, control points
+  int groups_at_lower_bound = 0;         // groups the fit pushed onto min_stiffness_ratio
   double cost = 0.0;                     // Ceres cost: 1/2 sum of squared residuals
   int iterations = 0;
   bool converged = false;
