@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "isospring/fitting/identify.hpp"
@@ -85,8 +86,17 @@ void BM_IdentifyBox3D(benchmark::State& state) {
   const auto& added = result.effects_added;
   state.counters["markers"] = static_cast<double>(markers.size());
   state.counters["seconds"] = result.seconds;
-  state.counters["rms_before"] = result.before.rms;
-  state.counters["rms_after"] = result.after.rms;
+  // In micrometres: Google Benchmark prints counters with SI prefixes down to micro only, so a
+  // value of 1e-7 m showed as 0.
+  state.counters["rms_before_um"] = 1e6 * result.before.rms;
+  state.counters["rms_after_um"] = 1e6 * result.after.rms;
+  // Standard errors in 3D (NaN before the column-scaled covariance): E's, relative.
+  state.counters["E_rel_std_error"] =
+      result.parameters[0].standard_error / result.parameters[0].value;
+  int finite = 0;
+  for (const auto& p : result.parameters) finite += std::isfinite(p.standard_error) ? 1 : 0;
+  state.counters["finite_std_errors"] = finite;
+  state.counters["parameters"] = static_cast<double>(result.parameters.size());
   state.counters["effects"] = static_cast<double>(added.size());
   state.counters["found_gravity"] =
       std::find(added.begin(), added.end(), "gravity") != added.end() ? 1.0 : 0.0;

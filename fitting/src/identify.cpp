@@ -148,6 +148,12 @@ Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
   return model;
 }
 
+Eigen::Index setup_rows(const std::vector<Eigen::VectorXd>& weights) {
+  Eigen::Index rows = 0;
+  for (const auto& w : weights) rows += w.size();
+  return rows;
+}
+
 std::vector<Eigen::VectorXd> make_weights(const Setup& setup, double sigma,
                                           const std::vector<bool>& use_marker) {
   std::vector<Eigen::VectorXd> weights;
@@ -164,7 +170,7 @@ std::vector<Eigen::VectorXd> make_weights(const Setup& setup, double sigma,
 }
 
 Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::VectorXd>& weights,
-            ceres::Covariance* covariance = nullptr, Eigen::MatrixXd* covariance_matrix = nullptr) {
+            Eigen::MatrixXd* covariance = nullptr) {
   Fit fit;
   fit.theta = model.initial;
   ceres::Problem::Options problem_options;
@@ -191,12 +197,17 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   fit.rss = 2.0 * summary.final_cost;
   for (const auto& w : weights) fit.rows += static_cast<int>((w.array() > 0.0).count());
   if (fit.ok && covariance) {
-    const double* block = fit.theta.data();
-    std::vector<std::pair<const double*, const double*>> pairs{{block, block}};
+    // The weighted Jacobian at the optimum; the covariance is computed with column scaling
+    // (gauss_newton_covariance), not by ceres::Covariance, whose unscaled SVD declares the
+    // problem rank deficient when parameter scales differ by 1e6 (E ratio ~1, rotations ~1e-5).
+    const ModelEvaluation eval = model.forward->evaluate(fit.theta, true);
     const int p = static_cast<int>(fit.theta.size());
-    covariance_matrix->setConstant(p, p, std::numeric_limits<double>::quiet_NaN());
-    if (covariance->Compute(pairs, &problem))
-      covariance->GetCovarianceBlock(block, block, covariance_matrix->data());
+    Eigen::MatrixXd jacobian(setup_rows(weights), p);
+    Eigen::Index row = 0;
+    for (size_t l = 0; l < weights.size(); ++l)
+      for (Eigen::Index k = 0; k < weights[l].size(); ++k, ++row)
+        jacobian.row(row) = weights[l][k] * eval.jacobians[l].row(k);
+    *covariance = gauss_newton_covariance(jacobian);
   }
   return fit;
 }
@@ -493,11 +504,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   const double rss_before = baseline_final.rss;
 
   // Final fit with covariance.
-  ceres::Covariance::Options cov_options;
-  cov_options.algorithm_type = ceres::DENSE_SVD;
-  ceres::Covariance covariance(cov_options);
   Eigen::MatrixXd cov;
-  current_fit = run_fit(setup, current, weights, &covariance, &cov);
+  current_fit = run_fit(setup, current, weights, &cov);
   if (!current_fit.ok) throw std::runtime_error("the final fit failed: " + current_fit.message);
   const Eigen::VectorXd& theta = current_fit.theta;
   auto se = [&](int k) { return std::sqrt(cov(k, k)); };

@@ -40,8 +40,8 @@ struct ParameterEstimate {
   std::string name;
   std::string unit;
   double value = 0.0;
-  double standard_error = 0.0;  // from the Gauss-Newton covariance (ceres::Covariance); NaN when
-                                // the parameters are not identifiable
+  double standard_error = 0.0;  // from the Gauss-Newton covariance (gauss_newton_covariance);
+                                // NaN when the parameter is not identifiable
 };
 
 struct ErrorSummary {
@@ -108,6 +108,15 @@ std::vector<Eigen::Vector3d> simulate_markers(
     const analysis::Problem& problem, const std::vector<Marker>& markers,
     const std::vector<MarkerPlacement>& placements,
     const std::vector<std::pair<std::string, Eigen::VectorXd>>& effects);
+
+/// (J^T J)^-1 of a weighted Jacobian J (rows: residuals / sigma, columns: parameters), computed
+/// as D (J_s^T J_s)^+ D with J_s = J D, D = diag(1 / |column|): the column scaling removes the
+/// parameters' units from the conditioning, so only genuine collinearity counts. Directions with
+/// singular value below `relative_tolerance` times the largest of J_s are a null space; every
+/// parameter that has a component > 1e-6 in it gets NaN variance (and covariances) instead of a
+/// meaningless large number; a zero column is NaN too.
+Eigen::MatrixXd gauss_newton_covariance(const Eigen::MatrixXd& weighted_jacobian,
+                                        double relative_tolerance = 1e-10);
 
 /// Upper tail of the F distribution: P(F(d1, d2) > f).
 double f_test_p_value(double f, int d1, int d2);
