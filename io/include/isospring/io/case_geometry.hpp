@@ -13,6 +13,8 @@
 // annulus           inner_radius outer_radius                   1, 2D, u radial, v counter-
 //                   [start_angle 0] [sweep_angle 90, <= 360]      clockwise
 // plate_with_hole   hole_radius half_width [patches 1|2 = 1]    quarter plate x <= 0, y >= 0
+// plate_with_central_hole                                       6 conforming (4 ring patches
+//                   size [length, width] hole_radius              around the hole, 2 rectangles)
 // box               size [lx, ly, lz]                           1, u along x, v y, w z
 // cube              size L                                      as box
 // tube              inner_radius outer_radius length            1, u radial, v around, w along z
