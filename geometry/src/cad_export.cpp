@@ -4,6 +4,8 @@
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
+#include <IGESData_GlobalSection.hxx>
+#include <IGESData_IGESModel.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
@@ -11,6 +13,7 @@
 #include <TopoDS_Compound.hxx>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
@@ -80,8 +83,16 @@ void write_cad(const std::filesystem::path& file, const std::vector<nurbs::Patch
           writer.Write(name.c_str()) != IFSelect_RetDone)
         throw std::runtime_error("OpenCascade could not write " + name);
     } else {
-      IGESControl_Controller::Init();
       IGESControl_Writer writer("M", 0);  // faces as trimmed B-spline surfaces (entity 144)
+      // The writer divides shape coordinates by GlobalSection::UnitValue(), the file unit in
+      // "cascade" units. OCCT 7.6 sets the model's cascade unit from its process-wide default
+      // (millimetres), not from xstep.cascade.unit, so without this a 0.1 m edge is written as
+      // 1e-4 under the unit flag M. Our shapes are in metres: 1000 mm per cascade unit.
+      IGESData_GlobalSection section = writer.Model()->GlobalSection();
+      section.SetCascadeUnit(1000.0);
+      writer.Model()->SetGlobalSection(section);
+      if (std::abs(writer.Model()->GlobalSection().UnitValue() - 1.0) > 1e-15)
+        throw std::runtime_error("OpenCascade IGES writer: file unit is not the shape unit (m)");
       writer.AddShape(compound);
       writer.ComputeModel();
       if (!writer.Write(name.c_str()))

@@ -36,6 +36,13 @@ TEST(CadCommands, ImportThenExportStep) {
   const CadModel back = read_cad(dir / "out.step");
   EXPECT_EQ(back.face_patches.size(), 6u);
   EXPECT_NEAR(measure(back.face_patches) / 0.0088, 1.0, 1e-12);
+  // IGES keeps metres too (the writer once divided coordinates by 1000 under the unit flag M).
+  ASSERT_EQ(
+      run("export-step " + (dir / "block.json").string() + " -o " + (dir / "out.igs").string()), 0);
+  const CadModel iges = read_cad(dir / "out.igs");
+  EXPECT_EQ(iges.face_patches.size(), 6u);
+  EXPECT_NEAR(measure(iges.face_patches) / 0.0088, 1.0, 1e-12);
+  EXPECT_NEAR(iges.bbox_max.x(), 0.1, 1e-6);  // OCCT pads the box by the 1e-7 tolerance
   // Bad input: exit status 1 (InputError), the input untouched.
   std::ofstream(dir / "bad.step") << "not a step file\n";
   EXPECT_EQ(run("import " + (dir / "bad.step").string() + " -o " + (dir / "bad.json").string()), 1);
