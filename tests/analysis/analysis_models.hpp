@@ -1,6 +1,7 @@
 #pragma once
 // Geometries and helpers shared by the analysis verification tests (benchmarks.md).
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -67,6 +68,36 @@ inline nurbs::Patch beam(double length, double depth, int degree, int nx, int ny
   nurbs::Patch p = nurbs::elevate_degree(bilinear, degree - 1);
   p = nurbs::refine_uniform(p, 0, nx);
   return nurbs::refine_uniform(p, 1, ny);
+}
+
+/// Interior knots that split [0, 1] into `elements` spans graded by g(s) = s (1 + c s) / (1 + c).
+/// g is a fixed smooth diffeomorphism of [0, 1] (g' runs from 1 / (1 + c) at s = 0 to
+/// (1 + 2c) / (1 + c) at s = 1), so the meshes stay quasi-uniform, halving nests them (the knots
+/// of n elements are among those of 2n) and the asymptotic rates in h = 1 / elements are those of
+/// uniform refinement; only the constants change: elements near s = 0 are 1 + 2c times smaller
+/// than those near s = 1.
+inline std::vector<double> graded_knots(int elements, double c) {
+  std::vector<double> knots;
+  for (int i = 1; i < elements; ++i) {
+    const double s = static_cast<double>(i) / elements;
+    knots.push_back(s * (1 + c * s) / (1 + c));
+  }
+  return knots;
+}
+
+/// k-refinement with one graded direction: elevates every direction to degree[d], splits the
+/// spans of the other directions uniformly into splits[d] and the graded direction (a single
+/// span [0, 1]) into splits[graded] spans at graded_knots(splits[graded], c).
+inline nurbs::Patch graded_k_refine(const nurbs::Patch& coarse, const std::array<int, 3>& degree,
+                                    const std::array<int, 3>& splits, int graded, double c) {
+  nurbs::Patch patch = coarse;
+  for (int d = 0; d < patch.param_dim(); ++d) {
+    const size_t i = static_cast<size_t>(d);
+    patch = nurbs::elevate_degree(patch, d, degree[i] - patch.degree(d));
+    if (d != graded) patch = nurbs::refine_uniform(patch, d, splits[i]);
+  }
+  const std::vector<double> knots = graded_knots(splits[static_cast<size_t>(graded)], c);
+  return knots.empty() ? patch : nurbs::refine_knots(patch, graded, knots);
 }
 
 /// Least-squares slope of log(error) against log(h) over the last `count` levels.

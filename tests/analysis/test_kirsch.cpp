@@ -68,8 +68,64 @@ Problem plate(std::vector<nurbs::Patch> patches) {
   return problem;
 }
 
+// Why uniform refinement shows low rates for p >= 3 (measured, 12-point plate, per halving from
+// 8 to 128 elements along v): p = 3 L2 3.67 3.91 3.80 3.81 3.90, energy 2.30 2.77 2.86 2.88 2.93;
+// p = 4 (to 64) L2 4.28 4.34 4.28 4.70, energy 3.10 3.53 3.51 3.71. The rates keep rising: the
+// levels are pre-asymptotic, not capped. Binning the energy error over the parameter square
+// (32 -> 64, p = 3) puts 86 % of its square in the strip v < 1/16 along the hole (4 of 64
+// element rows), converging there at 2.87, and > 99.9 % in v < 1/4; the bins away from the hole,
+// including those at the degenerate corner (u, v) = (0.5, 1), already converge at 3.00. The
+// displacement's (a/r)^3 terms have (p+1)-th radial derivatives ~ (p+3)!/2 r^-(p+4): near r = 1 the
+// field varies on a scale ~ 1/(p+4), so uniform elements of radial size 3/64 are still coarse
+// there. Quadrature is not the cause: p + 2 Gauss points in the solve and 10 in the error integral
+// change no digit of the rates. Grading the radial knots (elements at the hole 1 + 2c = 5 times
+// smaller than at the outer edge, a fixed smooth map of the uniform knots) reaches the asymptotic
+// range by 16 elements: p = 3 L2 4.30 4.05 4.00, energy 3.02 3.00 3.00 (16..64). The degenerate
+// corner does not limit the rates.
+constexpr double kGrading = 2.0;
+
+// Two quadrilateral patches split at 135 degrees with straight outer edges: the same domain
+// without the 12-point plate's degenerate corner (repeated control point (-4,4)). Degrees (2, 1)
+// before refinement; v (radial) is graded like the single patch.
+std::vector<nurbs::Patch> two_patch_plate(int p, int splits) {
+  const double t = std::tan(M_PI / 8), c = std::cos(M_PI / 8), h = testing::kSqrtHalf;
+  const nurbs::KnotVector arc(2, {0, 0, 0, 1, 1, 1}), radial(1, {0, 0, 1, 1});
+  const nurbs::Patch a({arc, radial},
+                       {{-1, 0, 0}, {-1, t, 0}, {-h, h, 0}, {-4, 0, 0}, {-4, 2, 0}, {-4, 4, 0}},
+                       {1, c, 1, 1, 1, 1});
+  const nurbs::Patch b({arc, radial},
+                       {{-h, h, 0}, {-t, 1, 0}, {0, 1, 0}, {-4, 4, 0}, {-2, 4, 0}, {0, 4, 0}},
+                       {1, c, 1, 1, 1, 1});
+  return {testing::graded_k_refine(a, {p, p, 0}, {splits, splits, 1}, 1, kGrading),
+          testing::graded_k_refine(b, {p, p, 0}, {splits, splits, 1}, 1, kGrading)};
+}
+
+struct Convergence {
+  std::vector<double> h, l2, energy;
+  void add(double splits, const ErrorNorms& e) {
+    h.push_back(1.0 / splits);
+    l2.push_back(e.relative_l2());
+    energy.push_back(e.relative_energy());
+  }
+  // Fitted over the last three of the four levels (benchmarks.md: "over the last levels").
+  double l2_rate() const { return testing::fitted_rate(h, l2, 3); }
+  double energy_rate() const { return testing::fitted_rate(h, energy, 3); }
+  void expect_optimal(int p, const char* name) const {
+    std::printf("Kirsch %s p=%d: L2 %.3e -> %.3e rate %.3f, energy %.3e -> %.3e rate %.3f\n", name,
+                p, l2.front(), l2.back(), l2_rate(), energy.front(), energy.back(), energy_rate());
+    EXPECT_GE(l2_rate(), p + 1 - 0.1) << name << " p = " << p;
+    EXPECT_GE(energy_rate(), p - 0.1) << name << " p = " << p;
+  }
+};
+
 nurbs::Patch refined_plate(int p, int splits) {
   return nurbs::k_refine(testing::kirsch_plate(), {p, p, 0}, {splits, splits, 1});
+}
+
+// The 12-point plate with v (radial) graded: splits spans per direction and original span.
+nurbs::Patch graded_plate(int p, int splits) {
+  return testing::graded_k_refine(testing::kirsch_plate(), {p, p, 0}, {splits, splits, 1}, 1,
+                                  kGrading);
 }
 
 // Makes u = 0.5 a C0 line (multiplicity p) and cuts the patch there into two conforming patches.
@@ -126,73 +182,57 @@ TEST(Kirsch, ExactDisplacementMatchesExactStress) {
   EXPECT_NEAR(exact_u({-2.2, 0, 0}).y(), 0.0, 1e-15);
 }
 
-// Two quadrilateral patches split at 135 degrees with straight outer edges: the same domain
-// without the 12-point plate's degenerate corner (repeated control point (-4,4)). Degrees (2, 1),
-// refined by k-refinement.
-std::vector<nurbs::Patch> two_patch_plate(int p, int splits) {
-  const double t = std::tan(M_PI / 8), c = std::cos(M_PI / 8), h = testing::kSqrtHalf;
-  const nurbs::KnotVector arc(2, {0, 0, 0, 1, 1, 1}), radial(1, {0, 0, 1, 1});
-  const nurbs::Patch a({arc, radial},
-                       {{-1, 0, 0}, {-1, t, 0}, {-h, h, 0}, {-4, 0, 0}, {-4, 2, 0}, {-4, 4, 0}},
-                       {1, c, 1, 1, 1, 1});
-  const nurbs::Patch b({arc, radial},
-                       {{-h, h, 0}, {-t, 1, 0}, {0, 1, 0}, {-4, 4, 0}, {-2, 4, 0}, {0, 4, 0}},
-                       {1, c, 1, 1, 1, 1});
-  return {nurbs::k_refine(a, {p, p, 0}, {splits, 2 * splits, 1}),
-          nurbs::k_refine(b, {p, p, 0}, {splits, 2 * splits, 1})};
-}
+// The 12-point plate of benchmarks.md (single patch, degenerate corner included) and the same
+// plate cut at u = 0.5 into two patches, at levels of 4..32 elements per span and direction
+// (radially graded). The two-patch space is the single-patch space with the C1 line u = 0.5
+// relaxed to C0, so it contains the single-patch space and Galerkin's energy-norm optimality makes
+// its energy error no larger (measured: the two errors differ by < 1e-3 relative, < 1e-4 at 32
+// elements; the same answer to discretisation error). Measured fitted rates (last three levels,
+// single patch; the halves agree to 3 digits): p = 2 L2 3.19, energy 2.02; p = 3 4.17 / 3.01; p =
+// 4 5.07 / 4.06.
+class KirschRates : public ::testing::TestWithParam<int> {};
 
-struct Rates {
-  double l2, energy, last_l2, last_energy;
-};
-template <class Build>
-Rates measure_rates(Build build, const std::vector<int>& levels, size_t fit) {
-  std::vector<double> h, l2, energy;
-  for (int splits : levels) {
-    const ErrorNorms e = solve_and_measure(plate(build(splits)));
-    h.push_back(1.0 / splits);
-    l2.push_back(e.relative_l2());
-    energy.push_back(e.relative_energy());
+TEST_P(KirschRates, SingleAndTwoPatchPlateConvergeOptimally) {
+  const int p = GetParam();
+  Convergence single, halves;
+  for (int splits : {4, 8, 16, 32}) {
+    const nurbs::Patch patch = graded_plate(p, splits);
+    const ErrorNorms e1 = solve_and_measure(plate({patch}));
+    const ErrorNorms e2 = solve_and_measure(plate(split_at_half(patch)));
+    single.add(splits, e1);
+    halves.add(splits, e2);
+    // Nested spaces: the energy error cannot grow (1e-9 covers the error integral's rounding;
+    // the solve's quadrature perturbs the Galerkin projection far below the measured 4e-5 gap).
+    EXPECT_LE(e2.energy_error, e1.energy_error * (1 + 1e-9)) << "splits " << splits;
+    EXPECT_NEAR(e2.l2_error, e1.l2_error, 0.01 * e1.l2_error) << "splits " << splits;
+    EXPECT_NEAR(e2.energy_error, e1.energy_error, 0.01 * e1.energy_error) << "splits " << splits;
   }
-  return {testing::fitted_rate(h, l2, fit), testing::fitted_rate(h, energy, fit), l2.back(),
-          energy.back()};
+  single.expect_optimal(p, "12-point plate");
+  halves.expect_optimal(p, "12-point plate cut in 2 patches");
 }
 
-// The (a/r)^4 terms of the exact field make the asymptotic range start late for high degree:
-// per-halving rates keep rising with refinement (measured, levels 4..64 elements per patch side,
-// fit over the last two: p = 2 L2 3.05 / energy 2.01, p = 3 3.86 / 2.91, p = 4 4.82 / 3.81).
-// The test keeps to levels that run in about a second: p = 2 must be optimal, p = 3 within 0.25
-// (measured 3.78 / 2.87 over 8-16-32).
-TEST(Kirsch, TwoQuadrilateralPatchesConvergeOptimally) {
-  for (int p : {2, 3}) {
-    const Rates r = measure_rates([p](int s) { return two_patch_plate(p, s); },
-                                  p == 2 ? std::vector{4, 8, 16} : std::vector{8, 16, 32}, 2);
-    std::printf(
-        "Kirsch 2 quadrilateral patches p=%d: L2 rate %.3f, energy rate %.3f (finest "
-        "%.3e, %.3e)\n",
-        p, r.l2, r.energy, r.last_l2, r.last_energy);
-    const double slack = p == 2 ? 0.1 : 0.25;
-    EXPECT_GE(r.l2, p + 1 - slack);
-    EXPECT_GE(r.energy, p - slack);
-  }
+// Two quadrilateral patches without any degenerate corner (measured, last three levels: p = 2 L2
+// 3.15, energy 2.02; p = 3 4.01 / 2.97; p = 4 5.07 / 3.99).
+TEST_P(KirschRates, QuadrilateralPatchesConvergeOptimally) {
+  const int p = GetParam();
+  Convergence c;
+  for (int splits : {4, 8, 16, 32})
+    c.add(splits, solve_and_measure(plate(two_patch_plate(p, splits))));
+  c.expect_optimal(p, "2 quadrilateral patches");
 }
 
-// The 12-point plate of benchmarks.md. Its corner (u, v) = (0.5, 1) is a parametric singularity
-// (two coincident control points): p = 2 reaches the optimal rates (levels 8-32), but for p >= 3
-// the singular corner caps them (measured per halving up to 64 x 32 elements: p = 3 L2 3.81,
-// energy 2.88; p = 4 L2 ~4.3-4.7, energy ~3.5-3.7). Those are asserted as regression bounds; the
-// optimal-rate check for p = 3, 4 is the 2-patch test above.
-TEST(Kirsch, SingleExactPatchRates) {
-  const Rates r2 =
-      measure_rates([](int s) { return std::vector{refined_plate(2, s)}; }, {4, 8, 16, 32}, 3);
-  std::printf("Kirsch 12-point plate p=2: L2 rate %.3f, energy rate %.3f\n", r2.l2, r2.energy);
-  EXPECT_GE(r2.l2, 2.9);
-  EXPECT_GE(r2.energy, 1.9);
-  const Rates r3 =
-      measure_rates([](int s) { return std::vector{refined_plate(3, s)}; }, {4, 8, 16, 32}, 3);
-  std::printf("Kirsch 12-point plate p=3: L2 rate %.3f, energy rate %.3f\n", r3.l2, r3.energy);
-  EXPECT_GE(r3.l2, 3.7);
-  EXPECT_GE(r3.energy, 2.8);
+INSTANTIATE_TEST_SUITE_P(Degrees, KirschRates, ::testing::Values(2, 3, 4));
+
+// Uniform refinement is enough at p = 2 (per halving 8 -> 16 -> 32: L2 3.35, 3.29; energy 1.87,
+// 1.99), so the plain k-refined 12-point plate is checked too.
+TEST(Kirsch, UniformRefinementDegree2) {
+  Convergence c;
+  for (int splits : {4, 8, 16, 32})
+    c.add(splits, solve_and_measure(plate({refined_plate(2, splits)})));
+  std::printf("Kirsch uniform p=2: last-two rates L2 %.3f, energy %.3f\n",
+              testing::fitted_rate(c.h, c.l2, 2), testing::fitted_rate(c.h, c.energy, 2));
+  EXPECT_GE(testing::fitted_rate(c.h, c.l2, 2), 2.9);
+  EXPECT_GE(testing::fitted_rate(c.h, c.energy, 2), 1.9);
 }
 
 // Cutting the 12-point plate at u = 0.5 gives two patches whose glued space is exactly the single

@@ -1,4 +1,5 @@
-// Hollow sphere under internal pressure (3D Lame), octant of a thick sphere with symmetry planes.
+// Hollow sphere under internal pressure (3D Lame), octant of a thick sphere with symmetry planes:
+// k-refinement rates for p = 2, 3, 4 and the inner radial displacement.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -26,12 +27,20 @@ Eigen::Matrix3d exact_stress(const Eigen::Vector3d& x) {
   return stt * Eigen::Matrix3d::Identity() + (srr - stt) * n * n.transpose();
 }
 
-Problem sphere(int p, int splits) {
+// Radial refinement is graded (elements at Ri 1 + 2c = 3 times smaller than at Ro, see
+// testing::graded_knots), which brings the asymptotic range to 8 radial elements: uniform radial
+// knots are still pre-asymptotic there (p = 3 energy rates 2.74, 2.84, 2.88, 2.93 per halving to
+// 32 radial elements, the same slow approach as the 2D Lame case).
+constexpr double kGrading = 1.0;
+
+// The octant at degree p with `angular` spans along u and v and `radial` graded spans along w.
+Problem sphere(int p, int angular, int radial, int quadrature = 0) {
   Problem problem;
   problem.formulation = Formulation::kSolid;
   problem.material = {kE, kNu, 1.0, 1.0};
-  problem.patches.push_back(
-      nurbs::k_refine(testing::sphere_octant(kRi, kRo), {p, p, p}, {splits, splits, splits}));
+  problem.quadrature_points = quadrature;
+  problem.patches.push_back(testing::graded_k_refine(testing::sphere_octant(kRi, kRo), {p, p, p},
+                                                     {angular, angular, radial}, 2, kGrading));
   // u0: plane y = 0, u1: plane x = 0, v0: plane z = 0. v1 is the collapsed pole line.
   for (const Side side : {Side{0, 0, 0}, Side{0, 0, 1}, Side{0, 1, 0}}) {
     Support symmetry;
@@ -46,35 +55,63 @@ Problem sphere(int p, int splits) {
   return problem;
 }
 
-TEST(HollowSphere, RatesAndInnerDisplacement) {
-  for (int p : {2, 3}) {
-    std::vector<double> h, l2, energy;
-    double inner_error = 0.0;
-    for (int splits : {2, 4, 8}) {
-      const Problem problem = sphere(p, splits);
-      const auto u = solve_static(problem).load_cases[0].control_displacements;
-      const ErrorNorms e = error_norms(problem, u, exact_u, exact_stress);
-      h.push_back(1.0 / splits);
-      l2.push_back(e.relative_l2());
-      energy.push_back(e.relative_energy());
-      const FieldPoint f = evaluate_field(problem, u, 0, {0.3, 0.4, 0.0});
-      inner_error = std::abs(f.displacement.norm() / exact_u(f.point).norm() - 1.0);
-    }
-    const double l2_rate = testing::fitted_rate(h, l2, 2);
-    const double energy_rate = testing::fitted_rate(h, energy, 2);
-    std::printf(
-        "Sphere p=%d: L2 %.3e -> %.3e rate %.3f, energy %.3e -> %.3e rate %.3f, inner u_r "
-        "relative error %.2e\n",
-        p, l2.front(), l2.back(), l2_rate, energy.front(), energy.back(), energy_rate, inner_error);
-    // p = 2 is asymptotic by 8^3 elements; p = 3 is still approaching (measured 3.77 / 2.84 over
-    // 4-8, as for the 2D Lame and Kirsch cases whose rates keep rising on finer levels), so it
-    // gets 0.25 of slack rather than a finer level that would cost seconds.
-    const double slack = p == 2 ? 0.1 : 0.25;
-    EXPECT_GE(l2_rate, p + 1 - slack);
-    EXPECT_GE(energy_rate, p - slack);
-    EXPECT_LT(inner_error, p == 2 ? 1e-4 : 1e-6);
+// The exact field is u_r(r) x / r. The octant is X = r(w) S(u, v) with S = sum_ij R_ij(u, v) Q_ij
+// the unit sphere (Q_ij: inner control points / Ri) and r(w) linear, and the 3D rational basis
+// factors as R_ij(u, v) N_k(w) (the weights do not depend on w). So u = sum_ij R_ij Q_ij u_r(r(w)):
+// the angular factor is in the space at ANY angular refinement and only u_r(r(w)) is approximated.
+// With quadrature accurate enough for one 90-degree span (8 points), one angular span gives the
+// same errors as two (measured relative energy error 1.70507309e-3 both, p = 3, 4 radial spans).
+TEST(HollowSphere, ExactFieldNeedsNoAngularRefinement) {
+  ErrorNorms e[2];
+  for (int angular : {1, 2}) {
+    const Problem problem = sphere(3, angular, 4, 8);
+    e[angular - 1] = error_norms(problem, solve_static(problem).load_cases[0].control_displacements,
+                                 exact_u, exact_stress);
   }
+  std::printf("Sphere p=3, 4 radial spans: energy error %.9e (1 angular span), %.9e (2)\n",
+              e[0].relative_energy(), e[1].relative_energy());
+  // 1e-6: the remaining quadrature error of the coarse angular span (measured 3.5e-9 relative);
+  // were the angular factor approximated, halving the angular span would change the error O(1).
+  EXPECT_NEAR(e[0].energy_error, e[1].energy_error, 1e-6 * e[1].energy_error);
+  EXPECT_NEAR(e[0].l2_error, e[1].l2_error, 1e-6 * e[1].l2_error);
 }
+
+// Levels 1, 2, 4, 8 radial spans with max(1, level / 2) angular spans (angular refinement only
+// keeps the geometric quadrature error of the solve below the radial approximation error, see the
+// test above; a fully refined 8 x 8 x 8 p = 3 mesh costs 4 s and gives the same errors to 3
+// digits). The first two levels, with one 90-degree angular span and p + 1 Gauss points, are
+// dominated by that quadrature error, so the rate is fitted over the last two (benchmarks.md:
+// "over the last levels"). Measured: p = 2 L2 3.72, energy 2.00; p = 3 4.09 / 2.96; p = 4 5.01 /
+// 3.99. Inner radial displacement at the finest level: 1.3e-6, 2.3e-7, 5.4e-9 relative.
+class HollowSphereRates : public ::testing::TestWithParam<int> {};
+
+TEST_P(HollowSphereRates, OptimalRatesAndInnerDisplacement) {
+  const int p = GetParam();
+  std::vector<double> h, l2, energy;
+  double inner_error = 0.0;
+  for (int level : {1, 2, 4, 8}) {
+    const Problem problem = sphere(p, std::max(1, level / 2), level);
+    const auto u = solve_static(problem).load_cases[0].control_displacements;
+    const ErrorNorms e = error_norms(problem, u, exact_u, exact_stress);
+    h.push_back(1.0 / level);
+    l2.push_back(e.relative_l2());
+    energy.push_back(e.relative_energy());
+    const FieldPoint f = evaluate_field(problem, u, 0, {0.3, 0.4, 0.0});
+    inner_error = std::abs(f.displacement.norm() / exact_u(f.point).norm() - 1.0);
+  }
+  const double l2_rate = testing::fitted_rate(h, l2, 2);
+  const double energy_rate = testing::fitted_rate(h, energy, 2);
+  std::printf(
+      "Sphere p=%d: L2 %.3e -> %.3e rate %.3f, energy %.3e -> %.3e rate %.3f, inner u_r "
+      "relative error %.2e\n",
+      p, l2.front(), l2.back(), l2_rate, energy.front(), energy.back(), energy_rate, inner_error);
+  EXPECT_GE(l2_rate, p + 1 - 0.1);
+  EXPECT_GE(energy_rate, p - 0.1);
+  // benchmarks.md asks 1e-6 at moderate size; p = 2 (1.3e-6 measured) gets 1e-5.
+  EXPECT_LT(inner_error, p == 2 ? 1e-5 : 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(Degrees, HollowSphereRates, ::testing::Values(2, 3, 4));
 
 }  // namespace
 }  // namespace isospring::analysis
