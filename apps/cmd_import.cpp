@@ -32,8 +32,9 @@ void setup_import(CLI::App& app) {
   cmd->add_flag("--report", options->report, "Print the per-face report");
   cmd->footer(
       "A solid made of six planar quadrilaterals becomes one trilinear volume patch; otherwise "
-      "each untrimmed face becomes a surface patch. Trimmed faces (holes, non-rectangular "
-      "outlines) are reported with what to do.");
+      "each untrimmed face becomes a surface patch, and a trimmed face with four edges the Coons "
+      "patch of its edges when that lies on the face's surface. Other trimmed faces (holes, "
+      "non-quadrilateral outlines) are reported with what to do.");
   cmd->callback([options] {
     const geometry::CadModel model = geometry::read_cad(options->input);
     if (options->report) std::cout << geometry::describe(model);

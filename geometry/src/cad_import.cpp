@@ -37,6 +37,7 @@
 #include <set>
 #include <sstream>
 
+#include "cad_coons.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
@@ -325,13 +326,16 @@ CadModel read_cad(const std::filesystem::path& file) {
     nurbs::Patch patch;
     try {
       report.natural = natural_patch(face, report, patch);
+      // A trimmed face with one wire of four edges: the Coons patch of its edges.
+      if (!report.natural && !report.note.empty() && report.wires == 1)
+        detail::coons_face_patch(face, report, patch);
     } catch (const Standard_Failure& e) {
       report.note =
           std::string("OpenCascade cannot convert it to NURBS (") + e.GetMessageString() + ")";
     } catch (const std::exception& e) {
       report.note = e.what();
     }
-    if (report.natural) {
+    if (report.natural || report.coons) {
       model.face_patches.push_back(patch);
       model.patch_face.push_back(report.index);
     }
@@ -343,6 +347,18 @@ CadModel read_cad(const std::filesystem::path& file) {
   }
   return model;
 }
+
+namespace {
+std::string usability(const CadFace& face) {
+  if (face.natural) return "usable patch";
+  if (!face.coons) return "NOT usable: " + face.note;
+  std::ostringstream out;
+  out.precision(3);
+  out << "usable Coons patch of its 4 edges (largest distance from the CAD surface "
+      << face.coons_deviation << " m)";
+  return out.str();
+}
+}  // namespace
 
 std::string describe(const CadModel& model) {
   std::ostringstream out;
@@ -356,8 +372,7 @@ std::string describe(const CadModel& model) {
       << "  hexahedral solids (one volume patch each): " << model.volume_patches.size() << "\n";
   for (const auto& f : model.face_reports)
     out << "  face " << f.index << ": " << f.surface_type << ", " << f.wires << " wire(s), "
-        << f.edges << " edges, area " << f.area << " m^2, "
-        << (f.natural ? "usable patch" : "NOT usable: " + f.note) << "\n";
+        << f.edges << " edges, area " << f.area << " m^2, " << usability(f) << "\n";
   return out.str();
 }
 
@@ -378,7 +393,7 @@ std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
       throw InputError(name + ": face " + std::to_string(f) + " does not exist; the part has " +
                        std::to_string(model.faces) + " faces (0-based, see `isospring info`)");
     const CadFace& report = model.face_reports[static_cast<size_t>(f)];
-    if (!report.natural)
+    if (!report.natural && !report.coons)
       throw InputError(name + ": face " + std::to_string(f) + " (" + report.surface_type +
                        ") cannot be one NURBS patch: " + report.note);
     const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);

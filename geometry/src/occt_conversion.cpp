@@ -44,6 +44,23 @@ nurbs::Patch patch_from_occt(const Handle(Geom_BSplineSurface) & surface) {
                       points, weights);
 }
 
+nurbs::Patch patch_from_occt(const Handle(Geom_BSplineCurve) & curve) {
+  if (curve->IsPeriodic()) throw std::logic_error("patch_from_occt: make the curve non-periodic");
+  TColStd_Array1OfReal knots(1, curve->NbPoles() + curve->Degree() + 1);
+  curve->KnotSequence(knots);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> weights;
+  for (int i = 1; i <= curve->NbPoles(); ++i) {
+    const gp_Pnt p = curve->Pole(i);
+    points.emplace_back(p.X(), p.Y(), p.Z());
+    weights.push_back(curve->Weight(i));
+  }
+  return nurbs::Patch(
+      {nurbs::KnotVector(curve->Degree(), std::vector<double>(knots.begin(), knots.end()),
+                         "CAD edge curve knots")},
+      points, weights);
+}
+
 Handle(Geom_BSplineSurface) occt_from_patch(const nurbs::Patch& patch) {
   if (patch.param_dim() != 2) throw std::logic_error("occt_from_patch: surfaces only");
   const int nu = patch.num_points(0), nv = patch.num_points(1);

@@ -3,12 +3,16 @@
 //
 // Import converts every face to NURBS (BRepBuilderAPI_NurbsConvert), in metres whatever unit the
 // file declares. A face becomes a patch when it is a whole (untrimmed) parameter rectangle of its
-// surface ("natural boundary"); periodic surfaces are made clamped. Faces are oriented so that
-// dX/du x dX/dv points out of the solid. Trimmed faces (holes, L-shapes, disks) are reported with
-// what to do. A solid bounded by six planar quadrilaterals (a hexahedral block) becomes one exact
-// trilinear volume patch; planar faces can be extruded along their normal into volumes.
-// Not handled (reported): 4-edge trimmed faces (Coons patches), general trivariate Coons volumes,
-// prism/revolution recognition of solids.
+// surface ("natural boundary"); periodic surfaces are made clamped. A trimmed face with one wire of
+// four edges becomes the Coons patch of its edges (exact B-spline conversions of the edge curves,
+// made compatible; see coons.hpp) when that patch lies on the face's surface (e.g. planar
+// quadrilaterals, cylinder faces between two lines and two conic arcs). Faces are oriented so
+// that dX/du x dX/dv points out of the solid. Other trimmed faces (holes, L-shapes, disks, curved
+// 4-sided faces whose interior is not the blend of their edges) are reported with what to do. A
+// solid bounded by six planar quadrilaterals (a hexahedral block) becomes one exact trilinear
+// volume patch; planar faces can be extruded along their normal into volumes.
+// Not handled (reported): general trivariate Coons volumes, prism/revolution recognition of
+// solids.
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
@@ -23,9 +27,11 @@ struct CadFace {
   std::string surface_type;  // plane, cylinder, cone, sphere, torus, bspline, revolution, ...
   int wires = 0;
   int edges = 0;
-  double area = 0.0;     // of the trimmed face (OCCT, m^2)
-  bool natural = false;  // a whole parameter rectangle: usable as a patch
-  std::string note;      // why not usable and what to do
+  double area = 0.0;             // of the trimmed face (OCCT, m^2)
+  bool natural = false;          // a whole parameter rectangle: usable as a patch
+  bool coons = false;            // trimmed, 4 edges: usable as the Coons patch of its edges
+  double coons_deviation = 0.0;  // largest distance of that patch from the CAD surface (m)
+  std::string note;              // why not usable and what to do
 };
 
 struct CadModel {
@@ -36,8 +42,8 @@ struct CadModel {
   double volume = 0.0;  // of the closed solids (OCCT, m^3); 0 without solids
   double area = 0.0;    // of all faces (OCCT, m^2)
   std::vector<CadFace> face_reports;
-  std::vector<nurbs::Patch> face_patches;    // one per natural face, in face order
-  std::vector<int> patch_face;               // face index of each face patch
+  std::vector<nurbs::Patch> face_patches;  // one per usable face (natural or Coons), in face order
+  std::vector<int> patch_face;             // face index of each face patch
   std::vector<nurbs::Patch> volume_patches;  // hexahedral solids as trilinear patches
 };
 
