@@ -156,3 +156,113 @@ Patch coons_patch(const Patch& bottom, const Patch& right, const Patch& top, con
 }
 
 }  // namespace isospring::geometry
+
+namespace isospring::geometry {
+
+namespace {
+
+using H = Eigen::Vector4d;  // homogeneous control point (w x, w)
+
+// A face's control net in homogeneous coordinates, indexed (first direction, second direction).
+struct Net {
+  int n0 = 0;
+  std::vector<H> h;
+  H& at(int a, int b) { return h[static_cast<size_t>(a + n0 * b)]; }
+};
+
+Net homogeneous_net(const Patch& p) {
+  Net net;
+  net.n0 = p.num_points(0);
+  for (int a = 0; a < p.num_points(); ++a)
+    net.h.emplace_back(p.weight(a) * p.control_point(a).x(), p.weight(a) * p.control_point(a).y(),
+                       p.weight(a) * p.control_point(a).z(), p.weight(a));
+  return net;
+}
+
+// Replaces the given copies of one control point (from different faces) by their mean, after
+// checking that they agree.
+void unify(const std::vector<H*>& copies, double tolerance) {
+  H mean = H::Zero();
+  for (const H* c : copies) mean += *c / static_cast<double>(copies.size());
+  for (const H* c : copies) {
+    const double gap = (c->head<3>() / c->w() - mean.head<3>() / mean.w()).norm();
+    if (gap > tolerance || std::abs(c->w() - mean.w()) > 1e-12 * mean.w()) {
+      std::ostringstream msg;
+      msg << "coons_volume: neighbouring faces do not share their edges (gap " << gap
+          << ", weights " << c->w() << " and " << mean.w() << ")";
+      throw std::invalid_argument(msg.str());
+    }
+  }
+  for (H* c : copies) *c = mean;
+}
+
+}  // namespace
+
+Patch coons_volume(const std::array<Patch, 6>& faces, double tolerance) {
+  for (const Patch& f : faces)
+    if (f.param_dim() != 2 || f.param_min(0) != 0.0 || f.param_max(0) != 1.0 ||
+        f.param_min(1) != 0.0 || f.param_max(1) != 1.0)
+      throw std::invalid_argument("coons_volume: six surface patches over [0, 1]^2 are needed");
+  const KnotVector &U = faces[2].knots(0), &V = faces[0].knots(0), &W = faces[0].knots(1);
+  auto same = [](const KnotVector& a, const KnotVector& b) {
+    return a.degree() == b.degree() && a.values() == b.values();
+  };
+  if (!same(faces[3].knots(0), U) || !same(faces[4].knots(0), U) || !same(faces[5].knots(0), U) ||
+      !same(faces[1].knots(0), V) || !same(faces[4].knots(1), V) || !same(faces[5].knots(1), V) ||
+      !same(faces[1].knots(1), W) || !same(faces[2].knots(1), W) || !same(faces[3].knots(1), W))
+    throw std::invalid_argument(
+        "coons_volume: faces must have the same knot vectors along shared directions");
+  std::array<Net, 2> Fu{homogeneous_net(faces[0]), homogeneous_net(faces[1])};
+  std::array<Net, 2> Fv{homogeneous_net(faces[2]), homogeneous_net(faces[3])};
+  std::array<Net, 2> Fw{homogeneous_net(faces[4]), homogeneous_net(faces[5])};
+  const int nu = U.num_basis(), nv = V.num_basis(), nw = W.num_basis();
+  auto last = [](int end, int n) { return end == 0 ? 0 : n - 1; };
+  // Corners (three faces each), then the interior points of the twelve edges (two faces each).
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int c = 0; c < 2; ++c) {
+        const int i = last(a, nu), j = last(b, nv), k = last(c, nw);
+        unify({&Fu[a].at(j, k), &Fv[b].at(i, k), &Fw[c].at(i, j)}, tolerance);
+      }
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      for (int i = 1; i + 1 < nu; ++i)  // along u at v = a, w = b
+        unify({&Fv[a].at(i, last(b, nw)), &Fw[b].at(i, last(a, nv))}, tolerance);
+      for (int j = 1; j + 1 < nv; ++j)  // along v at u = a, w = b
+        unify({&Fu[a].at(j, last(b, nw)), &Fw[b].at(last(a, nu), j)}, tolerance);
+      for (int k = 1; k + 1 < nw; ++k)  // along w at u = a, v = b
+        unify({&Fu[a].at(last(b, nv), k), &Fv[b].at(last(a, nu), k)}, tolerance);
+    }
+  const std::vector<double> gu = greville_abscissae(U), gv = greville_abscissae(V),
+                            gw = greville_abscissae(W);
+  bool rational = false;
+  for (const Patch& f : faces) rational = rational || f.is_rational();
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> weights;
+  for (int k = 0; k < nw; ++k)
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        const std::array<double, 2> lu{1 - gu[static_cast<size_t>(i)], gu[static_cast<size_t>(i)]},
+            lv{1 - gv[static_cast<size_t>(j)], gv[static_cast<size_t>(j)]},
+            lw{1 - gw[static_cast<size_t>(k)], gw[static_cast<size_t>(k)]};
+        H p = H::Zero();
+        for (int a = 0; a < 2; ++a) {
+          p += lu[a] * Fu[a].at(j, k) + lv[a] * Fv[a].at(i, k) + lw[a] * Fw[a].at(i, j);
+          for (int b = 0; b < 2; ++b) {
+            p -= lu[a] * lv[b] * Fu[a].at(last(b, nv), k);  // edges along w
+            p -= lv[a] * lw[b] * Fv[a].at(i, last(b, nw));  // edges along u
+            p -= lu[a] * lw[b] * Fu[a].at(j, last(b, nw));  // edges along v
+            for (int c = 0; c < 2; ++c)
+              p += lu[a] * lv[b] * lw[c] * Fu[a].at(last(b, nv), last(c, nw));
+          }
+        }
+        if (!(p.w() > 0.0))
+          throw std::invalid_argument("coons_volume: a blended weight is not positive");
+        points.emplace_back(p.head<3>() / p.w());
+        weights.push_back(p.w());
+      }
+  if (!rational) weights.clear();
+  return Patch({U, V, W}, points, weights);
+}
+
+}  // namespace isospring::geometry

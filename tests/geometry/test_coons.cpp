@@ -2,9 +2,12 @@
 // (identities of the Coons operator), compatibility, and the error cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
+#include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/coons.hpp"
 #include "isospring/nurbs/refine.hpp"
@@ -105,6 +108,68 @@ TEST(Coons, RejectsOpenLoopsAndMismatchedWeights) {
   // Scaled weights of a whole curve are the same curve: accepted.
   const Patch scaled({KnotVector(1, {0, 0, 1, 1})}, {b, c}, {3.0, 3.0});
   EXPECT_NO_THROW(coons_patch(line(a, b), scaled, line(d, c), line(a, d)));
+}
+
+// The six boundary faces of a volume patch in coons_volume's order (u0, u1, v0, v1, w0, w1).
+std::array<Patch, 6> faces_of(const Patch& volume) {
+  std::array<Patch, 6> faces;
+  for (int dir = 0; dir < 3; ++dir)
+    for (int end = 0; end < 2; ++end)
+      faces[static_cast<size_t>(2 * dir + end)] = boundary_side(volume, dir, end);
+  return faces;
+}
+
+TEST(CoonsVolume, ReproducesAVolumeLinearInOneDirection) {
+  // A rational volume ruled (linear in w) between a curved Coons surface and an affine image of
+  // it: in the range of the w-blend, so the Boolean sum reproduces it exactly.
+  const Patch bottom = circular_arc({1, 0, 0}, 1.0, M_PI, -M_PI);
+  const Patch right({KnotVector(2, {0, 0, 0, 1, 1, 1})}, {{2, 0, 0}, {2.5, 1, 0.3}, {2, 2, 0}});
+  const Patch top = line({0, 2, 0.2}, {2, 2, 0});
+  const Patch left({KnotVector(2, {0, 0, 0, 0.3, 1, 1, 1})},
+                   {{0, 0, 0}, {-0.3, 0.5, 0}, {-0.2, 1.5, 0.1}, {0, 2, 0.2}});
+  const Patch base = coons_patch(bottom, right, top, left);
+  Eigen::Matrix3d A;
+  A << 1.1, 0.2, 0.0, -0.1, 0.9, 0.1, 0.0, 0.1, 1.2;
+  const Patch volume = ruled(base, transformed(base, A, {0.1, -0.2, 1.5}));
+  const Patch v = coons_volume(faces_of(volume));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int n = 0; n < 50; ++n) {
+    const nurbs::Param u{unit(rng), unit(rng), unit(rng)};
+    EXPECT_LT((v.point(u) - volume.point(u)).norm(), 1e-13);
+  }
+}
+
+TEST(CoonsVolume, InterpolatesItsSixFaces) {
+  // A quadratic volume with perturbed control points (not reproduced inside): its faces are.
+  const KnotVector k(2, {0, 0, 0, 0.4, 1, 1, 1});
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
+  std::vector<Eigen::Vector3d> points;
+  for (int c = 0; c < 4; ++c)
+    for (int b = 0; b < 4; ++b)
+      for (int a = 0; a < 4; ++a)
+        points.emplace_back(a + jitter(rng), b + jitter(rng), c + jitter(rng));
+  const Patch volume({k, k, k}, points);
+  const Patch v = coons_volume(faces_of(volume));
+  std::uniform_real_distribution<double> unit(0, 1);
+  double inside = 0.0;
+  for (int n = 0; n < 30; ++n) {
+    const double s = unit(rng), t = unit(rng);
+    for (int end = 0; end < 2; ++end) {
+      const double e = end;
+      for (const nurbs::Param& u :
+           {nurbs::Param{e, s, t}, nurbs::Param{s, e, t}, nurbs::Param{s, t, e}})
+        EXPECT_LT((v.point(u) - volume.point(u)).norm(), 1e-13);
+    }
+    const nurbs::Param u{unit(rng), unit(rng), unit(rng)};
+    inside = std::max(inside, (v.point(u) - volume.point(u)).norm());
+  }
+  EXPECT_GT(inside, 1e-3);  // a different volume inside: the faces are what is interpolated
+  // Faces that do not share an edge are rejected.
+  std::array<Patch, 6> faces = faces_of(volume);
+  faces[0] = transformed(faces[0], Eigen::Matrix3d::Identity(), {0, 0, 1e-6});
+  EXPECT_THROW(coons_volume(faces), std::invalid_argument);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 // computed on homogeneous points (w x, w): the patch interpolates the four curves exactly,
 // rational or not, once the curves' end weights agree at the corners (each curve may be scaled by
 // a constant, which leaves it unchanged).
+#include <array>
 #include <vector>
 
 #include "isospring/nurbs/patch.hpp"
@@ -28,6 +29,15 @@ std::vector<nurbs::Patch> make_compatible(const std::vector<nurbs::Patch>& curve
 nurbs::Patch coons_patch(const nurbs::Patch& bottom, const nurbs::Patch& right,
                          const nurbs::Patch& top, const nurbs::Patch& left,
                          double corner_tolerance = 1e-9);
+
+/// Trivariate transfinite (Coons) interpolation over [0, 1]^3 of six boundary faces, the Boolean
+/// sum P_u + P_v + P_w - P_u P_v - P_v P_w - P_u P_w + P_u P_v P_w of the linear blends, exactly as
+/// a NURBS volume (same Greville construction, homogeneous). Faces in the order u=0, u=1 (over
+/// (v, w)), v=0, v=1 (over (u, w)), w=0, w=1 (over (u, v)), each over [0, 1]^2 with the same knot
+/// vectors along shared directions. Shared edges and corners may differ by `tolerance` (they are
+/// averaged); beyond that, or with different knots, throws std::invalid_argument. The volume's
+/// boundary faces are the given faces.
+nurbs::Patch coons_volume(const std::array<nurbs::Patch, 6>& faces, double tolerance = 1e-9);
 
 /// Greville abscissae of a knot vector (averages of p consecutive interior knots).
 std::vector<double> greville_abscissae(const nurbs::KnotVector& knots);
