@@ -29,10 +29,6 @@
 
 namespace isospring::geometry::detail {
 
-namespace {
-
-// The edge's 3D curve as a clamped NURBS curve from its first to its last parameter, located
-// (assembly/IGES transformations applied) and running in the edge's direction in the wire.
 nurbs::Patch edge_curve(const TopoDS_Edge& edge) {
   if (BRep_Tool::Degenerated(edge)) {  // collapsed side (e.g. at a pole): a constant curve
     const gp_Pnt p = BRep_Tool::Pnt(TopExp::FirstVertex(edge));
@@ -77,6 +73,22 @@ nurbs::Patch edge_curve(const TopoDS_Edge& edge) {
   if (edge.Orientation() == TopAbs_REVERSED) patch = reverse_direction(patch, 0);
   return patch;
 }
+
+double surface_deviation(const nurbs::Patch& patch, const TopoDS_Face& face) {
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+  double deviation = 0.0;
+  for (int a = 1; a < 9; ++a)
+    for (int b = 1; b < 9; ++b) {
+      const Eigen::Vector3d x = patch.point({a / 9.0, b / 9.0, 0});
+      GeomAPI_ProjectPointOnSurf projection(gp_Pnt(x.x(), x.y(), x.z()), surface);
+      if (projection.NbPoints() == 0)
+        throw std::runtime_error("a point of the Coons patch cannot be projected onto the surface");
+      deviation = std::max(deviation, projection.LowerDistance());
+    }
+  return deviation;
+}
+
+namespace {
 
 std::string fail(CadFace& report, const std::string& why) {
   std::ostringstream note;

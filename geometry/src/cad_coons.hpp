@@ -1,10 +1,20 @@
 #pragma once
 // Trimmed CAD faces with four boundary edges as Coons patches of their edges.
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 
 #include "isospring/geometry/cad.hpp"
 
 namespace isospring::geometry::detail {
+
+/// The edge's 3D curve as a clamped NURBS curve (exact B-spline conversion, location applied),
+/// from its first to its last parameter, reversed when the edge is REVERSED. Throws
+/// std::runtime_error when there is no 3D curve or the conversion does not reproduce it.
+nurbs::Patch edge_curve(const TopoDS_Edge& edge);
+
+/// Largest distance from the face's surface of samples of a surface patch (an 8 x 8 interior grid
+/// projected onto the surface). Throws std::runtime_error when a sample cannot be projected.
+double surface_deviation(const nurbs::Patch& patch, const TopoDS_Face& face);
 
 /// Number of oriented edges of the face's outer wire (a seam counts twice).
 int outer_wire_edges(const TopoDS_Face& face);

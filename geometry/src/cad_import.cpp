@@ -38,6 +38,7 @@
 #include <sstream>
 
 #include "cad_coons.hpp"
+#include "cad_hexahedron.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
@@ -207,72 +208,6 @@ bool natural_patch(const TopoDS_Face& face, CadFace& report, nurbs::Patch& patch
   return true;
 }
 
-// A solid with 8 vertices, 12 straight edges and 6 planar faces as a trilinear volume patch
-// (exact: a bilinear patch through 4 coplanar corners is the planar quadrilateral).
-bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch) {
-  TopTools_IndexedMapOfShape vertices, edges, faces;
-  TopExp::MapShapes(solid, TopAbs_VERTEX, vertices);
-  TopExp::MapShapes(solid, TopAbs_EDGE, edges);
-  TopExp::MapShapes(solid, TopAbs_FACE, faces);
-  if (vertices.Extent() != 8 || edges.Extent() != 12 || faces.Extent() != 6) return false;
-  for (int f = 1; f <= 6; ++f)
-    if (BRepAdaptor_Surface(TopoDS::Face(faces(f))).GetType() != GeomAbs_Plane) return false;
-  std::array<std::set<int>, 8> adjacent;
-  for (int e = 1; e <= 12; ++e) {
-    TopoDS_Vertex a, b;
-    TopExp::Vertices(TopoDS::Edge(edges(e)), a, b);
-    const int i = vertices.FindIndex(a) - 1, j = vertices.FindIndex(b) - 1;
-    if (i < 0 || j < 0 || i == j) return false;
-    adjacent[static_cast<size_t>(i)].insert(j);
-    adjacent[static_cast<size_t>(j)].insert(i);
-  }
-  for (const auto& a : adjacent)
-    if (a.size() != 3) return false;
-  std::array<Eigen::Vector3d, 8> x;
-  for (int v = 0; v < 8; ++v) {
-    const gp_Pnt p = BRep_Tool::Pnt(TopoDS::Vertex(vertices(v + 1)));
-    x[static_cast<size_t>(v)] = {p.X(), p.Y(), p.Z()};
-  }
-  auto common = [&](int a, int b, int not_this) {
-    for (int c : adjacent[static_cast<size_t>(a)])
-      if (c != not_this && adjacent[static_cast<size_t>(b)].count(c)) return c;
-    return -1;
-  };
-  // Of the 48 right-handed ways to number the corners (origin corner, order of its 3 edges), take
-  // the one whose u, v, w edges point most along +x, +y, +z: the vertex order in the file is
-  // arbitrary, and users expect an axis-aligned block to have u along x (u0 at the smallest x),
-  // as the `box` primitive does.
-  std::array<int, 8> order{};
-  double best_score = -INFINITY;
-  for (int origin = 0; origin < 8; ++origin) {
-    std::vector<int> n(adjacent[static_cast<size_t>(origin)].begin(),
-                       adjacent[static_cast<size_t>(origin)].end());
-    std::sort(n.begin(), n.end());
-    do {
-      const Eigen::Vector3d eu = x[n[0]] - x[origin], ev = x[n[1]] - x[origin],
-                            ew = x[n[2]] - x[origin];
-      if (eu.cross(ev).dot(ew) <= 0.0) continue;
-      const int c110 = common(n[0], n[1], origin), c101 = common(n[0], n[2], origin),
-                c011 = common(n[1], n[2], origin);
-      if (c110 < 0 || c101 < 0 || c011 < 0) continue;
-      const int c111 = common(c110, c101, n[0]);
-      if (c111 < 0) continue;
-      const double score = eu.normalized().x() + ev.normalized().y() + ew.normalized().z();
-      if (score > best_score + 1e-12) {
-        best_score = score;
-        order = {origin, n[0], n[1], c110, n[2], c101, c011, c111};
-      }
-    } while (std::next_permutation(n.begin(), n.end()));
-  }
-  if (best_score == -INFINITY || std::set<int>(order.begin(), order.end()).size() != 8)
-    return false;
-  std::vector<Eigen::Vector3d> points;
-  for (int v : order) points.push_back(x[static_cast<size_t>(v)]);
-  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
-  patch = nurbs::Patch({linear, linear, linear}, points);
-  return jacobian_range(patch).min > 0.0;
-}
-
 }  // namespace
 
 CadModel read_cad(const std::filesystem::path& file) {
@@ -343,7 +278,9 @@ CadModel read_cad(const std::filesystem::path& file) {
   }
   for (int s = 1; s <= model.solids; ++s) {
     nurbs::Patch patch;
-    if (hexahedron_patch(solids(s), patch)) model.volume_patches.push_back(patch);
+    std::string why;
+    if (detail::hexahedron_patch(solids(s), patch, why)) model.volume_patches.push_back(patch);
+    model.solid_notes.push_back(why);
   }
   return model;
 }
@@ -370,6 +307,9 @@ std::string describe(const CadModel& model) {
       << "] m\n"
       << "  volume " << model.volume << " m^3, area " << model.area << " m^2\n"
       << "  hexahedral solids (one volume patch each): " << model.volume_patches.size() << "\n";
+  for (size_t s = 0; s < model.solid_notes.size(); ++s)
+    out << "  solid " << s << ": "
+        << (model.solid_notes[s].empty() ? "one volume patch" : model.solid_notes[s]) << "\n";
   for (const auto& f : model.face_reports)
     out << "  face " << f.index << ": " << f.surface_type << ", " << f.wires << " wire(s), "
         << f.edges << " edges, area " << f.area << " m^2, " << usability(f) << "\n";

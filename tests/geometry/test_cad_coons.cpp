@@ -10,20 +10,16 @@
 #include <BRepGProp.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
-#include <BRepPrimAPI_MakeHalfSpace.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <Eigen/Geometry>
 #include <GProp_GProps.hxx>
-#include <Interface_Static.hxx>
-#include <STEPControl_Controller.hxx>
-#include <STEPControl_Writer.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <gp_Pln.hxx>
 
+#include "cad_test_io.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
@@ -34,24 +30,12 @@
 namespace isospring::geometry {
 namespace {
 
-namespace fs = std::filesystem;
-
 CadModel round_trip(const TopoDS_Shape& shape, const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "isospring_test_cad_coons";
-  fs::create_directories(dir);
-  STEPControl_Controller::Init();
-  Interface_Static::SetCVal("xstep.cascade.unit", "M");
-  Interface_Static::SetCVal("write.step.unit", "M");
-  STEPControl_Writer writer;
-  EXPECT_EQ(writer.Transfer(shape, STEPControl_AsIs), IFSelect_RetDone);
-  EXPECT_EQ(writer.Write((dir / name).string().c_str()), IFSelect_RetDone);
-  return read_cad(dir / name);
+  return test::step_round_trip(shape, name);
 }
 
-// Half-space below the plane through `point` with normal `up` (material on the -up side).
 TopoDS_Shape below(const gp_Pnt& point, const gp_Dir& up) {
-  const TopoDS_Face plane = BRepBuilderAPI_MakeFace(gp_Pln(point, up)).Face();
-  return BRepPrimAPI_MakeHalfSpace(plane, point.Translated(-gp_Vec(up))).Solid();
+  return test::half_space_below(point, up);
 }
 
 GProp_GProps volume_properties(const TopoDS_Shape& shape) {
@@ -268,6 +252,11 @@ TEST(CadCoons, SphereFaceBoundedByFourArcsIsReportedWithItsDeviation) {
   }
   EXPECT_EQ(spherical, 1);
   EXPECT_EQ(coons, 4);
+  // Hexahedral topology (8 vertices, 12 edges, 6 four-sided faces), but no volume patch.
+  EXPECT_TRUE(model.volume_patches.empty());
+  ASSERT_EQ(model.solid_notes.size(), 1u);
+  EXPECT_NE(model.solid_notes[0].find("not the blend of its edges"), std::string::npos)
+      << model.solid_notes[0];
   EXPECT_LT(boundary_error(model, part), 1e-12);
   try {
     cad_patches(model);

@@ -9,10 +9,11 @@
 // quadrilaterals, cylinder faces between two lines and two conic arcs). Faces are oriented so
 // that dX/du x dX/dv points out of the solid. Other trimmed faces (holes, L-shapes, disks, curved
 // 4-sided faces whose interior is not the blend of their edges) are reported with what to do. A
-// solid bounded by six planar quadrilaterals (a hexahedral block) becomes one exact trilinear
-// volume patch; planar faces can be extruded along their normal into volumes.
-// Not handled (reported): general trivariate Coons volumes, prism/revolution recognition of
-// solids.
+// solid of hexahedral topology (six 4-sided faces, each the Coons patch of its edges) becomes one
+// volume patch by trivariate transfinite interpolation (coons_volume; exact trilinear for planar
+// blocks); planar faces can be extruded along their normal into volumes.
+// Not handled (reported): hexahedral solids whose faces are not the blend of their edges,
+// prism/revolution recognition of other solids.
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
@@ -44,7 +45,8 @@ struct CadModel {
   std::vector<CadFace> face_reports;
   std::vector<nurbs::Patch> face_patches;  // one per usable face (natural or Coons), in face order
   std::vector<int> patch_face;             // face index of each face patch
-  std::vector<nurbs::Patch> volume_patches;  // hexahedral solids as trilinear patches
+  std::vector<nurbs::Patch> volume_patches;  // hexahedral solids (transfinite volumes)
+  std::vector<std::string> solid_notes;      // per solid: empty if a volume patch, else why not
 };
 
 /// Reads a STEP or IGES file (by extension, case-insensitive). Throws nurbs::InputError naming the

@@ -1,0 +1,225 @@
+// Hexahedral solids (six 4-sided faces) -> one NURBS volume by transfinite interpolation.
+#include "cad_hexahedron.hpp"
+
+#include <BRepGProp.hxx>
+#include <BRep_Tool.hxx>
+#include <Eigen/Geometry>
+#include <GProp_GProps.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "cad_coons.hpp"
+#include "isospring/geometry/construction.hpp"
+#include "isospring/geometry/coons.hpp"
+#include "isospring/geometry/measure.hpp"
+
+namespace isospring::geometry::detail {
+
+namespace {
+
+// Corner c = i + 2 j + 4 k of the block (i, j, k in {0, 1}) as a vertex index of the solid: of
+// the 48 right-handed ways to number the corners (origin corner, order of its 3 edges), the one
+// whose u, v, w edges point most along +x, +y, +z. The vertex order in the file is arbitrary, and
+// users expect an axis-aligned block to have u along x (u0 at the smallest x), as `box` does.
+bool number_corners(const std::array<std::set<int>, 8>& adjacent,
+                    const std::array<Eigen::Vector3d, 8>& x, std::array<int, 8>& order) {
+  auto common = [&](int a, int b, int not_this) {
+    for (int c : adjacent[static_cast<size_t>(a)])
+      if (c != not_this && adjacent[static_cast<size_t>(b)].count(c)) return c;
+    return -1;
+  };
+  double best_score = -INFINITY;
+  for (int origin = 0; origin < 8; ++origin) {
+    std::vector<int> n(adjacent[static_cast<size_t>(origin)].begin(),
+                       adjacent[static_cast<size_t>(origin)].end());
+    std::sort(n.begin(), n.end());
+    do {
+      const Eigen::Vector3d eu = x[n[0]] - x[origin], ev = x[n[1]] - x[origin],
+                            ew = x[n[2]] - x[origin];
+      if (eu.cross(ev).dot(ew) <= 0.0) continue;
+      const int c110 = common(n[0], n[1], origin), c101 = common(n[0], n[2], origin),
+                c011 = common(n[1], n[2], origin);
+      if (c110 < 0 || c101 < 0 || c011 < 0) continue;
+      const int c111 = common(c110, c101, n[0]);
+      if (c111 < 0) continue;
+      const double score = eu.normalized().x() + ev.normalized().y() + ew.normalized().z();
+      if (score > best_score + 1e-12) {
+        best_score = score;
+        order = {origin, n[0], n[1], c110, n[2], c101, c011, c111};
+      }
+    } while (std::next_permutation(n.begin(), n.end()));
+  }
+  return best_score > -INFINITY && std::set<int>(order.begin(), order.end()).size() == 8;
+}
+
+}  // namespace
+
+bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch, std::string& why) {
+  TopTools_IndexedMapOfShape vertices, edges, faces;
+  TopExp::MapShapes(solid, TopAbs_VERTEX, vertices);
+  TopExp::MapShapes(solid, TopAbs_EDGE, edges);
+  TopExp::MapShapes(solid, TopAbs_FACE, faces);
+  std::ostringstream counts;
+  counts << vertices.Extent() << " vertices, " << edges.Extent() << " edges, " << faces.Extent()
+         << " faces";
+  if (vertices.Extent() != 8 || edges.Extent() != 12 || faces.Extent() != 6) {
+    why = "not hexahedral (" + counts.str() + "; a block needs 8, 12 and 6)";
+    return false;
+  }
+  for (int f = 1; f <= 6; ++f) {
+    TopTools_IndexedMapOfShape wires;
+    TopExp::MapShapes(faces(f), TopAbs_WIRE, wires);
+    if (wires.Extent() != 1 || outer_wire_edges(TopoDS::Face(faces(f))) != 4) {
+      why = "not hexahedral (a face is not bounded by one loop of 4 edges)";
+      return false;
+    }
+  }
+  std::array<std::set<int>, 8> adjacent;
+  std::map<std::pair<int, int>, int> edge_between;  // (vertex, vertex) -> edge index
+  for (int e = 1; e <= 12; ++e) {
+    TopoDS_Vertex a, b;
+    TopExp::Vertices(TopoDS::Edge(edges(e)), a, b);
+    const int i = vertices.FindIndex(a) - 1, j = vertices.FindIndex(b) - 1;
+    if (i < 0 || j < 0 || i == j || edge_between.count({std::min(i, j), std::max(i, j)})) {
+      why = "not hexahedral (a closed or doubled edge)";
+      return false;
+    }
+    edge_between[{std::min(i, j), std::max(i, j)}] = e;
+    adjacent[static_cast<size_t>(i)].insert(j);
+    adjacent[static_cast<size_t>(j)].insert(i);
+  }
+  for (const auto& a : adjacent)
+    if (a.size() != 3) {
+      why = "not hexahedral (a vertex does not join exactly 3 edges)";
+      return false;
+    }
+  std::array<Eigen::Vector3d, 8> x;
+  for (int v = 0; v < 8; ++v) {
+    const gp_Pnt p = BRep_Tool::Pnt(TopoDS::Vertex(vertices(v + 1)));
+    x[static_cast<size_t>(v)] = {p.X(), p.Y(), p.Z()};
+  }
+  std::array<int, 8> order{};
+  if (!number_corners(adjacent, x, order)) {
+    why = "not hexahedral (no consistent numbering of the corners)";
+    return false;
+  }
+  try {
+    // The 12 edges as curves from corner to corner, ends snapped onto the shared vertices (they
+    // may be off by the vertex tolerance), compatible per direction. edge[d][a + 2 b]: along
+    // direction d at the other two directions' ends a, b (in increasing direction order).
+    const double vertex_tolerance = BRep_Tool::MaxTolerance(solid, TopAbs_VERTEX);
+    std::array<std::array<nurbs::Patch, 4>, 3> edge;
+    for (int d = 0; d < 3; ++d) {
+      std::vector<nurbs::Patch> curves;
+      for (int ab = 0; ab < 4; ++ab) {
+        const int a = ab & 1, b = ab >> 1;
+        // Corner indices of the edge's start (direction d at 0) and end (at 1).
+        std::array<int, 3> ijk{};
+        const int other0 = d == 0 ? 1 : 0, other1 = d == 2 ? 1 : 2;
+        ijk[static_cast<size_t>(other0)] = a;
+        ijk[static_cast<size_t>(other1)] = b;
+        ijk[static_cast<size_t>(d)] = 0;
+        const int s = order[static_cast<size_t>(ijk[0] + 2 * ijk[1] + 4 * ijk[2])];
+        ijk[static_cast<size_t>(d)] = 1;
+        const int t = order[static_cast<size_t>(ijk[0] + 2 * ijk[1] + 4 * ijk[2])];
+        const TopoDS_Edge e = TopoDS::Edge(
+            edges(edge_between.at({std::min(s, t), std::max(s, t)})).Oriented(TopAbs_FORWARD));
+        nurbs::Patch c = edge_curve(e);
+        TopoDS_Vertex first, second;
+        TopExp::Vertices(e, first, second);
+        if (vertices.FindIndex(first) - 1 != s) c = reverse_direction(c, 0);
+        for (auto [index, corner] : {std::pair{0, s}, std::pair{c.num_points() - 1, t}}) {
+          const double gap = (c.control_point(index) - x[static_cast<size_t>(corner)]).norm();
+          if (gap > 2.0 * vertex_tolerance + 1e-12)
+            throw std::runtime_error("an edge ends " + std::to_string(gap) + " m from its vertex");
+          c.set_control_point(index, x[static_cast<size_t>(corner)]);
+        }
+        curves.push_back(c);
+      }
+      const std::vector<nurbs::Patch> compatible = make_compatible(curves);
+      for (int ab = 0; ab < 4; ++ab)
+        edge[static_cast<size_t>(d)][static_cast<size_t>(ab)] = compatible[static_cast<size_t>(ab)];
+    }
+    auto E = [&](int d, int a, int b) -> const nurbs::Patch& {
+      return edge[static_cast<size_t>(d)][static_cast<size_t>(a + 2 * b)];
+    };
+    // Faces u=a over (v, w), v=b over (u, w), w=c over (u, v) as Coons patches of their edges
+    // (coons_patch(bottom, right, top, left) with bottom/top along the first face direction).
+    std::array<nurbs::Patch, 6> face_patch;
+    for (int e = 0; e < 2; ++e) {
+      face_patch[static_cast<size_t>(e)] =
+          coons_patch(E(1, e, 0), E(2, e, 1), E(1, e, 1), E(2, e, 0));
+      face_patch[static_cast<size_t>(2 + e)] =
+          coons_patch(E(0, e, 0), E(2, 1, e), E(0, e, 1), E(2, 0, e));
+      face_patch[static_cast<size_t>(4 + e)] =
+          coons_patch(E(0, 0, e), E(1, 1, e), E(0, 1, e), E(1, 0, e));
+    }
+    // Each Coons face must be the CAD face with the same corners.
+    const double size =
+        (x[static_cast<size_t>(order[7])] - x[static_cast<size_t>(order[0])]).norm();
+    for (int f = 0; f < 6; ++f) {
+      const nurbs::Patch& p = face_patch[static_cast<size_t>(f)];
+      const Eigen::Vector3d mid = p.point({0.5, 0.5, 0});
+      double best = INFINITY;
+      for (int g = 1; g <= 6; ++g) {
+        // The CAD face whose vertices are the patch's four corners.
+        TopTools_IndexedMapOfShape face_vertices;
+        TopExp::MapShapes(faces(g), TopAbs_VERTEX, face_vertices);
+        int matched = 0;
+        for (int k = 1; k <= face_vertices.Extent(); ++k) {
+          const gp_Pnt q = BRep_Tool::Pnt(TopoDS::Vertex(face_vertices(k)));
+          for (const nurbs::Param& u : {nurbs::Param{0, 0, 0}, nurbs::Param{1, 0, 0},
+                                        nurbs::Param{0, 1, 0}, nurbs::Param{1, 1, 0}})
+            matched += (p.point(u) - Eigen::Vector3d(q.X(), q.Y(), q.Z())).norm() <=
+                       2.0 * vertex_tolerance + 1e-12;
+        }
+        if (matched == 4) best = std::min(best, surface_deviation(p, TopoDS::Face(faces(g))));
+      }
+      const double tolerance = std::max(1e-9 * size, BRep_Tool::MaxTolerance(solid, TopAbs_EDGE));
+      if (!(best <= tolerance)) {
+        std::ostringstream msg;
+        msg.precision(3);
+        msg << "hexahedral, but the face near (" << mid.transpose() << ") is not the blend of "
+            << "its edges (" << (std::isfinite(best) ? std::to_string(best) + " m off" : "no match")
+            << ")";
+        why = msg.str();
+        return false;
+      }
+    }
+    patch = coons_volume(face_patch, 2.0 * vertex_tolerance + 1e-12);
+  } catch (const Standard_Failure& e) {
+    why = std::string("hexahedral, but OpenCascade failed: ") + e.GetMessageString();
+    return false;
+  } catch (const std::exception& e) {
+    why = std::string("hexahedral, but ") + e.what();
+    return false;
+  }
+  if (!(jacobian_range(patch).min > 0.0)) {
+    why = "hexahedral, but the transfinite volume folds (Jacobian not positive)";
+    return false;
+  }
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(solid, props, 1e-9);
+  const double volume = measure(patch);
+  if (std::abs(volume - props.Mass()) > 1e-6 * std::abs(props.Mass())) {
+    std::ostringstream msg;
+    msg << "hexahedral, but the transfinite volume " << volume << " m^3 differs from the solid's "
+        << props.Mass() << " m^3";
+    why = msg.str();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace isospring::geometry::detail
