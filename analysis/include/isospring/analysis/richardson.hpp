@@ -22,9 +22,12 @@ struct Richardson {
 /// q_coarse, q_middle, q_fine on meshes of size h, h / ratio, h / ratio^2 (ratio > 1), assuming
 /// q(h) = q* + C h^p: p = log((q_middle - q_coarse) / (q_fine - q_middle)) / log(ratio) and
 /// q* = q_fine + (q_fine - q_middle) / (ratio^p - 1). A last change below `round_off` times
-/// |q_fine| counts as converged (the power law is then lost in round-off).
+/// |q_fine| counts as converged: a direct solve loses about cond(K) x 1e-16 relative, so with
+/// condition numbers up to 1e6 changes of 1e-10 are round-off and carry no power law (measured:
+/// a cubic Timoshenko beam at p = 3, whose exact solution is in the space, changes its tip
+/// deflection by 6e-12 relative between levels, in no consistent direction).
 Richardson richardson_extrapolation(double q_coarse, double q_middle, double q_fine,
-                                    double ratio = 2.0, double round_off = 1e-12);
+                                    double ratio = 2.0, double round_off = 1e-10);
 
 /// "extrapolated", "converged", "oscillating", "diverging".
 std::string status_name(Richardson::Status status);
