@@ -1,18 +1,24 @@
 // `isospring identify CASE.json -o OUTDIR [--drop-outside] [--quiet]`: the measured-data loop.
 // Fits the case's model to the markers of `"measurements"`, adds the effects the residual calls
-// for (fitting/identify.hpp) and writes OUTDIR/report.json, report.md, markers.vtp (measured,
-// model and residual per load case, before and after) and residuals.svg (gnuplot, when present).
+// for (fitting/identify.hpp), recalibrates the spring model against the corrected reference
+// (fitting/identify_recalibration.hpp) and writes OUTDIR/report.json, report.md, model.json (with
+// the carried gravity and load cases), markers_*.vtp (measured, model and residual per load case,
+// before and after) and residuals.svg (gnuplot, when present).
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <optional>
 
+#include "calibration_settings.hpp"
 #include "command.hpp"
 #include "isospring/fitting/identify.hpp"
+#include "isospring/fitting/identify_recalibration.hpp"
 #include "isospring/fitting/measure.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/markers.hpp"
+#include "isospring/io/model_file.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/io/vtk_markers.hpp"
@@ -168,6 +174,22 @@ void run_identify(const IdentifyCommandOptions& options) {
   const fitting::IdentifyResult r =
       fitting::identify(c.problem, kept, placements, identify_options);
 
+  // Carry it through: recalibrate the spring model against the corrected reference. A failed
+  // recalibration is reported, not fatal: the identification itself stands.
+  progress("recalibrating the spring model against the corrected reference");
+  const fitting::CalibrationSettings calibration_settings =
+      parse_calibration(c.calibration, options.case_file).settings;
+  std::optional<fitting::Recalibration> recalibration;
+  std::string recalibration_error;
+  try {
+    recalibration = fitting::recalibrate_identified(c.problem, r, calibration_settings);
+  } catch (const nurbs::InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    recalibration_error = e.what();
+    progress.warn("recalibration failed: " + recalibration_error + "; model.json not written");
+  }
+
   nlohmann::json report = io::report_header("identify", ISOSPRING_VERSION, options.case_file);
   report["case"] = io::case_summary(c, c.problem);
   report["data_file"] = settings.file.string();
@@ -216,6 +238,27 @@ void run_identify(const IdentifyCommandOptions& options) {
                          {"validation_before", errors_json(r.holdout.validation_before)},
                          {"validation_after", errors_json(r.holdout.validation_after)}};
   report["spring_model"] = r.spring_model_notes;
+  if (recalibration) {
+    const fitting::Recalibration& rc = *recalibration;
+    nlohmann::json j{{"model", "model.json"},
+                     {"percent_e_rms", rc.percent_e_rms},
+                     {"percent_e_max", rc.percent_e_max},
+                     {"gravity", {rc.gravity.x(), rc.gravity.y(), rc.gravity.z()}},
+                     {"load_factors", rc.load_factors},
+                     {"youngs_modulus", rc.corrected.material.youngs_modulus},
+                     {"poisson_ratio", rc.corrected.material.poisson_ratio},
+                     {"gamma", rc.calibration.gamma},
+                     {"groups", rc.calibration.parameters},
+                     {"notes", rc.notes},
+                     {"warnings", rc.calibration.warnings}};
+    for (const auto& e : rc.calibration.fit)
+      j["load_cases"].push_back({{"id", e.id},
+                                 {"percent_e_rms", e.control.percent_e_rms},
+                                 {"percent_e_max", e.control.percent_e_max}});
+    report["recalibration"] = j;
+  } else {
+    report["recalibration"] = {{"error", recalibration_error}};
+  }
   report["seconds"] = r.seconds;
 
   io::MarkdownReport md;
@@ -278,10 +321,53 @@ void run_identify(const IdentifyCommandOptions& options) {
     md.heading(2, "Carrying over to the spring model");
     md.bullets(r.spring_model_notes);
   }
+  md.heading(2, "Recalibrated spring model");
+  if (recalibration) {
+    const fitting::Recalibration& rc = *recalibration;
+    md.paragraph("`model.json`: the spring model recalibrated against the corrected reference (E " +
+                 io::format_number(rc.corrected.material.youngs_modulus) + " Pa, nu " +
+                 io::format_number(rc.corrected.material.poisson_ratio) +
+                 ", the physical effects below): %e_rms " + io::format_number(rc.percent_e_rms, 4) +
+                 " %, %e_max " + io::format_number(rc.percent_e_max, 4) +
+                 " % on the control points (root mean square / largest over the load cases).");
+    md.bullets(rc.notes);
+  } else {
+    md.paragraph("Recalibration failed: " + recalibration_error);
+  }
   md.paragraph(
       "Plot: `residuals.svg` (data `residuals.csv`); VTK: `markers_<case>_before.vtp`, "
       "`markers_<case>_after.vtp`.");
 
+  std::filesystem::create_directories(out_dir);
+  if (recalibration) {
+    const fitting::Recalibration& rc = *recalibration;
+    io::SpringModel model;
+    model.network = rc.calibration.mesh.network;
+    model.units = io::default_model_units();
+    model.gravity = rc.gravity;
+    const int dim = model.network.dimension;
+    for (size_t l = 0; l < rc.corrected.load_cases.size(); ++l) {
+      io::ModelLoadCase load;
+      load.id = rc.corrected.load_cases[l].id;
+      const Eigen::VectorXd& f = rc.particle_loads[l];
+      for (Eigen::Index p = 0; p < f.size() / dim; ++p)
+        if (!f.segment(p * dim, dim).isZero(0.0)) {
+          Eigen::Vector3d force = Eigen::Vector3d::Zero();
+          force.head(dim) = f.segment(p * dim, dim);
+          load.forces.emplace_back(static_cast<int>(p), force);
+        }
+      model.load_cases.push_back(std::move(load));
+    }
+    model.provenance = {{"case", c.name},
+                        {"isospring_version", ISOSPRING_VERSION},
+                        {"identify",
+                         {{"effects_added", r.effects_added},
+                          {"reference", "the identified model (corrected reference)"},
+                          {"percent_e_rms", rc.percent_e_rms},
+                          {"percent_e_max", rc.percent_e_max},
+                          {"gamma", rc.calibration.gamma}}}};
+    io::write_spring_model_json(out_dir / "model.json", model);
+  }
   write_markers(out_dir, c.problem, kept, r);
   write_residual_plot(out_dir, kept, r, progress);
   io::write_json_report(out_dir / "report.json", report);
@@ -299,7 +385,10 @@ void setup_identify(CLI::App& app) {
       "load_case,x,y,z,ux,uy,uz[,sigma] by default; columns and units can be mapped).\n"
       "Fits E (and nu with fit_poisson), then adds effects (gravity, support_compliance,\n"
       "stiffness_gradient, rigid_offset, load_scale) while an F-test finds them significant.\n"
-      "Writes OUTDIR/report.json, report.md, residuals.svg/.csv, markers_<case>_*.vtp.");
+      "Recalibrates the spring model against the corrected reference (identified material,\n"
+      "gravity, load factors, stiffness gradient; the case's \"calibration\" object applies).\n"
+      "Writes OUTDIR/report.json, report.md, model.json, residuals.svg/.csv,\n"
+      "markers_<case>_*.vtp.");
   cmd->add_option("CASE", options->case_file, "Case file (.json) with \"measurements\"")
       ->required()
       ->check(CLI::ExistingFile);

@@ -86,11 +86,10 @@ void BM_IdentifyBox3D(benchmark::State& state) {
   const auto& added = result.effects_added;
   state.counters["markers"] = static_cast<double>(markers.size());
   state.counters["seconds"] = result.seconds;
-  // In micrometres: Google Benchmark prints counters with SI prefixes down to micro only, so a
-  // value of 1e-7 m showed as 0.
-  state.counters["rms_before_um"] = 1e6 * result.before.rms;
-  state.counters["rms_after_um"] = 1e6 * result.after.rms;
-  // Standard errors in 3D (NaN before the column-scaled covariance): E's, relative.
+  // In nanometres: this Google Benchmark prints counters in [0.1, 1) as 0 (a residual of
+  // 1e-7 m showed as rms_after=0 in metres and 0 in micrometres).
+  state.counters["rms_before_nm"] = 1e9 * result.before.rms;
+  state.counters["rms_after_nm"] = 1e9 * result.after.rms;
   state.counters["E_rel_std_error"] =
       result.parameters[0].standard_error / result.parameters[0].value;
   int finite = 0;

@@ -95,10 +95,24 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
   CalibrationResult result;
   if (settings.progress) settings.progress("IGA reference: solving the load cases");
   auto start = std::chrono::steady_clock::now();
-  const analysis::StaticResult reference = analysis::solve_static(problem);
+  const analysis::DofMap dofs(problem);
+  analysis::StaticResult reference;
+  if (settings.reference_displacements.empty()) {
+    reference = analysis::solve_static(problem);
+  } else {
+    if (settings.reference_displacements.size() != problem.load_cases.size())
+      throw std::invalid_argument("calibrate: one reference displacement per load case expected");
+    for (size_t c = 0; c < problem.load_cases.size(); ++c) {
+      if (settings.reference_displacements[c].size() != dofs.num_dofs())
+        throw std::invalid_argument("calibrate: reference displacement of the wrong size");
+      analysis::LoadCaseResult given;
+      given.id = problem.load_cases[c].id;
+      given.displacement = settings.reference_displacements[c];
+      reference.load_cases.push_back(std::move(given));
+    }
+  }
   result.reference_seconds = seconds_since(start);
 
-  const analysis::DofMap dofs(problem);
   const int dim = dofs.dofs_per_node();
   result.mesh = build_spring_mesh(problem, settings.mesh);
   SpringMesh& mesh = result.mesh;

@@ -528,9 +528,11 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
     for (const auto& d : chosen[e]->derived(theta.segment(first, count)))
       result.derived.emplace_back(chosen[e]->name() + "." + d.first, d.second);
     result.effects_added.push_back(chosen[e]->name());
+    result.effect_values.emplace_back(chosen[e]->name(), theta.segment(first, count));
     result.spring_model_notes.push_back(chosen[e]->name() + ": " + chosen[e]->spring_model_note());
   }
   result.model_after = marker_predictions(setup, current, theta, markers.size());
+  result.corrected_displacements = current.forward->evaluate(theta, false).displacements;
   std::vector<Eigen::Vector3d> residual_after(markers.size());
   for (size_t m = 0; m < markers.size(); ++m)
     residual_after[m] = markers[m].displacement - result.model_after[m];

@@ -138,7 +138,8 @@ SpringModel model_from_json(const json& document, const std::string& source) {
   const FieldReader reader(source);
   if (!document.is_object()) reader.fail("(document)", "must be a JSON object");
   check_keys(reader, document, "",
-             {"format", "version", "units", "dimension", "particles", "springs", "provenance"});
+             {"format", "version", "units", "dimension", "particles", "springs", "provenance",
+              "gravity", "load_cases"});
   const json& format = reader.require(document, "format", "");
   if (format != kFormat)
     reader.fail("format", std::string("must be \"") + kFormat +
@@ -195,6 +196,43 @@ SpringModel model_from_json(const json& document, const std::string& source) {
   // The remaining range checks are shared with the writer.
   if (const std::string problem = check_spring_network(network); !problem.empty())
     throw InputError(source + ": " + problem);
+
+  if (document.contains("gravity"))
+    model.gravity = reader.vector(document["gravity"], "gravity", network.dimension);
+  if (document.contains("load_cases")) {
+    const json& cases = document["load_cases"];
+    if (!cases.is_array()) reader.fail("load_cases", "must be an array");
+    for (size_t l = 0; l < cases.size(); ++l) {
+      const std::string path = "load_cases[" + std::to_string(l) + "].";
+      const json& item = cases[l];
+      if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
+      check_keys(reader, item, path, {"id", "forces"});
+      ModelLoadCase load;
+      const json& id = reader.require(item, "id", path);
+      if (!id.is_string()) reader.fail(path + "id", "must be a string");
+      load.id = id.get<std::string>();
+      const json& forces = reader.require(item, "forces", path);
+      if (!forces.is_array()) reader.fail(path + "forces", "must be an array");
+      for (size_t k = 0; k < forces.size(); ++k) {
+        const std::string where = path + "forces[" + std::to_string(k) + "]";
+        const json& f = forces[k];
+        if (!f.is_array() || f.size() != static_cast<size_t>(network.dimension) + 1)
+          reader.fail(where, "must be [particle, fx, fy" +
+                                 std::string(network.dimension == 3 ? ", fz]" : "]"));
+        const int particle = reader.integer(f[0], where + "[0]");
+        if (particle < 0 || particle >= static_cast<int>(network.positions.size()))
+          reader.fail(where + "[0]", "particle index " + std::to_string(particle) +
+                                         " out of range [0, " +
+                                         std::to_string(network.positions.size()) + ")");
+        Eigen::Vector3d force = Eigen::Vector3d::Zero();
+        for (int c = 0; c < network.dimension; ++c)
+          force[c] = reader.number(f[static_cast<size_t>(c) + 1],
+                                   where + "[" + std::to_string(c + 1) + "]");
+        load.forces.emplace_back(particle, force);
+      }
+      model.load_cases.push_back(std::move(load));
+    }
+  }
   return model;
 }
 
@@ -206,6 +244,62 @@ void write_model_json(const std::filesystem::path& path, const analysis::SpringN
   if (!provenance.is_null() && !provenance.is_object())
     throw InputError("cannot write '" + path.string() + "': provenance must be a JSON object");
   write_file_atomically(path, model_to_json(network, provenance, units).dump(2) + "\n");
+}
+
+json spring_model_to_json(const SpringModel& model) {
+  json document = model_to_json(model.network, model.provenance,
+                                model.units.is_null() ? default_model_units() : model.units);
+  const int dim = model.network.dimension;
+  if (!model.gravity.isZero()) {
+    json g = json::array();
+    for (int c = 0; c < dim; ++c) g.push_back(model.gravity[c]);
+    document["gravity"] = g;
+  }
+  if (!model.load_cases.empty()) {
+    json cases = json::array();
+    for (const ModelLoadCase& load : model.load_cases) {
+      json forces = json::array();
+      for (const auto& [particle, force] : load.forces) {
+        json row = json::array({particle});
+        for (int c = 0; c < dim; ++c) row.push_back(force[c]);
+        forces.push_back(row);
+      }
+      cases.push_back(json{{"id", load.id}, {"forces", forces}});
+    }
+    document["load_cases"] = cases;
+  }
+  return document;
+}
+
+void write_spring_model_json(const std::filesystem::path& path, const SpringModel& model) {
+  if (const std::string problem = check_spring_network(model.network); !problem.empty())
+    throw InputError("cannot write '" + path.string() +
+                     "': the spring model is invalid: " + problem);
+  const auto n = static_cast<int>(model.network.positions.size());
+  if (!model.gravity.allFinite())
+    throw InputError("cannot write '" + path.string() + "': gravity must be finite");
+  for (const ModelLoadCase& load : model.load_cases)
+    for (const auto& [particle, force] : load.forces)
+      if (particle < 0 || particle >= n || !force.allFinite())
+        throw InputError("cannot write '" + path.string() + "': load case " + load.id +
+                         " has a bad force (particle " + std::to_string(particle) + ")");
+  if (!model.provenance.is_null() && !model.provenance.is_object())
+    throw InputError("cannot write '" + path.string() + "': provenance must be a JSON object");
+  write_file_atomically(path, spring_model_to_json(model).dump(2) + "\n");
+}
+
+Eigen::VectorXd model_force_vector(const SpringModel& model, size_t index, bool with_gravity) {
+  const analysis::SpringNetwork& network = model.network;
+  const int dim = network.dimension;
+  Eigen::VectorXd f =
+      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(network.positions.size()) * dim);
+  for (const auto& [particle, force] : model.load_cases.at(index).forces)
+    f.segment(static_cast<Eigen::Index>(particle) * dim, dim) += force.head(dim);
+  if (with_gravity)
+    for (size_t p = 0; p < network.positions.size(); ++p)
+      f.segment(static_cast<Eigen::Index>(p) * dim, dim) +=
+          network.masses[p] * model.gravity.head(dim);
+  return f;
 }
 
 SpringModel read_model_json(const std::filesystem::path& path) {

@@ -33,6 +33,11 @@ struct CalibrationSettings {
   /// Also fit ||K_IGA - K_NMSM||_F (matrix approach) with the same grouping, and per element when
   /// every patch has degree 1, and evaluate those models on the same load cases.
   bool matrix_approach = false;
+  /// Per load case of the problem: the reference displacements (all DOFs, analysis::DofMap
+  /// numbering) to fit instead of analysis::solve_static of the problem. Empty: solve. Used by
+  /// the identification to recalibrate against its corrected model, which may hold what a
+  /// Problem cannot (a stiffness gradient).
+  std::vector<Eigen::VectorXd> reference_displacements;
   /// Progress lines ("fit gamma 0.01 (4 groups): iteration 3, cost 1.2e-4"); empty: silent.
   std::function<void(const std::string&)> progress;
 };

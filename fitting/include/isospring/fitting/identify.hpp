@@ -92,6 +92,13 @@ struct IdentifyResult {
   bool holdout_done = false;
   std::vector<Eigen::Vector3d> model_before, model_after;  // per marker, model displacement [m]
   double youngs_modulus = 0.0, poisson_ratio = 0.0;        // final material
+  /// The added effects with their fitted values (parameter_names() order), as simulate_markers
+  /// takes them.
+  std::vector<std::pair<std::string, Eigen::VectorXd>> effect_values;
+  /// The corrected reference: per load case, the final model's displacement at every DOF
+  /// (analysis::DofMap numbering) with the identified material and physical effects; the
+  /// measurement-frame effect (rigid_offset) is not part of it.
+  std::vector<Eigen::VectorXd> corrected_displacements;
   double seconds = 0.0;
 };
 

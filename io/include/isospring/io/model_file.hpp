@@ -13,22 +13,48 @@
 // Fields: x rest position; mass > 0 (a fixed particle may have mass 0); fixed optional (false);
 // springs connect particle indices i != j (0-based), stiffness k >= 0 [N/m], damping c >= 0
 // [N s/m] (optional, 0), rest length L0 > 0 [m], group an integer >= -1 (optional, -1 = none).
-// "units" and "provenance" are free-form objects kept as written. Every problem found by the
+// "units" and "provenance" are free-form objects kept as written.
+//
+// Optional loads (still version 1: readers that predate them fail on the unknown key, files
+// without them read as before), written by `isospring identify` for its recalibrated model:
+//   "gravity": [0, -9.81, 0],          // acceleration of every particle [m/s^2]: force m_i g
+//   "load_cases": [{"id": "L1", "forces": [[i, fx, fy, fz], ...]}, ...]   // external forces [N]
+// A load case's total load is its forces plus m_i g on every free particle.
+// Every problem found by the
 // reader is an nurbs::InputError naming the file and the field, e.g.
 //   "model.json: springs[4].k: must be finite and >= 0 (got -3); fix the calibration output".
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "isospring/analysis/spring_network.hpp"
 
 namespace isospring::io {
 
+struct ModelLoadCase {
+  std::string id;
+  std::vector<std::pair<int, Eigen::Vector3d>> forces;  // particle, force [N]
+};
+
 struct SpringModel {
   analysis::SpringNetwork network;
-  nlohmann::json units;       // {"length": "m", ...}
-  nlohmann::json provenance;  // object (empty when absent)
+  nlohmann::json units;                               // {"length": "m", ...}
+  nlohmann::json provenance;                          // object (empty when absent)
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // [m/s^2]; zero when absent
+  std::vector<ModelLoadCase> load_cases;              // empty when absent
 };
+
+/// The document of a model with its loads (gravity and load_cases written when present).
+nlohmann::json spring_model_to_json(const SpringModel& model);
+
+/// Writes a model with its loads atomically; InputError for an inconsistent network or loads.
+void write_spring_model_json(const std::filesystem::path& path, const SpringModel& model);
+
+/// Flat force vector (particle * dimension + component) of model.load_cases[index], plus the
+/// gravity forces m_i g when `with_gravity`.
+Eigen::VectorXd model_force_vector(const SpringModel& model, size_t index, bool with_gravity);
 
 /// SI units as written by default.
 nlohmann::json default_model_units();

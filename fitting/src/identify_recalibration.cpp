@@ -1,0 +1,108 @@
+// Recalibration of the spring model against the identified (corrected) model.
+#include "isospring/fitting/identify_recalibration.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/dof_map.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+// Every declared load of the case times `factor` (load_scale scales the whole nominal load).
+void scale_load_case(analysis::LoadCase& load, double factor) {
+  for (auto& traction : load.tractions) {
+    traction.value *= factor;
+    if (traction.function) {
+      auto nominal = traction.function;
+      traction.function = [nominal, factor](const Eigen::Vector3d& x, const Eigen::Vector3d& n) {
+        return Eigen::Vector3d(factor * nominal(x, n));
+      };
+    }
+  }
+  for (auto& pressure : load.pressures) pressure.value *= factor;
+  for (auto& point : load.point_loads) point.force *= factor;
+  load.body_force *= factor;
+  load.gravity *= factor;
+}
+
+}  // namespace
+
+Recalibration recalibrate_identified(const analysis::Problem& prior, const IdentifyResult& result,
+                                     CalibrationSettings settings) {
+  if (result.corrected_displacements.size() != prior.load_cases.size())
+    throw std::invalid_argument(
+        "recalibrate_identified: the identification has no corrected "
+        "reference for every load case");
+  Recalibration out;
+  out.corrected = prior;
+  out.corrected.material.youngs_modulus = result.youngs_modulus;
+  out.corrected.material.poisson_ratio = result.poisson_ratio;
+  out.load_factors.assign(prior.load_cases.size(), 1.0);
+  bool carried_gravity = false;
+  for (const auto& [name, values] : result.effect_values) {
+    if (name == "gravity") {
+      for (Eigen::Index c = 0; c < values.size(); ++c) out.gravity[c] = values[c];
+      carried_gravity = true;
+      out.notes.push_back("gravity: carried as forces m_i g on every particle, g = (" +
+                          std::to_string(out.gravity.x()) + ", " + std::to_string(out.gravity.y()) +
+                          ", " + std::to_string(out.gravity.z()) + ") m/s^2");
+    } else if (name == "load_scale") {
+      for (Eigen::Index k = 0; k < values.size(); ++k)
+        out.load_factors[static_cast<size_t>(k + 1)] = 1.0 + values[k];
+      out.notes.push_back("load_scale: carried as scaled loads of the load cases");
+    } else if (name == "stiffness_gradient") {
+      out.notes.push_back(
+          "stiffness_gradient: carried by the reference (the springs are fitted to the "
+          "displacements of the graded material)");
+    } else if (name == "rigid_offset") {
+      out.notes.push_back("rigid_offset: a measurement-frame effect, not part of the model");
+    } else if (name == "support_compliance") {
+      out.notes.push_back(
+          "support_compliance: NOT carried (the spring model's supported particles stay fixed; "
+          "the support motion of the reference is part of the reported error)");
+    } else {
+      out.notes.push_back(name + ": not carried (no spring-model counterpart implemented)");
+    }
+  }
+  for (size_t l = 0; l < out.corrected.load_cases.size(); ++l) {
+    scale_load_case(out.corrected.load_cases[l], out.load_factors[l]);
+    out.corrected.load_cases[l].gravity += out.gravity;
+  }
+
+  settings.reference_displacements = result.corrected_displacements;
+  settings.fit_cases.clear();
+  settings.holdout_cases.clear();
+  // m_i g equals the consistent self-weight sum_b M_ab g only for row-sum lumped masses.
+  if (carried_gravity) settings.mass_model = MassModel::kLumpedIga;
+  out.calibration = calibrate(out.corrected, settings);
+
+  // The corrected loads without the carried gravity, on the particles (as calibrate builds them).
+  const analysis::DofMap dofs(out.corrected);
+  const int dim = dofs.dofs_per_node();
+  const std::vector<int> particle = particle_of_node(out.corrected, out.calibration.mesh);
+  const auto num_particles =
+      static_cast<Eigen::Index>(out.calibration.mesh.network.positions.size());
+  for (const auto& load : out.corrected.load_cases) {
+    analysis::LoadCase without_gravity = load;
+    without_gravity.gravity -= out.gravity;
+    const Eigen::VectorXd nodal = analysis::assemble_load(out.corrected, dofs, without_gravity);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(num_particles * dim);
+    for (size_t a = 0; a < particle.size(); ++a)
+      f.segment(static_cast<Eigen::Index>(particle[a]) * dim, dim) +=
+          nodal.segment(static_cast<Eigen::Index>(a) * dim, dim);
+    out.particle_loads.push_back(f);
+  }
+  double sum = 0.0;
+  for (const CaseErrors& e : out.calibration.fit) {
+    sum += e.control.percent_e_rms * e.control.percent_e_rms;
+    out.percent_e_max = std::max(out.percent_e_max, e.control.percent_e_max);
+  }
+  out.percent_e_rms =
+      out.calibration.fit.empty() ? 0.0 : std::sqrt(sum / out.calibration.fit.size());
+  return out;
+}
+
+}  // namespace isospring::fitting
