@@ -65,7 +65,84 @@ bool number_corners(const std::array<std::set<int>, 8>& adjacent,
 
 }  // namespace
 
-bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch, std::string& why) {
+namespace {
+
+// The CAD face (of `faces`) whose vertices are the four corners of a surface patch, or -1.
+int face_with_corners(const TopTools_IndexedMapOfShape& faces, const nurbs::Patch& p,
+                      double tolerance) {
+  for (int g = 1; g <= faces.Extent(); ++g) {
+    TopTools_IndexedMapOfShape face_vertices;
+    TopExp::MapShapes(faces(g), TopAbs_VERTEX, face_vertices);
+    int matched = 0;
+    for (int k = 1; k <= face_vertices.Extent(); ++k) {
+      const gp_Pnt q = BRep_Tool::Pnt(TopoDS::Vertex(face_vertices(k)));
+      for (const nurbs::Param& u : {nurbs::Param{p.param_min(0), p.param_min(1), 0},
+                                    nurbs::Param{p.param_max(0), p.param_min(1), 0},
+                                    nurbs::Param{p.param_min(0), p.param_max(1), 0},
+                                    nurbs::Param{p.param_max(0), p.param_max(1), 0}})
+        matched += (p.point(u) - Eigen::Vector3d(q.X(), q.Y(), q.Z())).norm() <= tolerance;
+    }
+    if (matched == 4) return g;
+  }
+  return -1;
+}
+
+// `top` as a translate of `base` (same knots and weights, every control point moved by the same
+// vector), trying the 8 ways to parametrise it (reversals and a swap of directions).
+bool translate_of(const nurbs::Patch& base, const nurbs::Patch& top, double tolerance,
+                  Eigen::Vector3d& offset) {
+  for (int swap = 0; swap < 2; ++swap)
+    for (int flips = 0; flips < 4; ++flips) {
+      nurbs::Patch t = swap ? swap_directions(top, 0, 1) : top;
+      if (flips & 1) t = reverse_direction(t, 0);
+      if (flips & 2) t = reverse_direction(t, 1);
+      if (t.num_points() != base.num_points() || t.weights() != base.weights() ||
+          t.knots(0).values() != base.knots(0).values() ||
+          t.knots(1).values() != base.knots(1).values())
+        continue;
+      offset = t.control_point(0) - base.control_point(0);
+      bool same = true;
+      for (int a = 0; a < base.num_points() && same; ++a)
+        same = (t.control_point(a) - base.control_point(a) - offset).norm() <= tolerance;
+      if (same) return true;
+    }
+  return false;
+}
+
+// A hexahedral solid as the extrusion of one natural face to an opposite, translated one.
+bool prism_patch(const TopoDS_Shape& solid, const TopTools_IndexedMapOfShape& faces,
+                 const std::function<const nurbs::Patch*(const TopoDS_Shape&)>& natural_patch,
+                 double size, nurbs::Patch& patch) {
+  const double tolerance = std::max(1e-9 * size, BRep_Tool::MaxTolerance(solid, TopAbs_EDGE));
+  for (int f = 1; f <= 6; ++f)
+    for (int g = f + 1; g <= 6; ++g) {
+      const nurbs::Patch *base = natural_patch(faces(f)), *top = natural_patch(faces(g));
+      Eigen::Vector3d offset;
+      if (base == nullptr || top == nullptr || !translate_of(*base, *top, tolerance, offset))
+        continue;
+      nurbs::Patch volume = extrude(*base, offset);
+      if (jacobian_range(volume).min < 0.0) volume = reverse_direction(volume, 0);
+      // The four sides (the extrusions of the base's boundary curves) must be CAD faces.
+      bool sides = true;
+      for (int dir = 0; dir < 2 && sides; ++dir)
+        for (int end = 0; end < 2 && sides; ++end) {
+          const nurbs::Patch side = boundary_side(volume, dir, end);
+          const int h = face_with_corners(faces, side, 2.0 * tolerance + 1e-12);
+          sides = h > 0 && surface_deviation(side, TopoDS::Face(faces(h))) <= tolerance;
+        }
+      if (sides) {
+        patch = volume;
+        return true;
+      }
+    }
+  return false;
+}
+
+}  // namespace
+
+bool hexahedron_patch(const TopoDS_Shape& solid,
+                      const std::function<const nurbs::Patch*(const TopoDS_Shape&)>& natural_patch,
+                      nurbs::Patch& patch, std::string& why) {
   TopTools_IndexedMapOfShape vertices, edges, faces;
   TopExp::MapShapes(solid, TopAbs_VERTEX, vertices);
   TopExp::MapShapes(solid, TopAbs_EDGE, edges);
@@ -114,6 +191,7 @@ bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch, std::strin
     why = "not hexahedral (no consistent numbering of the corners)";
     return false;
   }
+  bool prismatic = false;
   try {
     // The 12 edges as curves from corner to corner, ends snapped onto the shared vertices (they
     // may be off by the vertex tolerance), compatible per direction. edge[d][a + 2 b]: along
@@ -171,21 +249,8 @@ bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch, std::strin
     for (int f = 0; f < 6; ++f) {
       const nurbs::Patch& p = face_patch[static_cast<size_t>(f)];
       const Eigen::Vector3d mid = p.point({0.5, 0.5, 0});
-      double best = INFINITY;
-      for (int g = 1; g <= 6; ++g) {
-        // The CAD face whose vertices are the patch's four corners.
-        TopTools_IndexedMapOfShape face_vertices;
-        TopExp::MapShapes(faces(g), TopAbs_VERTEX, face_vertices);
-        int matched = 0;
-        for (int k = 1; k <= face_vertices.Extent(); ++k) {
-          const gp_Pnt q = BRep_Tool::Pnt(TopoDS::Vertex(face_vertices(k)));
-          for (const nurbs::Param& u : {nurbs::Param{0, 0, 0}, nurbs::Param{1, 0, 0},
-                                        nurbs::Param{0, 1, 0}, nurbs::Param{1, 1, 0}})
-            matched += (p.point(u) - Eigen::Vector3d(q.X(), q.Y(), q.Z())).norm() <=
-                       2.0 * vertex_tolerance + 1e-12;
-        }
-        if (matched == 4) best = std::min(best, surface_deviation(p, TopoDS::Face(faces(g))));
-      }
+      const int g = face_with_corners(faces, p, 2.0 * vertex_tolerance + 1e-12);
+      const double best = g > 0 ? surface_deviation(p, TopoDS::Face(faces(g))) : INFINITY;
       const double tolerance = std::max(1e-9 * size, BRep_Tool::MaxTolerance(solid, TopAbs_EDGE));
       if (!(best <= tolerance)) {
         std::ostringstream msg;
@@ -194,10 +259,13 @@ bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch, std::strin
             << "its edges (" << (std::isfinite(best) ? std::to_string(best) + " m off" : "no match")
             << ")";
         why = msg.str();
-        return false;
+        if (!prism_patch(solid, faces, natural_patch, size, patch)) return false;
+        why.clear();  // a prism after all: the extrusion of a natural face
+        prismatic = true;
+        break;
       }
     }
-    patch = coons_volume(face_patch, 2.0 * vertex_tolerance + 1e-12);
+    if (!prismatic) patch = coons_volume(face_patch, 2.0 * vertex_tolerance + 1e-12);
   } catch (const Standard_Failure& e) {
     why = std::string("hexahedral, but OpenCascade failed: ") + e.GetMessageString();
     return false;
@@ -214,8 +282,8 @@ bool hexahedron_patch(const TopoDS_Shape& solid, nurbs::Patch& patch, std::strin
   const double volume = measure(patch);
   if (std::abs(volume - props.Mass()) > 1e-6 * std::abs(props.Mass())) {
     std::ostringstream msg;
-    msg << "hexahedral, but the transfinite volume " << volume << " m^3 differs from the solid's "
-        << props.Mass() << " m^3";
+    msg << "hexahedral, but the " << (prismatic ? "extruded" : "transfinite") << " volume "
+        << volume << " m^3 differs from the solid's " << props.Mass() << " m^3";
     why = msg.str();
     return false;
   }

@@ -279,7 +279,14 @@ CadModel read_cad(const std::filesystem::path& file) {
   for (int s = 1; s <= model.solids; ++s) {
     nurbs::Patch patch;
     std::string why;
-    if (detail::hexahedron_patch(solids(s), patch, why)) model.volume_patches.push_back(patch);
+    auto natural = [&](const TopoDS_Shape& face) -> const nurbs::Patch* {
+      const int f = faces.FindIndex(face) - 1;
+      if (f < 0 || !model.face_reports[static_cast<size_t>(f)].natural) return nullptr;
+      const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
+      return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
+    };
+    if (detail::hexahedron_patch(solids(s), natural, patch, why))
+      model.volume_patches.push_back(patch);
     model.solid_notes.push_back(why);
   }
   return model;

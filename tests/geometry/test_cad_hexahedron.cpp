@@ -1,13 +1,20 @@
 // Solids of hexahedral topology with curved edges and faces as one transfinite NURBS volume:
-// volumes against closed forms and BRepGProp, faces on the CAD surfaces, positive Jacobians.
+// volumes against closed forms and BRepGProp, faces on the CAD surfaces, positive Jacobians;
+// prisms of faces that are not the blend of their edges as exact extrusions.
 #include <gtest/gtest.h>
 
 #include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepGProp.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 #include <GProp_GProps.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <cmath>
 #include <random>
 
@@ -94,6 +101,52 @@ TEST(CadHexahedron, BoxWithACylindricalTop) {
       const Eigen::Vector3d x = volume.point({n / 10.0, m / 10.0, 1.0});
       EXPECT_NEAR(std::hypot(x.y() - a, x.z() + 0.2), Rc, 1e-15);
     }
+}
+
+TEST(CadHexahedron, PrismOfABumpedSplineFaceIsItsExtrusion) {
+  // Base: a bicubic Bezier face over the 100 mm square with two raised interior poles (not the
+  // blend of its four straight edges), extruded 50 mm along z by BRepPrimAPI_MakePrism.
+  TColgp_Array2OfPnt poles(1, 4, 1, 4);
+  for (int i = 1; i <= 4; ++i)
+    for (int j = 1; j <= 4; ++j)
+      poles.SetValue(i, j,
+                     gp_Pnt(0.1 * (i - 1) / 3.0, 0.1 * (j - 1) / 3.0,
+                            (i == 2 && j == 2) || (i == 3 && j == 2) ? 0.01 : 0.0));
+  TColStd_Array1OfReal knots(1, 2);
+  knots.SetValue(1, 0.0);
+  knots.SetValue(2, 1.0);
+  TColStd_Array1OfInteger mults(1, 2);
+  mults.SetValue(1, 4);
+  mults.SetValue(2, 4);
+  const Handle(Geom_BSplineSurface) surface =
+      new Geom_BSplineSurface(poles, knots, knots, mults, mults, 3, 3);
+  const TopoDS_Face base = BRepBuilderAPI_MakeFace(surface, 1e-9).Face();
+  const TopoDS_Shape part = BRepPrimAPI_MakePrism(base, gp_Vec(0, 0, 0.05)).Shape();
+  // Poles at the Greville abscissae: x = 0.1 u, y = 0.1 v, so the base projects onto the square
+  // and the prism's volume is 0.01 m^2 x 0.05 m whatever the bump.
+  const double exact = 0.01 * 0.05;
+  ASSERT_NEAR(occt_volume(part) / exact, 1.0, 1e-9);
+  const CadModel model = test::step_round_trip(part, "bumped_prism.step");
+  ASSERT_EQ(model.volume_patches.size(), 1u) << describe(model);
+  EXPECT_TRUE(model.solid_notes[0].empty());
+  const nurbs::Patch& volume = model.volume_patches[0];
+  EXPECT_NEAR(measure(volume) / exact, 1.0, 1e-12);
+  EXPECT_GT(jacobian_range(volume).min, 0.0);
+  // One direction is the extrusion: degree 1 with the 50 mm offset along z.
+  int extrusion = -1;
+  for (int d = 0; d < 3; ++d)
+    if (volume.degree(d) == 1) extrusion = d;
+  ASSERT_GE(extrusion, 0);
+  nurbs::Param lo{0.3, 0.6, 0.2}, hi = lo;
+  lo[static_cast<size_t>(extrusion)] = 0.0;
+  hi[static_cast<size_t>(extrusion)] = 1.0;
+  EXPECT_LT(((volume.point(hi) - volume.point(lo)).cwiseAbs() - Eigen::Vector3d(0, 0, 0.05)).norm(),
+            1e-15);
+  // The base side is the bumped surface: compare with OCCT's evaluation at the same (x, y).
+  const Eigen::Vector3d x = volume.point(volume.point(lo).z() < volume.point(hi).z() ? lo : hi);
+  const gp_Pnt on = surface->Value(x.x() / 0.1, x.y() / 0.1);
+  EXPECT_LT((x - Eigen::Vector3d(on.X(), on.Y(), on.Z())).norm(), 1e-15);
+  EXPECT_GT(x.z(), 1e-3);  // really on the bump
 }
 
 }  // namespace
