@@ -1,15 +1,17 @@
 // `isospring calibrate CASE.json -o OUTDIR`: the NMSM of a case, calibrated against the IGA
 // reference with the displacement objective (settings: the case's "calibration" object,
-// docs/calibration.md). Writes report.json, report.md, model.json, springs.vtp and
-// <load-case>_errors.csv.
+// docs/calibration.md). Writes report.json, report.md, model.json, springs.vtp,
+// <load-case>_errors.csv, result.vtm (ParaView) and the error figures (calibration_outputs.hpp).
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <memory>
 
+#include "calibration_outputs.hpp"
 #include "calibration_settings.hpp"
 #include "command.hpp"
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/static_solver.hpp"
 #include "isospring/fitting/calibration.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
@@ -162,6 +164,15 @@ void run_calibrate(const CalibrateOptions& options) {
       vectors.push_back(std::move(v));
     }
   io::write_spring_network_vtp(out_dir / "springs.vtp", network, vectors);
+  // The reference again for the viewer fields (the calibration keeps only the errors): the same
+  // deterministic solve, so model = reference + error is the fitted model's response.
+  std::vector<std::vector<std::vector<Eigen::Vector3d>>> reference;
+  for (const auto& lc : analysis::solve_static(c.problem).load_cases)
+    reference.push_back(lc.control_displacements);
+  const CalibrationOutputs outputs =
+      write_calibration_outputs(out_dir, c.problem, result, reference);
+  report["vtk_file"] = "result.vtm";
+  report["figures"] = outputs.figures;
 
   io::MarkdownReport md;
   md.heading(1, "isospring calibrate: " + c.name);
@@ -208,6 +219,13 @@ void run_calibrate(const CalibrateOptions& options) {
                        io::format_number(entry.percent_e_rms, 4)});
     md.table({"gamma", "groups", "%e_rms (fitted cases)"}, srows);
   }
+  md.heading(2, "Outputs");
+  md.paragraph("ParaView: `result.vtm` (geometry and control net with `reference_<id>`, " +
+               std::string("`model_<id>` and `error_<id>` (model - reference) per load case; ") +
+               "springs with `model_<id>` and `error_<id>` per particle). `model.json`: the " +
+               "calibrated model for `isospring export` and `isospring simulate`.");
+  for (const std::string& figure : outputs.figures)
+    md.paragraph("![" + figure + "](" + figure + ")");
   report["total_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   io::write_json_report(out_dir / "report.json", report);
@@ -231,7 +249,9 @@ void setup_calibrate(CLI::App& app) {
       "Writes OUTDIR/report.json (springs, groups, %e_rms/%e_max of the fitted and held-out load\n"
       "cases, iterations, final cost, fit time, matrix-approach comparison), OUTDIR/report.md,\n"
       "OUTDIR/model.json (the calibrated spring model), OUTDIR/springs.vtp (springs with the\n"
-      "error fields) and OUTDIR/<load-case>_errors.csv (error per control point).\n"
+      "error fields), OUTDIR/<load-case>_errors.csv (error per control point), OUTDIR/result.vtm\n"
+      "(ParaView: geometry, control net and springs with reference_<id>, model_<id>, error_<id>)\n"
+      "and OUTDIR/errors_histogram.png, OUTDIR/errors_vs_position.png (need gnuplot).\n"
       "Exit status 3 when the fit does not converge.");
   cmd->add_option("CASE", options->case_file, "Case file (.json)")
       ->required()

@@ -1,0 +1,33 @@
+#pragma once
+// The viewer and figure outputs of `isospring calibrate` (the tables and reports stay in
+// cmd_calibrate.cpp):
+//
+//   OUT/result.vtm + OUT/result/  geometry (sampled and Bezier) and control net with, per load
+//       case <id>, reference_<id> (IGA), model_<id> (spring model) and error_<id> (model -
+//       reference) as control-point fields; the spring network with model_<id> and error_<id>
+//       per particle.
+//   OUT/errors_histogram.png      relative control-point errors 100 |e| / o_max of every load
+//       case (fitted and held out), 20 bins.
+//   OUT/errors_vs_position.png    the same errors against the control point's x coordinate, one
+//       series per load case.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/calibration.hpp"
+
+namespace isospring::apps {
+
+struct CalibrationOutputs {
+  std::vector<std::string> figures;  // file names of the figures written (gnuplot may be absent)
+};
+
+/// `reference` holds the IGA control displacements [patch][control point] of every load case of
+/// the problem, in the problem's order.
+CalibrationOutputs write_calibration_outputs(
+    const std::filesystem::path& out_dir, const analysis::Problem& problem,
+    const fitting::CalibrationResult& result,
+    const std::vector<std::vector<std::vector<Eigen::Vector3d>>>& reference);
+
+}  // namespace isospring::apps
