@@ -3,7 +3,7 @@
 // for (fitting/identify.hpp), recalibrates the spring model against the corrected reference
 // (fitting/identify_recalibration.hpp) and writes OUTDIR/report.json, report.md, model.json (with
 // the carried gravity and load cases), markers_*.vtp (measured, model and residual per load case,
-// before and after) and residuals.svg (gnuplot, when present).
+// before and after), residuals.svg and errors_before_after.png (gnuplot, when present).
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -19,6 +19,7 @@
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/markers.hpp"
 #include "isospring/io/model_file.hpp"
+#include "isospring/io/plot.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/io/vtk_markers.hpp"
@@ -302,6 +303,23 @@ void run_identify(const IdentifyCommandOptions& options) {
            rows);
   md.paragraph("chi^2 per degree of freedom: " + io::format_number(r.chi2_before, 4) + " before, " +
                io::format_number(r.chi2_after, 4) + " after (1 is the noise level).");
+  {
+    // The same rms values as bars (gnuplot; a warning and no figure when it is missing).
+    std::vector<std::string> labels{"all"};
+    std::vector<double> before{r.before.rms}, after{r.after.rms};
+    for (const auto& lc : r.load_cases) {
+      labels.push_back(lc.id);
+      before.push_back(lc.before.rms);
+      after.push_back(lc.after.rms);
+    }
+    io::PlotOptions bars;
+    bars.title = "Marker residual rms: nominal model (before) and with the effects (after)";
+    bars.ylabel = "rms residual [m]";
+    bars.log_y = true;  // the effects often remove orders of magnitude
+    if (io::plot_bars_before_after(out_dir / "errors_before_after.png", labels, before, after,
+                                   bars))
+      md.paragraph("![rms before and after](errors_before_after.png)");
+  }
   if (r.holdout_done)
     md.paragraph("Hold-out (fit on every other marker, validate on the rest): validation rms " +
                  io::format_number(r.holdout.validation_before.rms, 4) + " m before, " +
