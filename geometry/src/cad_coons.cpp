@@ -29,6 +29,38 @@
 
 namespace isospring::geometry::detail {
 
+nurbs::Patch curve_patch(const Handle(Geom_Curve) & curve, double first, double last) {
+  Handle(Geom_BSplineCurve) bspline =
+      GeomConvert::CurveToBSplineCurve(new Geom_TrimmedCurve(curve, first, last));
+  bspline = Handle(Geom_BSplineCurve)::DownCast(bspline->Copy());
+  if (bspline->IsPeriodic()) bspline->SetNotPeriodic();
+  // Clamp at the ends (the conversion keeps the curve's own parameter) and cut there.
+  const double a = std::max(first, bspline->FirstParameter()),
+               b = std::min(last, bspline->LastParameter());
+  bspline->InsertKnot(a, bspline->Degree(), 1e-12, false);
+  bspline->InsertKnot(b, bspline->Degree(), 1e-12, false);
+  bspline->Segment(a, b);
+  nurbs::Patch patch = patch_from_occt(bspline);
+  // Exact conversion (conics keep their geometry, not their parameter): the ends match the
+  // curve's ends and samples lie on the original curve.
+  const auto [lo, hi] = patch.control_bounds();
+  const double tolerance = 1e-9 * (hi - lo).norm() + 1e-15;
+  auto gap = [](const Eigen::Vector3d& x, const gp_Pnt& p) {
+    return (x - Eigen::Vector3d(p.X(), p.Y(), p.Z())).norm();
+  };
+  if (gap(patch.point({patch.param_min(0), 0, 0}), curve->Value(first)) > tolerance ||
+      gap(patch.point({patch.param_max(0), 0, 0}), curve->Value(last)) > tolerance)
+    throw std::runtime_error("the B-spline conversion of a curve does not keep its ends");
+  for (int n = 1; n < 8; ++n) {
+    const Eigen::Vector3d x = patch.point(
+        {patch.param_min(0) + (patch.param_max(0) - patch.param_min(0)) * n / 8.0, 0, 0});
+    GeomAPI_ProjectPointOnCurve projection(gp_Pnt(x.x(), x.y(), x.z()), curve);
+    if (projection.NbPoints() == 0 || projection.LowerDistance() > tolerance)
+      throw std::runtime_error("the B-spline conversion of a curve leaves the curve");
+  }
+  return patch;
+}
+
 nurbs::Patch edge_curve(const TopoDS_Edge& edge) {
   if (BRep_Tool::Degenerated(edge)) {  // collapsed side (e.g. at a pole): a constant curve
     const gp_Pnt p = BRep_Tool::Pnt(TopExp::FirstVertex(edge));
@@ -39,37 +71,11 @@ nurbs::Patch edge_curve(const TopoDS_Edge& edge) {
   double first = 0.0, last = 0.0;
   const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, location, first, last);
   if (curve.IsNull()) throw std::runtime_error("an edge has no 3D curve");
-  Handle(Geom_BSplineCurve) bspline =
-      GeomConvert::CurveToBSplineCurve(new Geom_TrimmedCurve(curve, first, last));
-  bspline = Handle(Geom_BSplineCurve)::DownCast(bspline->Copy());
-  if (bspline->IsPeriodic()) bspline->SetNotPeriodic();
-  // Clamp at the edge's ends (the conversion keeps the curve's own parameter) and cut there.
-  const double a = std::max(first, bspline->FirstParameter()),
-               b = std::min(last, bspline->LastParameter());
-  bspline->InsertKnot(a, bspline->Degree(), 1e-12, false);
-  bspline->InsertKnot(b, bspline->Degree(), 1e-12, false);
-  bspline->Segment(a, b);
-  if (!location.IsIdentity()) bspline->Transform(location.Transformation());
-  nurbs::Patch patch = patch_from_occt(bspline);
-  // Exact conversion (conics keep their geometry, not their parameter): the ends match the edge's
-  // ends and samples lie on the original curve.
-  const Handle(Geom_Curve) located =
-      Handle(Geom_Curve)::DownCast(curve->Transformed(location.Transformation()));
-  const auto [lo, hi] = patch.control_bounds();
-  const double tolerance = 1e-9 * (hi - lo).norm() + 1e-15;
-  auto gap = [](const Eigen::Vector3d& x, const gp_Pnt& p) {
-    return (x - Eigen::Vector3d(p.X(), p.Y(), p.Z())).norm();
-  };
-  if (gap(patch.point({patch.param_min(0), 0, 0}), located->Value(first)) > tolerance ||
-      gap(patch.point({patch.param_max(0), 0, 0}), located->Value(last)) > tolerance)
-    throw std::runtime_error("the B-spline conversion of an edge does not keep its ends");
-  for (int n = 1; n < 8; ++n) {
-    const Eigen::Vector3d x = patch.point(
-        {patch.param_min(0) + (patch.param_max(0) - patch.param_min(0)) * n / 8.0, 0, 0});
-    GeomAPI_ProjectPointOnCurve projection(gp_Pnt(x.x(), x.y(), x.z()), located);
-    if (projection.NbPoints() == 0 || projection.LowerDistance() > tolerance)
-      throw std::runtime_error("the B-spline conversion of an edge leaves the edge's curve");
-  }
+  nurbs::Patch patch =
+      curve_patch(location.IsIdentity()
+                      ? curve
+                      : Handle(Geom_Curve)::DownCast(curve->Transformed(location.Transformation())),
+                  first, last);
   if (edge.Orientation() == TopAbs_REVERSED) patch = reverse_direction(patch, 0);
   return patch;
 }
@@ -79,7 +85,9 @@ double surface_deviation(const nurbs::Patch& patch, const TopoDS_Face& face) {
   double deviation = 0.0;
   for (int a = 1; a < 9; ++a)
     for (int b = 1; b < 9; ++b) {
-      const Eigen::Vector3d x = patch.point({a / 9.0, b / 9.0, 0});
+      const Eigen::Vector3d x = patch.point(
+          {patch.param_min(0) + (patch.param_max(0) - patch.param_min(0)) * a / 9.0,
+           patch.param_min(1) + (patch.param_max(1) - patch.param_min(1)) * b / 9.0, 0});
       GeomAPI_ProjectPointOnSurf projection(gp_Pnt(x.x(), x.y(), x.z()), surface);
       if (projection.NbPoints() == 0)
         throw std::runtime_error("a point of the Coons patch cannot be projected onto the surface");

@@ -1,11 +1,16 @@
 #pragma once
 // Trimmed CAD faces with four boundary edges as Coons patches of their edges.
+#include <Geom_Curve.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 
 #include "isospring/geometry/cad.hpp"
 
 namespace isospring::geometry::detail {
+
+/// A curve between two of its parameters as a clamped NURBS curve (exact B-spline conversion).
+/// Throws std::runtime_error when the conversion does not reproduce it.
+nurbs::Patch curve_patch(const Handle(Geom_Curve) & curve, double first, double last);
 
 /// The edge's 3D curve as a clamped NURBS curve (exact B-spline conversion, location applied),
 /// from its first to its last parameter, reversed when the edge is REVERSED. Throws

@@ -39,6 +39,7 @@
 
 #include "cad_coons.hpp"
 #include "cad_hexahedron.hpp"
+#include "cad_revolution.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
@@ -285,8 +286,16 @@ CadModel read_cad(const std::filesystem::path& file) {
       const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
       return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
     };
-    if (detail::hexahedron_patch(solids(s), natural, patch, why))
+    std::vector<nurbs::Patch> quarters;
+    std::string revolution_why;
+    if (detail::hexahedron_patch(solids(s), natural, patch, why)) {
       model.volume_patches.push_back(patch);
+    } else if (detail::revolution_patches(solids(s), quarters, revolution_why)) {
+      model.volume_patches.insert(model.volume_patches.end(), quarters.begin(), quarters.end());
+      why.clear();
+    } else if (revolution_why.rfind("not ", 0) != 0) {
+      why = revolution_why;  // it is a solid of revolution: say what stopped it
+    }
     model.solid_notes.push_back(why);
   }
   return model;
@@ -313,10 +322,11 @@ std::string describe(const CadModel& model) {
       << "  bounding box [" << model.bbox_min.transpose() << "] .. [" << model.bbox_max.transpose()
       << "] m\n"
       << "  volume " << model.volume << " m^3, area " << model.area << " m^2\n"
-      << "  hexahedral solids (one volume patch each): " << model.volume_patches.size() << "\n";
+      << "  volume patches (hexahedral solids, quarters of solids of revolution): "
+      << model.volume_patches.size() << "\n";
   for (size_t s = 0; s < model.solid_notes.size(); ++s)
     out << "  solid " << s << ": "
-        << (model.solid_notes[s].empty() ? "one volume patch" : model.solid_notes[s]) << "\n";
+        << (model.solid_notes[s].empty() ? "volume patch(es)" : model.solid_notes[s]) << "\n";
   for (const auto& f : model.face_reports)
     out << "  face " << f.index << ": " << f.surface_type << ", " << f.wires << " wire(s), "
         << f.edges << " edges, area " << f.area << " m^2, " << usability(f) << "\n";
@@ -329,7 +339,8 @@ std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
   if (!(thickness >= 0.0 && std::isfinite(thickness)))
     throw InputError(name + ": thickness must be a non-negative number");
   if (faces.empty() && thickness == 0.0 && model.solids > 0 &&
-      static_cast<int>(model.volume_patches.size()) == model.solids)
+      std::all_of(model.solid_notes.begin(), model.solid_notes.end(),
+                  [](const std::string& note) { return note.empty(); }))
     return model.volume_patches;
   std::vector<int> chosen = faces;
   if (chosen.empty())

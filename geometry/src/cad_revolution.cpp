@@ -1,0 +1,232 @@
+// Solids of revolution (four-sided profile, full turn) -> four exact quarter volume patches.
+#include "cad_revolution.hpp"
+
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepGProp.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <Eigen/Geometry>
+#include <GProp_GProps.hxx>
+#include <Geom_Surface.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "cad_coons.hpp"
+#include "isospring/geometry/construction.hpp"
+#include "isospring/geometry/coons.hpp"
+#include "isospring/geometry/measure.hpp"
+
+namespace isospring::geometry::detail {
+
+namespace {
+
+// Axis of a surface of revolution (false for other surfaces).
+bool revolution_axis(const BRepAdaptor_Surface& s, gp_Ax1& axis) {
+  switch (s.GetType()) {
+    case GeomAbs_Cylinder:
+      axis = s.Cylinder().Axis();
+      return true;
+    case GeomAbs_Cone:
+      axis = s.Cone().Axis();
+      return true;
+    case GeomAbs_Sphere:
+      axis = s.Sphere().Position().Axis();
+      return true;
+    case GeomAbs_Torus:
+      axis = s.Torus().Axis();
+      return true;
+    case GeomAbs_SurfaceOfRevolution:
+      axis = s.AxeOfRevolution();
+      return true;
+    default:
+      return false;
+  }
+}
+
+double wrap(double angle) {  // into (-pi, pi]
+  return std::remainder(angle, 2.0 * M_PI);
+}
+
+}  // namespace
+
+bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& patches,
+                        std::string& why) {
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(solid, TopAbs_FACE, faces);
+  // The common axis, from the first curved face.
+  gp_Ax1 axis;
+  bool found = false;
+  for (int f = 1; f <= faces.Extent() && !found; ++f)
+    found = revolution_axis(BRepAdaptor_Surface(TopoDS::Face(faces(f))), axis);
+  if (!found) {
+    why = "not a solid of revolution (no face of revolution)";
+    return false;
+  }
+  const Eigen::Vector3d O(axis.Location().X(), axis.Location().Y(), axis.Location().Z());
+  const Eigen::Vector3d ez(axis.Direction().X(), axis.Direction().Y(), axis.Direction().Z());
+  const gp_Dir x_dir = gp_Ax2(axis.Location(), axis.Direction()).XDirection();
+  const Eigen::Vector3d ex(x_dir.X(), x_dir.Y(), x_dir.Z()), ey = ez.cross(ex);
+  const double tolerance = std::max(1e-9, BRep_Tool::MaxTolerance(solid, TopAbs_EDGE));
+  auto local = [&](const gp_Pnt& p) {
+    const Eigen::Vector3d d = Eigen::Vector3d(p.X(), p.Y(), p.Z()) - O;
+    return Eigen::Vector3d(ex.dot(d), ey.dot(d), ez.dot(d));
+  };
+  if (faces.Extent() != 4) {
+    why = "not a solid of revolution with a 4-sided profile (" + std::to_string(faces.Extent()) +
+          " faces)";
+    return false;
+  }
+  // The meridian of each face in the half-plane at angle 0 (local x >= 0, y = 0), in local
+  // coordinates (axis = z).
+  std::vector<nurbs::Patch> meridians;
+  try {
+    for (int f = 1; f <= 4; ++f) {
+      const TopoDS_Face face = TopoDS::Face(faces(f));
+      const BRepAdaptor_Surface s(face);
+      gp_Ax1 face_axis;
+      double u0, u1, v0, v1;
+      BRepTools::UVBounds(face, u0, u1, v0, v1);
+      if (revolution_axis(s, face_axis)) {
+        const gp_Lin line(axis);
+        if (!face_axis.Direction().IsParallel(axis.Direction(), 1e-9) ||
+            line.Distance(face_axis.Location()) > tolerance) {
+          why = "not a solid of revolution (faces turn about different axes)";
+          return false;
+        }
+        if (std::abs(u1 - u0 - 2.0 * M_PI) > 1e-9) {
+          why = "not a full solid of revolution (a face turns by less than 2 pi)";
+          return false;
+        }
+        // The surface's u is the angle about the axis (either sense); find u at angle 0.
+        const double vm = 0.5 * (v0 + v1);
+        auto angle = [&](double u) {
+          const Eigen::Vector3d x = local(s.Value(u, vm));
+          return std::atan2(x.y(), x.x());
+        };
+        const double sense = wrap(angle(u0 + 0.1) - angle(u0)) > 0 ? 1.0 : -1.0;
+        double u = u0 + std::fmod(sense * -angle(u0) + 4.0 * M_PI, 2.0 * M_PI);
+        const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+        nurbs::Patch m = curve_patch(surface->UIso(u), v0, v1);
+        std::vector<Eigen::Vector3d> points;
+        for (const auto& x : m.control_points())
+          points.push_back(local(gp_Pnt(x.x(), x.y(), x.z())));
+        meridians.push_back(nurbs::Patch(m.all_knots(), points, m.weights()));
+      } else if (s.GetType() == GeomAbs_Plane &&
+                 s.Plane().Axis().Direction().IsParallel(axis.Direction(), 1e-9)) {
+        // A cap across the axis: between its smallest and largest circle, a radial segment.
+        TopTools_IndexedMapOfShape edges;
+        TopExp::MapShapes(face, TopAbs_EDGE, edges);
+        double r_min = INFINITY, r_max = 0.0, z = 0.0;
+        for (int e = 1; e <= edges.Extent(); ++e) {
+          const nurbs::Patch c = edge_curve(TopoDS::Edge(edges(e)));
+          const Eigen::Vector3d p = c.point({c.param_min(0), 0, 0});
+          const Eigen::Vector3d l = local(gp_Pnt(p.x(), p.y(), p.z()));
+          z = l.z();  // the cap is across the axis: every point has the same height
+          const double r = std::hypot(l.x(), l.y());
+          r_min = std::min(r_min, r);
+          r_max = std::max(r_max, r);
+        }
+        if (r_min <= tolerance) {
+          why = "a solid of revolution touching its axis (disc cap): not one hexahedral sweep";
+          return false;
+        }
+        meridians.push_back(
+            nurbs::Patch({nurbs::KnotVector(1, {0, 0, 1, 1})}, {{r_min, 0, z}, {r_max, 0, z}}));
+      } else {
+        why = "not a solid of revolution (a face is neither of revolution nor a cap)";
+        return false;
+      }
+    }
+  } catch (const Standard_Failure& e) {
+    why = std::string("solid of revolution, but OpenCascade failed: ") + e.GetMessageString();
+    return false;
+  } catch (const std::exception& e) {
+    why = std::string("solid of revolution, but ") + e.what();
+    return false;
+  }
+  // Chain the meridians into a loop.
+  auto start = [](const nurbs::Patch& c) { return c.point({c.param_min(0), 0, 0}); };
+  auto end = [](const nurbs::Patch& c) { return c.point({c.param_max(0), 0, 0}); };
+  std::vector<nurbs::Patch> loop{meridians[0]};
+  std::vector<bool> used(4, false);
+  used[0] = true;
+  for (int n = 1; n < 4; ++n) {
+    bool linked = false;
+    for (size_t k = 0; k < 4 && !linked; ++k) {
+      if (used[k]) continue;
+      if ((start(meridians[k]) - end(loop.back())).norm() <= 2 * tolerance) {
+        loop.push_back(meridians[k]);
+        linked = used[k] = true;
+      } else if ((end(meridians[k]) - end(loop.back())).norm() <= 2 * tolerance) {
+        loop.push_back(reverse_direction(meridians[k], 0));
+        linked = used[k] = true;
+      }
+    }
+    if (!linked) {
+      why = "solid of revolution, but its face meridians do not form one closed profile";
+      return false;
+    }
+  }
+  nurbs::Patch profile;
+  try {
+    profile = coons_patch(loop[0], loop[1], reverse_direction(loop[2], 0),
+                          reverse_direction(loop[3], 0), 2 * tolerance);
+  } catch (const std::invalid_argument& e) {
+    why = std::string("solid of revolution, but its profile: ") + e.what();
+    return false;
+  }
+  nurbs::Patch volume = revolve_about_z(profile, 2.0 * M_PI);
+  const JacobianRange range = jacobian_range(volume);
+  if (range.min < 0.0 && range.max < 0.0) volume = reverse_direction(volume, 1);
+  if (!(jacobian_range(volume).min > 0.0)) {
+    why = "solid of revolution, but the Coons patch of its profile folds";
+    return false;
+  }
+  Eigen::Matrix3d A;
+  A.col(0) = ex;
+  A.col(1) = ey;
+  A.col(2) = ez;
+  volume = transformed(volume, A, O);
+  // Four quarters at the double knots of the full-turn arc (conforming, exact).
+  const auto [half0, half1] = split_patch(volume, 0, 0.5);
+  const auto [q0, q1] = split_patch(half0, 0, 0.25);
+  const auto [q2, q3] = split_patch(half1, 0, 0.75);
+  std::vector<nurbs::Patch> quarters{q0, q1, q2, q3};
+  // Every boundary side (profile side swept) must lie on a CAD face.
+  for (const nurbs::Patch& q : quarters)
+    for (int dir = 1; dir < 3; ++dir)
+      for (int side = 0; side < 2; ++side) {
+        const nurbs::Patch face = boundary_side(q, dir, side);
+        double best = INFINITY;
+        for (int f = 1; f <= 4; ++f)
+          best = std::min(best, surface_deviation(face, TopoDS::Face(faces(f))));
+        if (!(best <= tolerance)) {
+          std::ostringstream msg;
+          msg << "solid of revolution, but a swept profile side is " << best
+              << " m off the CAD faces";
+          why = msg.str();
+          return false;
+        }
+      }
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(solid, props, 1e-9);
+  const double v = measure(quarters);
+  if (std::abs(v - props.Mass()) > 1e-6 * std::abs(props.Mass())) {
+    std::ostringstream msg;
+    msg << "solid of revolution, but the revolved volume " << v << " m^3 differs from the solid's "
+        << props.Mass() << " m^3";
+    why = msg.str();
+    return false;
+  }
+  patches = quarters;
+  return true;
+}
+
+}  // namespace isospring::geometry::detail

@@ -1,0 +1,119 @@
+// Solids of full revolution with a four-sided profile as four exact quarter volume patches:
+// volumes against closed forms (Pappus), conforming quarters, boundary on the CAD surfaces.
+#include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepGProp.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
+#include <GProp_GProps.hxx>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <gp_Ax1.hxx>
+
+#include "cad_test_io.hpp"
+#include "cad_test_parts.hpp"
+#include "isospring/geometry/cad.hpp"
+#include "isospring/geometry/construction.hpp"
+#include "isospring/geometry/measure.hpp"
+
+namespace isospring::geometry {
+namespace {
+
+// The four quarters join exactly: the end face of each is the start face of the next.
+void expect_conforming_quarters(const std::vector<nurbs::Patch>& q) {
+  ASSERT_EQ(q.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    const nurbs::Patch a = boundary_side(q[i], 0, 1), b = boundary_side(q[(i + 1) % 4], 0, 0);
+    ASSERT_EQ(a.num_points(), b.num_points());
+    for (int k = 0; k < a.num_points(); ++k) {
+      EXPECT_LT((a.control_point(k) - b.control_point(k)).norm(), 1e-15);
+      EXPECT_NEAR(a.weight(k), b.weight(k), 1e-15);
+    }
+    EXPECT_GT(jacobian_range(q[i]).min, 0.0);
+  }
+}
+
+TEST(CadRevolution, TubeIsFourExactQuarters) {
+  // examples/cad/tube.step: radii 15 and 20 mm, 100 mm long; two cylinders and two annular caps.
+  const CadModel model =
+      test::step_round_trip(test::cad_test_parts()["tube.step"].shape, "tube.step");
+  ASSERT_EQ(model.volume_patches.size(), 4u) << describe(model);
+  EXPECT_TRUE(model.solid_notes[0].empty());
+  expect_conforming_quarters(model.volume_patches);
+  const double exact = M_PI * (0.02 * 0.02 - 0.015 * 0.015) * 0.1;
+  EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-12);
+  // Each quarter's four swept sides are on the inner cylinder, the outer one, z = 0 and z = 0.1
+  // (one each), exactly.
+  for (const nurbs::Patch& q : model.volume_patches) {
+    std::array<int, 4> seen{};
+    for (int dir = 1; dir < 3; ++dir)
+      for (int side = 0; side < 2; ++side) {
+        const nurbs::Patch face = boundary_side(q, dir, side);
+        std::array<double, 4> off{};  // largest |r - 0.015|, |r - 0.02|, |z|, |z - 0.1|
+        for (int n = 0; n <= 6; ++n)
+          for (int m = 0; m <= 6; ++m) {
+            const Eigen::Vector3d x = face.point(
+                {face.param_min(0) + (face.param_max(0) - face.param_min(0)) * n / 6,
+                 face.param_min(1) + (face.param_max(1) - face.param_min(1)) * m / 6, 0});
+            const double r = std::hypot(x.x(), x.y());
+            off = {std::max(off[0], std::abs(r - 0.015)), std::max(off[1], std::abs(r - 0.02)),
+                   std::max(off[2], std::abs(x.z())), std::max(off[3], std::abs(x.z() - 0.1))};
+          }
+        const auto best = std::min_element(off.begin(), off.end());
+        EXPECT_LT(*best, 1e-15);
+        ++seen[static_cast<size_t>(best - off.begin())];
+      }
+    EXPECT_EQ(seen, (std::array<int, 4>{1, 1, 1, 1}));
+  }
+  EXPECT_EQ(cad_patches(model).size(), 4u);
+}
+
+TEST(CadRevolution, RevolvedTrapezoidAboutATiltedAxis) {
+  // A trapezoid (inner side parallel to the axis, outer side slanted: a cone) revolved a full
+  // turn about an axis through (0.01, 0.02, 0) along (1, 1, 2): a cylinder, a cone and two caps.
+  const gp_Ax1 axis(gp_Pnt(0.01, 0.02, 0.0), gp_Dir(1, 1, 2));
+  const gp_Dir ez = axis.Direction();
+  const gp_Dir ex = gp_Ax2(axis.Location(), ez).XDirection();
+  // Profile corners (radius, height) in the half-plane through ex.
+  const double corners[4][2] = {{0.02, 0.0}, {0.04, 0.0}, {0.035, 0.03}, {0.02, 0.03}};
+  BRepBuilderAPI_MakePolygon polygon;
+  for (const auto& c : corners)
+    polygon.Add(axis.Location().Translated(c[0] * gp_Vec(ex) + c[1] * gp_Vec(ez)));
+  polygon.Close();
+  const TopoDS_Shape part =
+      BRepPrimAPI_MakeRevol(BRepBuilderAPI_MakeFace(polygon.Wire()).Face(), axis, 2 * M_PI).Shape();
+  // Pappus: 2 pi x (centroid radius) x (area) of the trapezoid; for a polygon with vertices
+  // (r_i, z_i): A = sum (r_i z_{i+1} - r_{i+1} z_i) / 2, A r_c = sum (r_i + r_{i+1}) (...) / 6.
+  double area = 0.0, moment = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const double* a = corners[i];
+    const double* b = corners[(i + 1) % 4];
+    const double cross = a[0] * b[1] - b[0] * a[1];
+    area += cross / 2;
+    moment += (a[0] + b[0]) * cross / 6;
+  }
+  const double exact = 2 * M_PI * std::abs(moment);
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(part, props, 1e-9);
+  ASSERT_NEAR(props.Mass() / exact, 1.0, 1e-9);
+  const CadModel model = test::step_round_trip(part, "revolved_trapezoid.step");
+  ASSERT_EQ(model.volume_patches.size(), 4u) << describe(model);
+  expect_conforming_quarters(model.volume_patches);
+  // STEP carries 12 significant digits (the tilted axis is not exact in the file).
+  EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-10);
+}
+
+TEST(CadRevolution, OtherSolidsAreReported) {
+  // The solid torus is one face (a disc profile): not a sweep of a 4-sided profile.
+  const CadModel torus =
+      test::step_round_trip(test::cad_test_parts()["torus.step"].shape, "torus_solid.step");
+  EXPECT_TRUE(torus.volume_patches.empty());
+  ASSERT_EQ(torus.solid_notes.size(), 1u);
+  EXPECT_FALSE(torus.solid_notes[0].empty());
+  EXPECT_NE(describe(torus).find("solid 0: not"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace isospring::geometry
