@@ -58,7 +58,7 @@ StudyQuantity parse_study_quantity(const std::string& quantity, const std::strin
     q.kind = StudyQuantity::Kind::kDisplacement;
   } else {
     throw InputError("--quantity '" + quantity +
-                     "': use max_displacement, strain_energy or displacement");
+                     "': use strain_energy, max_displacement or displacement");
   }
   if (q.kind != StudyQuantity::Kind::kDisplacement) {
     if (!point.empty() || !component.empty())

@@ -1,7 +1,9 @@
 #pragma once
-// The scalar a refinement study follows at every level (`study --quantity`): the maximum control
-// displacement, the strain energy, or one displacement component at a parametric point. It is
-// what Richardson extrapolation works on when the case has no analytic solution.
+// The scalar a refinement study follows at every level (`study --quantity`): the strain energy
+// (the default: a global functional converging monotonically at O(h^2p) for loads with fixed
+// supports), the maximum control displacement (control points are not on the displacement
+// field, so O(h^2) whatever the degree), or one displacement component at a parametric point.
+// It is what Richardson extrapolation works on when the case has no analytic solution.
 #include <optional>
 #include <string>
 
@@ -12,7 +14,7 @@
 namespace isospring::apps {
 
 struct StudyQuantity {
-  enum class Kind { kMaxDisplacement, kStrainEnergy, kDisplacement } kind = Kind::kMaxDisplacement;
+  enum class Kind { kMaxDisplacement, kStrainEnergy, kDisplacement } kind = Kind::kStrainEnergy;
   int patch = 0;
   nurbs::Param param{0, 0, 0};
   int component = -1;  // 0..2 = x..z, -1 = magnitude (kDisplacement)
@@ -24,7 +26,7 @@ struct StudyQuantity {
   std::optional<double> exact(const io::Case& c) const;
 };
 
-/// From `--quantity NAME` (max_displacement, strain_energy, displacement), `--point
+/// From `--quantity NAME` (strain_energy, max_displacement, displacement), `--point
 /// PATCH:U,V[,W]` and `--component x|y|z|magnitude`; throws nurbs::InputError naming the option.
 StudyQuantity parse_study_quantity(const std::string& quantity, const std::string& point,
                                    const std::string& component, const io::Case& c);
