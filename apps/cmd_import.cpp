@@ -31,7 +31,9 @@ void setup_import(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--report", options->report, "Print the per-face report");
   cmd->footer(
-      "A solid made of six planar quadrilaterals becomes one trilinear volume patch; otherwise "
+      "A solid of hexahedral topology becomes one volume patch (transfinite interpolation of its "
+      "faces, or the extrusion of a face for prisms), a full solid of revolution with a 4-sided "
+      "profile four exact quarter volumes; otherwise "
       "each untrimmed face becomes a surface patch, and a trimmed face with four edges the Coons "
       "patch of its edges when that lies on the face's surface. Other trimmed faces (holes, "
       "non-quadrilateral outlines) are reported with what to do.");

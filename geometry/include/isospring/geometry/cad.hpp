@@ -11,9 +11,13 @@
 // 4-sided faces whose interior is not the blend of their edges) are reported with what to do. A
 // solid of hexahedral topology (six 4-sided faces, each the Coons patch of its edges) becomes one
 // volume patch by trivariate transfinite interpolation (coons_volume; exact trilinear for planar
-// blocks); planar faces can be extruded along their normal into volumes.
-// Not handled (reported): hexahedral solids whose faces are not the blend of their edges,
-// prism/revolution recognition of other solids.
+// blocks); a hexahedral prism whose base is a natural face (e.g. a bumped spline face) becomes the
+// exact extrusion of that face; a full solid of revolution with a 4-sided profile (a tube, a
+// revolved trapezoid) becomes four exact rational 90-degree volume patches. Planar faces can also
+// be extruded along their normal into volumes.
+// Not handled (reported per solid): other solids (holes, L-sections, solids touching their axis
+// of revolution, partial revolutions that are not hexahedral), curved 4-sided faces whose
+// interior is not the blend of their edges.
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
@@ -45,7 +49,7 @@ struct CadModel {
   std::vector<CadFace> face_reports;
   std::vector<nurbs::Patch> face_patches;  // one per usable face (natural or Coons), in face order
   std::vector<int> patch_face;             // face index of each face patch
-  std::vector<nurbs::Patch> volume_patches;  // hexahedral solids (transfinite volumes)
+  std::vector<nurbs::Patch> volume_patches;  // solids as volumes (1 per block, 4 per revolution)
   std::vector<std::string> solid_notes;      // per solid: empty if a volume patch, else why not
 };
 
@@ -56,10 +60,11 @@ CadModel read_cad(const std::filesystem::path& file);
 /// Human-readable report: unit, counts, bounding box, volume/area and one line per face.
 std::string describe(const CadModel& model);
 
-/// The patches an analysis uses: the volume patches when every solid is a hexahedral block,
-/// otherwise the face patches; `thickness` > 0 extrudes planar faces along their normal (inwards
-/// for a solid's faces is not assumed: along +normal). Throws InputError (naming the file, the
-/// face and what to do) when a requested face cannot be used.
+/// The patches an analysis uses: the volume patches when every solid became volume patches
+/// (hexahedral, prism or revolution; solid_notes all empty), otherwise the face patches;
+/// `thickness` > 0 extrudes planar faces along their normal (inwards for a solid's faces is not
+/// assumed: along +normal). Throws InputError (naming the file, the face and what to do) when a
+/// requested face cannot be used.
 std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness = 0.0,
                                       const std::vector<int>& faces = {});
 
