@@ -151,8 +151,8 @@ TEST(CadCoons, PlanarQuadrilateralCutFromALargerPlane) {
   // (relative) off the ones above; the bilinear patch itself is integrated exactly by Gauss.
   EXPECT_NEAR(measure(patch) / exact, 1.0, 1e-10);
   EXPECT_NEAR(measure(patch) / report.area, 1.0, 1e-9);  // BRepGProp at eps 1e-9
-  EXPECT_LT(boundary_error(model, face), 1e-12);
-  EXPECT_LT(report.coons_deviation, 1e-12);  // m; the plane's axes carry 12 digits too
+  EXPECT_LT(boundary_error(model, face), 1e-11);         // measured 3.7e-13 m: 12-digit coordinates
+  EXPECT_LT(report.coons_deviation, 1e-12);              // m; the plane's axes carry 12 digits too
   // Orientation: dX/du x dX/dv along the face normal (forward face: the plane's normal).
   const nurbs::PatchDerivatives d = patch.derivatives({0.5, 0.5, 0});
   EXPECT_GT(d.first.col(0).cross(d.first.col(1)).normalized().dot(n), 1.0 - 1e-12);
