@@ -7,7 +7,12 @@
 //   P_ij = (1-g_j) B_i + g_j T_i + (1-g_i) L_j + g_i R_j - bilinear(g_i, g_j),
 // computed on homogeneous points (w x, w): the patch interpolates the four curves exactly,
 // rational or not, once the curves' end weights agree at the corners (each curve may be scaled by
-// a constant, which leaves it unchanged).
+// a constant, which leaves it unchanged). For polynomial curves this is the classical (Euclidean)
+// Coons patch. For rational curves it is the blend of the homogeneous curves: it interpolates the
+// same boundary exactly but its interior differs from the Euclidean blend (whose denominator is a
+// product of the curves' weight functions) unless the weights are compatible, e.g. rational
+// curves in one direction with equal weights opposite straight lines (a cylinder between two
+// arcs). The CAD import therefore accepts a Coons face only where it lies on the CAD surface.
 #include <array>
 #include <vector>
 
