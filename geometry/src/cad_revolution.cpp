@@ -198,7 +198,14 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
   const auto [half0, half1] = split_patch(volume, 0, 0.5);
   const auto [q0, q1] = split_patch(half0, 0, 0.25);
   const auto [q2, q3] = split_patch(half1, 0, 0.75);
-  std::vector<nurbs::Patch> quarters{q0, q1, q2, q3};
+  std::vector<nurbs::Patch> quarters;
+  for (const nurbs::Patch& q : {q0, q1, q2, q3}) {  // each over [0, 1] like the primitives
+    std::vector<nurbs::KnotVector> knots = q.all_knots();
+    std::vector<double> t = knots[0].values();
+    for (double& k : t) k = (k - q.param_min(0)) / (q.param_max(0) - q.param_min(0));
+    knots[0] = nurbs::KnotVector(knots[0].degree(), t);
+    quarters.emplace_back(knots, q.control_points(), q.weights());
+  }
   // Every boundary side (profile side swept) must lie on a CAD face.
   for (const nurbs::Patch& q : quarters)
     for (int dir = 1; dir < 3; ++dir)

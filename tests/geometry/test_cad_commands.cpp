@@ -1,6 +1,7 @@
-// End to end: `isospring import` and `isospring export-step` on the committed block part.
+// End to end: `isospring import` and `isospring export-step` on the committed block and tube.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -43,6 +44,12 @@ TEST(CadCommands, ImportThenExportStep) {
   EXPECT_EQ(iges.face_patches.size(), 6u);
   EXPECT_NEAR(measure(iges.face_patches) / 0.0088, 1.0, 1e-12);
   EXPECT_NEAR(iges.bbox_max.x(), 0.1, 1e-6);  // OCCT pads the box by the 1e-7 tolerance
+  // The tube (a solid of revolution) imports as four exact quarter volumes.
+  const fs::path tube = fs::path(ISOSPRING_SOURCE_DIR) / "examples" / "cad" / "tube.step";
+  ASSERT_EQ(run("import " + tube.string() + " -o " + (dir / "tube.json").string()), 0);
+  const auto quarters = io::read_patch_file(dir / "tube.json");
+  ASSERT_EQ(quarters.size(), 4u);
+  EXPECT_NEAR(measure(quarters) / (M_PI * (0.02 * 0.02 - 0.015 * 0.015) * 0.1), 1.0, 1e-12);
   // Bad input: exit status 1 (InputError), the input untouched.
   std::ofstream(dir / "bad.step") << "not a step file\n";
   EXPECT_EQ(run("import " + (dir / "bad.step").string() + " -o " + (dir / "bad.json").string()), 1);
