@@ -30,6 +30,8 @@ void calibrate_cube(benchmark::State& state, bool per_spring) {
     fit_seconds = result.fit_seconds;
     state.counters["parameters"] = result.parameters;
     state.counters["e_rms"] = result.fit[0].control.percent_e_rms;
+    state.counters["lm_iterations"] = result.fit_result.iterations;
+    state.counters["last_fit_cpu_s"] = result.fit_result.cpu_seconds;
   }
   state.counters["fit_seconds"] = fit_seconds;
 }

@@ -196,6 +196,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     double sum = 0.0;
     for (double e : fit.percent_e_rms) sum += e * e;
     entry.percent_e_rms = std::sqrt(sum / fit.percent_e_rms.size());
+    for (double e : fit.percent_e_max) entry.percent_e_max = std::max(entry.percent_e_max, e);
     result.sweep.push_back(entry);
     if (entry.percent_e_rms < best_score) {
       best_score = entry.percent_e_rms;

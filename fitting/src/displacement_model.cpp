@@ -1,0 +1,261 @@
+// Prepared displacement objective: pattern, scatter map and symbolic factorisation built once.
+#include "displacement_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::fitting::detail {
+
+namespace {
+
+void check_data(const DisplacementFitData& data, const Grouping& grouping) {
+  const int dim = data.network.dimension;
+  const auto particle_dofs = static_cast<Eigen::Index>(data.network.positions.size()) * dim;
+  const auto nodes = static_cast<Eigen::Index>(data.particle_of_node.size());
+  if (data.loads.empty() || data.loads.size() != data.references.size())
+    throw nurbs::InputError("calibration: give at least one load case with a reference");
+  if (grouping.group_of_spring.size() != data.network.springs.size() || grouping.num_groups() == 0)
+    throw nurbs::InputError("calibration: the stiffness grouping does not cover every spring");
+  for (int g : grouping.group_of_spring)
+    if (g < 0 || g >= grouping.num_groups())
+      throw nurbs::InputError("calibration: a spring's stiffness group is out of range");
+  for (size_t c = 0; c < data.loads.size(); ++c) {
+    if (data.loads[c].size() != particle_dofs || data.references[c].size() != nodes * dim)
+      throw nurbs::InputError("calibration: load case " + std::to_string(c) +
+                              " has loads or reference displacements of the wrong size");
+    if (!(data.references[c].cwiseAbs().maxCoeff() > 0.0) || !data.references[c].allFinite())
+      throw nurbs::InputError("calibration: load case " + std::to_string(c) +
+                              " has a zero or non-finite reference displacement; every fitted "
+                              "load case must load the part");
+  }
+}
+
+}  // namespace
+
+DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grouping& grouping)
+    : group_of_spring_(grouping.group_of_spring),
+      dim_(data.network.dimension),
+      groups_(grouping.num_groups()),
+      rows_per_case_(static_cast<int>(data.particle_of_node.size()) * data.network.dimension),
+      dofs_(static_cast<int>(data.network.positions.size()) * data.network.dimension,
+            analysis::constrained_dofs(data.network, data.constrained_dofs)) {
+  check_data(data, grouping);
+  const auto& net = data.network;
+  const int nodes = static_cast<int>(data.particle_of_node.size());
+  for (int a = 0; a < nodes; ++a)
+    for (int d = 0; d < dim_; ++d)
+      row_free_.push_back(dofs_.free_index(data.particle_of_node[a] * dim_ + d));
+  for (size_t c = 0; c < data.loads.size(); ++c) {
+    double o_max = 0.0;
+    for (int a = 0; a < nodes; ++a)
+      o_max = std::max(o_max, data.references[c].segment(a * dim_, dim_).norm());
+    scale_.push_back(1.0 / (o_max * std::sqrt(static_cast<double>(nodes))));
+    load_.push_back(dofs_.restrict(data.loads[c]));
+  }
+  scaled_reference_.resize(num_residuals());
+  for (size_t c = 0; c < data.loads.size(); ++c)
+    scaled_reference_.segment(static_cast<Eigen::Index>(c) * rows_per_case_, rows_per_case_) =
+        scale_[c] * data.references[c];
+
+  // Per spring: direction, free indices, and the upper-triangle entries it touches.
+  std::vector<Eigen::Triplet<double>> pattern;
+  std::vector<std::pair<int, int>> entry_position;
+  begin_.push_back(0);
+  for (const analysis::Spring& spring : net.springs) {
+    SpringData s;
+    Eigen::Vector3d l = net.positions[spring.i] - net.positions[spring.j];
+    if (dim_ == 2) l.z() = 0.0;
+    const double length = l.norm();
+    s.n = length > 0.0 ? Eigen::Vector3d(l / length) : Eigen::Vector3d::Zero();
+    for (int d = 0; d < 3; ++d) {
+      s.free_i[d] = d < dim_ ? dofs_.free_index(spring.i * dim_ + d) : -1;
+      s.free_j[d] = d < dim_ ? dofs_.free_index(spring.j * dim_ + d) : -1;
+    }
+    // Block +n n^T on (i,i), (j,j) and -n n^T on (i,j), (j,i); keep row <= column.
+    auto add = [&](int r, int c, double value) {
+      if (r < 0 || c < 0 || r > c) return;
+      pattern.emplace_back(r, c, 1.0);
+      entry_position.emplace_back(r, c);
+      coefficient_.push_back(value);
+    };
+    for (int a = 0; a < dim_; ++a)
+      for (int b = 0; b < dim_; ++b) {
+        const double nn = s.n[a] * s.n[b];
+        add(s.free_i[a], s.free_i[b], nn);
+        add(s.free_j[a], s.free_j[b], nn);
+        add(s.free_i[a], s.free_j[b], -nn);
+        add(s.free_j[a], s.free_i[b], -nn);
+      }
+    springs_.push_back(s);
+    begin_.push_back(static_cast<int>(coefficient_.size()));
+  }
+  const int n = dofs_.num_free();
+  k_.resize(n, n);
+  k_.setFromTriplets(pattern.begin(), pattern.end());
+  k_.makeCompressed();
+  // A spring stretched along an axis has n_a n_b = 0 entries: they stay in the pattern so that
+  // the pattern (and the symbolic factorisation) does not depend on the stiffness values.
+  for (const auto& [r, c] : entry_position) {
+    const int* first = k_.innerIndexPtr() + k_.outerIndexPtr()[c];
+    const int* last = k_.innerIndexPtr() + k_.outerIndexPtr()[c + 1];
+    slot_.push_back(static_cast<int>(std::lower_bound(first, last, r) - k_.innerIndexPtr()));
+  }
+  std::vector<int> springs_in_group(static_cast<size_t>(groups_), 0);
+  for (int g : group_of_spring_) ++springs_in_group[g];
+  one_spring_per_group_ =
+      std::all_of(springs_in_group.begin(), springs_in_group.end(), [](int n) { return n == 1; });
+  solver_.cholmod().print = 0;  // a non-positive-definite trial is reported by info(), not printed
+  solver_.analyzePattern(k_);
+}
+
+bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
+                                 Eigen::MatrixXd* jacobian) {
+  const int free = dofs_.num_free();
+  const auto cases = static_cast<int>(load_.size());
+  const Eigen::VectorXd k_group = theta.array().exp().matrix();
+  // exp overflows to inf beyond theta ~ 709 and underflows to 0 below ~ -745: both make K
+  // meaningless, so the trial fails (Ceres then shortens the step).
+  if (!k_group.allFinite() || !(k_group.minCoeff() > 0.0)) return false;
+
+  double* values = k_.valuePtr();
+  std::fill(values, values + k_.nonZeros(), 0.0);
+  for (size_t s = 0; s < springs_.size(); ++s) {
+    const double k = k_group[group_of_spring_[s]];
+    for (int e = begin_[s]; e < begin_[s + 1]; ++e) values[slot_[e]] += k * coefficient_[e];
+  }
+  factor_at_inverse_ = false;
+  solver_.factorize(k_);
+  if (solver_.info() != Eigen::Success) return false;
+
+  residuals.resize(static_cast<Eigen::Index>(cases) * rows_per_case_);
+  std::vector<Eigen::VectorXd> u(static_cast<size_t>(cases));
+  for (int c = 0; c < cases; ++c) {
+    u[c] = solver_.solve(load_[c]);
+    if (!u[c].allFinite()) return false;
+    const Eigen::Index offset = static_cast<Eigen::Index>(c) * rows_per_case_;
+    for (int row = 0; row < rows_per_case_; ++row) {
+      const int f = row_free_[row];
+      residuals[offset + row] =
+          scale_[c] * (f >= 0 ? u[c][f] : 0.0) - scaled_reference_[offset + row];
+    }
+  }
+  if (!jacobian) return true;
+
+  // dK/dtheta_g u = sum_{s in g} k_s g_s (g_s^T u): column g of the right-hand side B_c.
+  // du/dtheta = -K^-1 B_c. Few parameters: solve for B_c's columns. Many (per spring): the
+  // residual rows of K^-1 (K is symmetric, so its columns) times the sparse B_c, which costs one
+  // solve per free DOF instead of one per parameter.
+  jacobian->setZero(residuals.size(), groups_);
+  const bool use_inverse = groups_ * cases > free;
+  Eigen::MatrixXd& inverse = inverse_;
+  if (use_inverse)
+    inverse = solver_.solve(Eigen::MatrixXd::Identity(free, free));
+  else
+    inverse.resize(0, 0);  // gram() is only valid for the adjoint form
+  factor_at_inverse_ = use_inverse;
+  spring_force_.assign(static_cast<size_t>(cases), Eigen::VectorXd(springs_.size()));
+  // K^-1's residual rows (zero for held DOFs), gathered once: the adjoint columns are axpys.
+  Eigen::MatrixXd rows;
+  if (use_inverse) {
+    rows.setZero(rows_per_case_, free);
+    for (int f = 0; f < free; ++f)
+      for (int row = 0; row < rows_per_case_; ++row)
+        if (row_free_[row] >= 0) rows(row, f) = inverse(row_free_[row], f);
+  }
+  for (int c = 0; c < cases; ++c) {
+    const Eigen::Index offset = static_cast<Eigen::Index>(c) * rows_per_case_;
+    // The spring's stretch along its rest direction, times k, spread as +-n onto its free DOFs.
+    auto for_each_entry = [&](auto&& emit) {
+      for (size_t s = 0; s < springs_.size(); ++s) {
+        const SpringData& sp = springs_[s];
+        double stretch = 0.0;
+        for (int d = 0; d < dim_; ++d)
+          stretch += sp.n[d] * ((sp.free_i[d] >= 0 ? u[c][sp.free_i[d]] : 0.0) -
+                                (sp.free_j[d] >= 0 ? u[c][sp.free_j[d]] : 0.0));
+        const double factor = k_group[group_of_spring_[s]] * stretch;
+        spring_force_[c][static_cast<Eigen::Index>(s)] = factor;
+        const int g = group_of_spring_[s];
+        for (int d = 0; d < dim_; ++d) {
+          if (sp.free_i[d] >= 0) emit(sp.free_i[d], g, factor * sp.n[d]);
+          if (sp.free_j[d] >= 0) emit(sp.free_j[d], g, -factor * sp.n[d]);
+        }
+      }
+    };
+    if (use_inverse) {
+      // J(:, g) -= scale b K^-1(residual rows, f) for every entry (f, g, b) of B_c.
+      auto block = jacobian->middleRows(offset, rows_per_case_);
+      for_each_entry(
+          [&](int f, int g, double b) { block.col(g) -= (scale_[c] * b) * rows.col(f); });
+    } else {
+      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(free, groups_);
+      for_each_entry([&](int f, int g, double b) { rhs(f, g) += b; });
+      const Eigen::MatrixXd du = solver_.solve(rhs);
+      for (int row = 0; row < rows_per_case_; ++row)
+        if (row_free_[row] >= 0) jacobian->row(offset + row) = -scale_[c] * du.row(row_free_[row]);
+    }
+  }
+  return jacobian->allFinite();
+}
+
+bool DisplacementModel::gram(const Eigen::VectorXd& weight, Eigen::MatrixXd& result) {
+  const int free = dofs_.num_free();
+  const auto cases = static_cast<int>(spring_force_.size());
+  if (!one_spring_per_group_ || inverse_.rows() != free || cases == 0) return false;
+  // J_c = -s_c E K^-1 B_c (E: residual rows), so J_c W J_d^T = s_c s_d E K^-1 G_cd K^-1 E^T with
+  // G_cd = B_c W B_d^T = sum_s w_s (k_s stretch_s,c)(k_s stretch_s,d) g_s g_s^T: a spring matrix
+  // with K's pattern. Cost: one free^3 product instead of the dense rows^2 x springs one.
+  result.setZero(num_residuals(), num_residuals());
+  Eigen::SparseMatrix<double> g = k_;
+  for (int c = 0; c < cases; ++c)
+    for (int d = 0; d <= c; ++d) {
+      double* values = g.valuePtr();
+      std::fill(values, values + g.nonZeros(), 0.0);
+      for (size_t s = 0; s < springs_.size(); ++s) {
+        const auto i = static_cast<Eigen::Index>(s);
+        const double w = weight[group_of_spring_[s]] * spring_force_[c][i] * spring_force_[d][i];
+        for (int e = begin_[s]; e < begin_[s + 1]; ++e) values[slot_[e]] += w * coefficient_[e];
+      }
+      // Both triangles stored: a plain sparse x dense product is much faster than the
+      // selfadjoint-view one.
+      const Eigen::SparseMatrix<double> full = g.selfadjointView<Eigen::Upper>();
+      const Eigen::MatrixXd g_inverse = full * inverse_;
+      // K^-1 (G K^-1): through the factorisation when it is still the one of inverse_ (CHOLMOD's
+      // supernodal multi-right-hand-side solve, BLAS 3), else a dense product.
+      const Eigen::MatrixXd m = factor_at_inverse_ ? Eigen::MatrixXd(solver_.solve(g_inverse))
+                                                   : Eigen::MatrixXd(inverse_ * g_inverse);
+      const double scale = scale_[c] * scale_[d];
+      // Column-major: b outer, a inner; case block (c, d), mirrored onto (d, c).
+      for (int b = 0; b < rows_per_case_; ++b) {
+        if (row_free_[b] < 0) continue;
+        for (int a = 0; a < rows_per_case_; ++a)
+          if (row_free_[a] >= 0)
+            result(c * rows_per_case_ + a, d * rows_per_case_ + b) =
+                scale * m(row_free_[a], row_free_[b]);
+      }
+      if (c != d)
+        result.block(d * rows_per_case_, c * rows_per_case_, rows_per_case_, rows_per_case_) =
+            result.block(c * rows_per_case_, d * rows_per_case_, rows_per_case_, rows_per_case_)
+                .transpose();
+    }
+  return true;
+}
+
+std::vector<double> DisplacementModel::percent_e_max(const Eigen::VectorXd& residuals) const {
+  // r = (u - u_ref) / (o_max sqrt(n)), so 100 |r_a| sqrt(n) = 100 |u_a - u_ref,a| / o_max.
+  const int nodes = rows_per_case_ / dim_;
+  std::vector<double> result;
+  for (size_t c = 0; c < scale_.size(); ++c) {
+    double worst = 0.0;
+    for (int a = 0; a < nodes; ++a)
+      worst = std::max(
+          worst,
+          residuals.segment(static_cast<Eigen::Index>(c) * rows_per_case_ + a * dim_, dim_).norm());
+    result.push_back(100.0 * worst * std::sqrt(static_cast<double>(nodes)));
+  }
+  return result;
+}
+
+}  // namespace isospring::fitting::detail
