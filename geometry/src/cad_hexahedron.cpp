@@ -273,6 +273,9 @@ bool hexahedron_patch(const TopoDS_Shape& solid,
     why = std::string("hexahedral, but ") + e.what();
     return false;
   }
+  // The corner numbering judged handedness by straight corner-to-corner vectors; a strongly
+  // curved block may still come out left-handed everywhere: mirror the first direction then.
+  if (jacobian_range(patch).max < 0.0) patch = reverse_direction(patch, 0);
   if (!(jacobian_range(patch).min > 0.0)) {
     why = "hexahedral, but the transfinite volume folds (Jacobian not positive)";
     return false;
