@@ -3,6 +3,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -94,9 +95,17 @@ int step_backward_euler(const SpringNetwork& network, SpringState& state,
                         dt * (spring_forces(network, x) + damping_forces(network, x, v) + f_ext))));
   };
   // Scale of the residual: the momentum change a step of the external and current forces gives.
+  // Near equilibrium both vanish and the tolerance would fall below the round-off of the spring
+  // forces (k (|d| - L0) loses eps k L0 per spring even when it balances the load), so Newton
+  // could never stop. Floor: 1e-4 dt |(k L0)_springs| (with the default tolerance 1e-10 a residual
+  // of 1e-14 of the springs' force scale, ~50 eps, still far below any physical momentum).
+  double spring_scale = 0.0;
+  for (const Spring& s : network.springs)
+    spring_scale += (s.stiffness * s.rest_length) * (s.stiffness * s.rest_length);
   const double scale =
-      std::max(dofs.restrict(Eigen::VectorXd(m.cwiseProduct(v0))).norm(),
-               dt * dofs.restrict(Eigen::VectorXd(f_ext + spring_forces(network, x0))).norm());
+      std::max({dofs.restrict(Eigen::VectorXd(m.cwiseProduct(v0))).norm(),
+                dt * dofs.restrict(Eigen::VectorXd(f_ext + spring_forces(network, x0))).norm(),
+                1e-4 * dt * std::sqrt(spring_scale)});
   Eigen::VectorXd residual = residual_at(v1);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   for (int it = 0; it <= options.max_iterations; ++it) {
