@@ -72,6 +72,18 @@ TEST(CadHexahedron, TubeSectorIsOneTransfiniteVolume) {
   EXPECT_EQ(cad_patches(model).size(), 1u);  // an analysis gets the volume
 }
 
+TEST(CadHexahedron, ThreeQuarterTubeIsOneRightHandedVolume) {
+  // 270 degrees: the straight corner-to-corner vectors no longer show the block's handedness.
+  const double R = 0.02, r = 0.015, h = 0.05;
+  const TopoDS_Shape part = BRepAlgoAPI_Cut(BRepPrimAPI_MakeCylinder(R, h, 1.5 * M_PI).Shape(),
+                                            BRepPrimAPI_MakeCylinder(r, h).Shape())
+                                .Shape();
+  const CadModel model = test::step_round_trip(part, "tube_three_quarters.step");
+  ASSERT_EQ(model.volume_patches.size(), 1u) << describe(model);
+  EXPECT_GT(jacobian_range(model.volume_patches[0]).min, 0.0);
+  EXPECT_NEAR(measure(model.volume_patches[0]) / (0.75 * M_PI * (R * R - r * r) * h), 1.0, 1e-12);
+}
+
 TEST(CadHexahedron, BoxWithACylindricalTop) {
   // Box 100 x 50 x 50 mm whose top is replaced by a cylinder of radius 0.24 m about the line
   // y = 0.025, z = -0.2 (a shallow vault; the top face is cylindrical, the x = const sides are
