@@ -1,10 +1,12 @@
-// The effect library: gravity, support_compliance, stiffness_gradient, rigid_offset, load_scale.
-// All are linear in their parameters except support_compliance (log-stiffness parameters), so the
-// forward model's derivatives stay exact.
+// The effect library: gravity, support_compliance, stiffness_gradient, rigid_offset, load_scale
+// (geometric_nonlinearity lives in effect_geometric_nonlinearity.cpp). All are linear in their
+// parameters except support_compliance (log-stiffness parameters), so the forward model's
+// derivatives stay exact.
 #include <Eigen/Geometry>
 #include <cmath>
 #include <set>
 
+#include "effect_geometric_nonlinearity.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/sides.hpp"
 #include "isospring/fitting/effect.hpp"
@@ -267,7 +269,8 @@ std::vector<size_t> compliant_supports(const EffectContext& context) {
 }  // namespace
 
 std::vector<std::string> effect_names() {
-  return {"gravity", "support_compliance", "stiffness_gradient", "rigid_offset", "load_scale"};
+  return {"gravity",      "support_compliance", "stiffness_gradient",
+          "rigid_offset", "load_scale",         "geometric_nonlinearity"};
 }
 
 std::unique_ptr<Effect> make_effect(const std::string& name, const EffectContext& context,
@@ -294,6 +297,7 @@ std::unique_ptr<Effect> make_effect(const std::string& name, const EffectContext
       return unavailable("one load case: its load factor cannot be told apart from E");
     return std::make_unique<LoadScale>(context);
   }
+  if (name == "geometric_nonlinearity") return make_geometric_nonlinearity(context);
   std::string list;
   for (const std::string& n : effect_names()) list += (list.empty() ? "" : ", ") + n;
   throw nurbs::InputError("unknown effect \"" + name + "\"; the library has: " + list);

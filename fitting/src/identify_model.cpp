@@ -80,9 +80,11 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
   for (const MatrixTerm& term : terms_.stiffness)
     free_blocks_.push_back(
         free_block(term.matrix, free_index_, static_cast<int>(free_dofs_.size())));
+  if (!terms_.nonlinear.empty()) nonlinear_cache_ = make_nonlinear_cache();
 }
 
 ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_jacobian) const {
+  if (!terms_.nonlinear.empty()) return evaluate_nonlinear(theta, with_jacobian);
   const int p = num_parameters();
   const int nf = static_cast<int>(free_dofs_.size());
   const size_t nt = terms_.stiffness.size();

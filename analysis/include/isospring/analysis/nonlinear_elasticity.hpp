@@ -43,6 +43,11 @@ class SvkAssembler {
   /// reference parametrisation.
   Eigen::VectorXd internal_force(const Eigen::VectorXd& u, const LameParameters& lame,
                                  Eigen::SparseMatrix<double>* tangent = nullptr) const;
+  /// The same pass split by material parameter: r(u) = lambda force_lambda + mu force_mu (the
+  /// forces of S = tr(E) I and S = 2 E); the tangent, when requested, is for `lame`.
+  void internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorXd& force_lambda,
+                            Eigen::VectorXd& force_mu, const LameParameters& lame,
+                            Eigen::SparseMatrix<double>* tangent = nullptr) const;
   int num_dofs() const { return num_dofs_; }
 
  private:

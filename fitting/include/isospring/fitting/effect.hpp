@@ -13,6 +13,10 @@
 //                       translations and small rotations about x_c (2D: 2 + 1, 3D: 3 + 3)
 //   load_scale          actual load factor (1 + s_l) of every load case but the first (the first
 //                       one's is not separable from E)
+//   geometric_nonlinearity  large deformation: total Lagrangian St. Venant-Kirchhoff solved by
+//                       Newton; the prediction blends the linear and SVK solutions with a fitted
+//                       weight w (0 linear, 1 SVK) so the linear model is nested and the F-test
+//                       applies (effect_geometric_nonlinearity.cpp says why)
 // x_c is the centre and L the diagonal of the model's bounding box.
 #include <Eigen/Core>
 #include <memory>

@@ -10,6 +10,13 @@
 // where H_l evaluates the NURBS displacement at the load case's markers and g_j are offsets in
 // observation space (rigid motions of the measuring frame). The coefficients are scalar functions
 // of theta with their gradients; effects (effect.hpp) contribute terms.
+//
+// Nonlinear terms (geometric nonlinearity) add internal forces of higher order in u:
+//   K(theta) u + sum_k e_k(theta) n_k(u) = f_l(theta),   n_k(u) = O(|u|^2)
+// solved by Newton from the linear solution (load stepping when that fails), and
+//   du_l/dtheta = K_T^-1 (df_l/dtheta - dK/dtheta u_l - sum_k n_k(u_l) de_k/dtheta)
+// with the tangent K_T = K + sum_k e_k dn_k/du at the converged state
+// (identify_model_nonlinear.cpp).
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 #include <functional>
@@ -39,12 +46,24 @@ struct VectorTerm {
   Coefficient coefficient;
 };
 
+/// Internal force beyond the linear stiffness terms: sum_k coefficients[k](theta) n_k(u).
+/// evaluate(u, e, parts, tangent) sets parts[k] = n_k(u) (all DOFs) and, when `tangent` is not
+/// null, *tangent = sum_k e[k] dn_k/du (full symmetric, all DOFs), e the coefficients' values.
+struct NonlinearTerm {
+  std::vector<Coefficient> coefficients;
+  std::function<void(const Eigen::VectorXd& u, const std::vector<double>& e,
+                     std::vector<Eigen::VectorXd>& parts, Eigen::SparseMatrix<double>* tangent)>
+      evaluate;
+};
+
 struct ModelTerms {
   int num_parameters = 0;
   std::vector<MatrixTerm> stiffness;
-  std::vector<VectorTerm> loads;    // DOF space
-  std::vector<VectorTerm> offsets;  // observation space of the load case
-  std::vector<int> released_dofs;   // supported DOFs an effect frees (replaced by springs)
+  std::vector<VectorTerm> loads;         // DOF space
+  std::vector<VectorTerm> offsets;       // observation space of the load case
+  std::vector<int> released_dofs;        // supported DOFs an effect frees (replaced by springs)
+  std::vector<NonlinearTerm> nonlinear;  // empty: the linear model
+  int nonlinear_weight = -1;  // theta index of w in u = (1 - w) u_lin + w u_nl; -1: w = 1
 };
 
 /// One load case's observations: y = H u (+ offsets), H is (markers * components) x DOFs.
@@ -67,10 +86,19 @@ class ForwardModel {
 
   int num_parameters() const { return terms_.num_parameters; }
   /// Predictions (and Jacobians when `with_jacobian`) at theta. Throws std::runtime_error when
-  /// K(theta) is not positive definite (parameters outside the physical range).
+  /// K(theta) is not positive definite (parameters outside the physical range) or, with nonlinear
+  /// terms, when Newton does not converge.
   ModelEvaluation evaluate(const Eigen::VectorXd& theta, bool with_jacobian) const;
 
  private:
+  // evaluate() with nonlinear terms (identify_model_nonlinear.cpp).
+  ModelEvaluation evaluate_nonlinear(const Eigen::VectorXd& theta, bool with_jacobian) const;
+  // The last converged nonlinear solution per load case: Newton's start at the next theta (a
+  // least-squares solver evaluates nearby parameters, often the same ones twice).
+  struct NonlinearCache;
+  static std::shared_ptr<NonlinearCache> make_nonlinear_cache();
+  std::shared_ptr<NonlinearCache> nonlinear_cache_;
+
   ModelTerms terms_;
   std::vector<Observation> observations_;
   int num_dofs_ = 0;

@@ -1,0 +1,249 @@
+// ForwardModel with nonlinear terms (geometric nonlinearity): Newton per load case (its first
+// iterate is the linear solution), load stepping when that fails, and the exact parameter
+// derivatives from the tangent at the converged state (implicit function theorem:
+// R(u(theta), theta) = f(theta)). With ModelTerms::nonlinear_weight the prediction blends the
+// linear and nonlinear solutions, u = (1 - w) u_lin + w u_nl, with exact derivatives of both.
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "isospring/fitting/identify_model.hpp"
+
+namespace isospring::fitting {
+
+struct ForwardModel::NonlinearCache {
+  std::mutex mutex;
+  std::vector<Eigen::VectorXd> solutions;  // per load case; empty until solved
+};
+
+std::shared_ptr<ForwardModel::NonlinearCache> ForwardModel::make_nonlinear_cache() {
+  return std::make_shared<NonlinearCache>();
+}
+
+namespace {
+
+// Upper triangle of the free-free block of a full symmetric matrix.
+Eigen::SparseMatrix<double> free_upper(const Eigen::SparseMatrix<double>& m,
+                                       const std::vector<int>& free_index, int num_free) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int c = 0; c < m.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m, c); it; ++it) {
+      const int fr = free_index[static_cast<size_t>(it.row())];
+      const int fc = free_index[static_cast<size_t>(it.col())];
+      if (fr >= 0 && fc >= 0 && fr <= fc) triplets.emplace_back(fr, fc, it.value());
+    }
+  Eigen::SparseMatrix<double> block(num_free, num_free);
+  block.setFromTriplets(triplets.begin(), triplets.end());
+  return block;
+}
+
+// CHOLMOD LLT, or a simplicial LDLT when the tangent is not positive definite (compression).
+class TangentSolver {
+ public:
+  bool compute(const Eigen::SparseMatrix<double>& upper) {
+    llt_.cholmod().print = 0;  // handled below, not printed
+    llt_.compute(upper);
+    use_llt_ = llt_.info() == Eigen::Success;
+    if (use_llt_) return true;
+    ldlt_.compute(upper);
+    if (ldlt_.info() != Eigen::Success) return false;
+    const auto d = ldlt_.vectorD();
+    return d.allFinite() && d.cwiseAbs().minCoeff() > 0.0;
+  }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const {
+    return use_llt_ ? Eigen::MatrixXd(llt_.solve(rhs)) : Eigen::MatrixXd(ldlt_.solve(rhs));
+  }
+
+ private:
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt_;
+  bool use_llt_ = true;
+};
+
+constexpr double kTolerance = 1e-10;  // |r_free| relative to the load (or the reactions)
+constexpr int kMaxIterations = 30;
+constexpr int kMaxSteps = 64;  // load steps of the last attempt
+
+}  // namespace
+
+ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
+                                                 bool with_jacobian) const {
+  if (!nonlinear_cache_) throw std::logic_error("ForwardModel: nonlinear cache missing");
+  const int p = num_parameters();
+  const int nf = static_cast<int>(free_dofs_.size());
+  const size_t nt = terms_.stiffness.size();
+  std::vector<double> c(nt);
+  std::vector<Eigen::VectorXd> dc(nt);
+  Eigen::SparseMatrix<double> kff(nf, nf);
+  for (size_t j = 0; j < nt; ++j) {
+    c[j] = terms_.stiffness[j].coefficient(theta, &dc[j]);
+    kff += c[j] * free_blocks_[j];
+  }
+  // Values and gradients of the nonlinear coefficients, per nonlinear term.
+  const size_t nn = terms_.nonlinear.size();
+  std::vector<std::vector<double>> e(nn);
+  std::vector<std::vector<Eigen::VectorXd>> de(nn);
+  for (size_t t = 0; t < nn; ++t)
+    for (const Coefficient& coefficient : terms_.nonlinear[t].coefficients) {
+      Eigen::VectorXd g;
+      e[t].push_back(coefficient(theta, &g));
+      de[t].push_back(g);
+    }
+
+  // Internal force at u: sum_j c_j K_j u + sum_k e_k n_k(u); the nonlinear parts and the free
+  // tangent block come along.
+  std::vector<std::vector<Eigen::VectorXd>> parts(nn);
+  auto internal_force = [&](const Eigen::VectorXd& u, Eigen::SparseMatrix<double>* tangent_ff) {
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(num_dofs_);
+    for (size_t j = 0; j < nt; ++j) r += c[j] * (terms_.stiffness[j].matrix * u);
+    if (tangent_ff) *tangent_ff = kff;
+    for (size_t t = 0; t < nn; ++t) {
+      Eigen::SparseMatrix<double> tangent;
+      terms_.nonlinear[t].evaluate(u, e[t], parts[t], tangent_ff ? &tangent : nullptr);
+      for (size_t k = 0; k < parts[t].size(); ++k) r += e[t][k] * parts[t][k];
+      if (tangent_ff) *tangent_ff += free_upper(tangent, free_index_, nf);
+    }
+    return r;
+  };
+
+  // Newton at load factor s (loads and prescribed values scaled) from u, updated in place. On
+  // success `solver` holds the factorised tangent at the converged u.
+  auto newton = [&](const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
+                    TangentSolver& solver) {
+    for (int d = 0; d < num_dofs_; ++d)
+      if (free_index_[static_cast<size_t>(d)] < 0) u[d] = s * prescribed_[d];
+    Eigen::SparseMatrix<double> tangent_ff;
+    for (int it = 0; it <= kMaxIterations; ++it) {
+      const Eigen::VectorXd internal = internal_force(u, &tangent_ff);
+      Eigen::VectorXd r_free(nf);
+      double load = 0.0, reaction = 0.0;
+      for (int d = 0; d < num_dofs_; ++d) {
+        const int k = free_index_[static_cast<size_t>(d)];
+        if (k >= 0) {
+          r_free[k] = s * force[d] - internal[d];
+          load += s * s * force[d] * force[d];
+        } else {
+          reaction += internal[d] * internal[d];
+        }
+      }
+      const double norm = r_free.norm();
+      if (!std::isfinite(norm)) return false;
+      const bool converged = norm <= kTolerance * std::sqrt(std::max(load, reaction));
+      if (!solver.compute(tangent_ff)) return false;
+      if (converged || norm == 0.0) return true;
+      if (it == kMaxIterations) return false;
+      const Eigen::VectorXd du = solver.solve(r_free);
+      for (int k = 0; k < nf; ++k) u[free_dofs_[static_cast<size_t>(k)]] += du[k];
+    }
+    return false;
+  };
+
+  // Linear solution and its derivatives (only needed for the blend).
+  const int w_index = terms_.nonlinear_weight;
+  const double w = w_index >= 0 ? theta[w_index] : 1.0;
+  TangentSolver linear_solver;
+  if (w_index >= 0 && !linear_solver.compute(kff))
+    throw std::runtime_error(
+        "the stiffness at the current parameters is not positive definite (a parameter left "
+        "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
+
+  ModelEvaluation out;
+  for (int l = 0; l < num_load_cases_; ++l) {
+    Eigen::VectorXd force = Eigen::VectorXd::Zero(num_dofs_);
+    Eigen::MatrixXd dforce = Eigen::MatrixXd::Zero(num_dofs_, with_jacobian ? p : 0);
+    for (const VectorTerm& term : terms_.loads) {
+      if (term.load_case >= 0 && term.load_case != l) continue;
+      Eigen::VectorXd g;
+      force += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
+      if (with_jacobian) dforce += term.vector * g.transpose();
+    }
+    // Newton from the last solution; else from zero (its first step is the linear solution),
+    // then in 2, 4, ... equal load steps.
+    TangentSolver solver;
+    Eigen::VectorXd u;
+    {
+      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
+      if (nonlinear_cache_->solutions.size() > static_cast<size_t>(l))
+        u = nonlinear_cache_->solutions[static_cast<size_t>(l)];
+    }
+    bool converged = u.size() == num_dofs_ && newton(force, 1.0, u, solver);
+    for (int steps = 1; steps <= kMaxSteps && !converged; steps *= 2) {
+      u = Eigen::VectorXd::Zero(num_dofs_);
+      converged = true;
+      for (int k = 1; k <= steps && converged; ++k)
+        converged = newton(force, static_cast<double>(k) / steps, u, solver);
+    }
+    if (!converged)
+      throw std::runtime_error("the large-deformation model did not converge for load case " +
+                               std::to_string(l + 1) +
+                               " at the current parameters (Newton with up to " +
+                               std::to_string(kMaxSteps) + " load steps)");
+    {
+      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
+      nonlinear_cache_->solutions.resize(
+          std::max(nonlinear_cache_->solutions.size(), static_cast<size_t>(l) + 1));
+      nonlinear_cache_->solutions[static_cast<size_t>(l)] = u;
+    }
+
+    // Right-hand sides df/dtheta - dK/dtheta u for the linear terms at displacement v.
+    auto linear_rhs = [&](const Eigen::VectorXd& v) {
+      Eigen::MatrixXd rhs = dforce;
+      for (size_t j = 0; j < nt; ++j)
+        if (dc[j].cwiseAbs().maxCoeff() > 0.0)
+          rhs -= (terms_.stiffness[j].matrix * v) * dc[j].transpose();
+      return rhs;
+    };
+    auto solve_free = [&](const TangentSolver& factor, const Eigen::MatrixXd& rhs) {
+      Eigen::MatrixXd rhs_free(nf, rhs.cols());
+      for (int k = 0; k < nf; ++k) rhs_free.row(k) = rhs.row(free_dofs_[static_cast<size_t>(k)]);
+      const Eigen::MatrixXd x_free = factor.solve(rhs_free);
+      Eigen::MatrixXd x = Eigen::MatrixXd::Zero(num_dofs_, rhs.cols());
+      for (int k = 0; k < nf; ++k) x.row(free_dofs_[static_cast<size_t>(k)]) = x_free.row(k);
+      return x;
+    };
+
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& h =
+        observations_[static_cast<size_t>(l)].operator_;
+    Eigen::MatrixXd jac;
+    Eigen::VectorXd u_linear;
+    Eigen::MatrixXd du_linear;
+    if (w_index >= 0) {
+      // K u = f - K u_c on the free DOFs, as ForwardModel::evaluate.
+      Eigen::VectorXd ku_c = Eigen::VectorXd::Zero(num_dofs_);
+      if (prescribed_.squaredNorm() > 0.0)
+        for (size_t j = 0; j < nt; ++j) ku_c += c[j] * (terms_.stiffness[j].matrix * prescribed_);
+      u_linear = prescribed_ + solve_free(linear_solver, force - ku_c).col(0);
+      if (with_jacobian) du_linear = solve_free(linear_solver, linear_rhs(u_linear));
+    }
+    if (with_jacobian) {
+      // dR/dtheta at fixed u: the linear terms' dK/dtheta u and the nonlinear parts n_k(u) de_k
+      // (`parts` hold n_k at the converged u: Newton's last evaluation).
+      Eigen::MatrixXd rhs = linear_rhs(u);
+      for (size_t t = 0; t < nn; ++t)
+        for (size_t k = 0; k < parts[t].size(); ++k) rhs -= parts[t][k] * de[t][k].transpose();
+      Eigen::MatrixXd du = solve_free(solver, rhs);
+      if (w_index >= 0) {
+        du = w * du + (1.0 - w) * du_linear;
+        du.col(w_index) += u - u_linear;
+      }
+      jac = h * du;
+    }
+    if (w_index >= 0) u = w * u + (1.0 - w) * u_linear;
+    Eigen::VectorXd y = h * u;
+    for (const VectorTerm& term : terms_.offsets) {
+      if (term.load_case >= 0 && term.load_case != l) continue;
+      Eigen::VectorXd g;
+      y += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
+      if (with_jacobian) jac += term.vector * g.transpose();
+    }
+    out.predictions.push_back(std::move(y));
+    out.jacobians.push_back(std::move(jac));
+    out.displacements.push_back(std::move(u));
+  }
+  return out;
+}
+
+}  // namespace isospring::fitting

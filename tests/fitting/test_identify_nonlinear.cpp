@@ -1,0 +1,198 @@
+// geometric_nonlinearity: the forward model's large-deformation solution agrees with the analysis
+// module's Newton solver, its analytic Jacobian (E, nu, w) with finite differences, and the loop
+// finds the effect in data of a slender cantilever under a large tip load, but not under a small
+// one.
+#include <gtest/gtest.h>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/elasticity.hpp"
+#include "isospring/analysis/nonlinear_elasticity.hpp"
+#include "isospring/analysis/post_processing.hpp"
+#include "isospring/fitting/effect.hpp"
+#include "isospring/fitting/identify.hpp"
+#include "test_identify_plate.hpp"
+
+namespace isospring::fitting {
+namespace {
+
+constexpr double kLength = 1.0, kDepth = 0.1, kPriorE = 1e6, kTrueScale = 1.15, kNu = 0.3;
+
+// Plane-strain cantilever clamped at x = 0 with a downward shear traction q on x = L. Linear tip
+// deflection 4 q L^3 (1 - nu^2) / (E D^2) = 3.17e-4 q m/Pa at E = 1.15e6 Pa.
+analysis::Problem cantilever(double q) {
+  analysis::Problem problem;
+  problem.patches.push_back(testing::rectangle(kLength, kDepth, 16, 2));
+  problem.formulation = analysis::Formulation::kPlaneStrain;
+  problem.material.youngs_modulus = kPriorE;
+  problem.material.poisson_ratio = kNu;
+  problem.material.thickness = 1.0;
+  analysis::Support clamp;
+  clamp.side = analysis::parse_side("u0");
+  clamp.fixed = {true, true, false};
+  problem.supports.push_back(clamp);
+  analysis::LoadCase tip;
+  tip.id = "tip";
+  tip.tractions.push_back({analysis::parse_side("u1"), Eigen::Vector3d(0, -q, 0), {}});
+  problem.load_cases = {tip};
+  return problem;
+}
+
+// 20 x 3 markers along the beam.
+std::vector<Marker> beam_markers() {
+  std::vector<Marker> markers;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 20; ++i) {
+      Marker m;
+      m.load_case = "tip";
+      m.position = Eigen::Vector3d(kLength * (i + 0.5) / 20, kDepth * (j + 0.5) / 3, 0.0);
+      m.row = static_cast<int>(markers.size()) + 2;
+      markers.push_back(m);
+    }
+  return markers;
+}
+
+const Eigen::VectorXd kSvk = Eigen::VectorXd::Ones(1);  // w = 1: St. Venant-Kirchhoff
+
+TEST(IdentifyNonlinear, ForwardModelMatchesTheAnalysisNewtonSolver) {
+  // q = 450 Pa: tip deflection 0.14 m, 14% of the length.
+  analysis::Problem truth = cantilever(450.0);
+  truth.material.youngs_modulus *= kTrueScale;
+  const std::vector<Marker> markers = beam_markers();
+  const auto placements = place_markers(truth.patches, markers, 1e-9).placements;
+  const auto model =
+      simulate_markers(truth, markers, placements, {{"geometric_nonlinearity", kSvk}});
+  const auto linear = simulate_markers(truth, markers, placements, {});
+  // The analysis module's solver: full SVK force (not split into linear part and remainder),
+  // its own Newton loop and convergence test.
+  const auto reference = analysis::solve_static_nonlinear(truth);
+  double worst = 0.0, tip = 0.0, nonlinear_shift = 0.0;
+  for (size_t m = 0; m < markers.size(); ++m) {
+    const auto field = analysis::evaluate_field(truth, reference[0].control_displacements,
+                                                placements[m].patch, placements[m].param);
+    worst = std::max(worst, (field.displacement - model[m]).norm());
+    tip = std::max(tip, field.displacement.norm());
+    nonlinear_shift = std::max(nonlinear_shift, (model[m] - linear[m]).norm());
+  }
+  EXPECT_GT(tip, 0.1 * kLength);
+  EXPECT_GT(nonlinear_shift, 0.02 * tip);  // the nonlinearity is large here
+  // Both converge to 1e-10 of the load: agreement to ~1e-10 of the displacement.
+  EXPECT_LT(worst, 1e-8 * tip);
+}
+
+TEST(IdentifyNonlinear, JacobianMatchesFiniteDifferences) {
+  // theta = (E / E_prior, nu, w) with plane-strain Lame coefficients and exact gradients.
+  const analysis::Problem problem = cantilever(450.0);
+  const analysis::DofMap dofs(problem);
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  const LameMatrices lame = assemble_lame_stiffness(problem, dofs);
+  EffectContext context;
+  context.problem = &problem;
+  context.dofs = &dofs;
+  context.constraints = &constraints;
+  context.stiffness = &lame;
+  context.dimension = 2;
+  context.lambda = [](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
+    const double e = kPriorE * t[0], nu = t[1], d = (1 + nu) * (1 - 2 * nu);
+    if (g) {
+      g->setZero(t.size());
+      (*g)[0] = kPriorE * nu / d;
+      (*g)[1] = e * (1 + 2 * nu * nu) / (d * d);
+    }
+    return e * nu / d;
+  };
+  context.mu = [](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
+    const double e = kPriorE * t[0], nu = t[1];
+    if (g) {
+      g->setZero(t.size());
+      (*g)[0] = kPriorE / (2 * (1 + nu));
+      (*g)[1] = -e / (2 * (1 + nu) * (1 + nu));
+    }
+    return e / (2 * (1 + nu));
+  };
+  std::string why;
+  const auto effect = make_effect("geometric_nonlinearity", context, &why);
+  ASSERT_NE(effect, nullptr) << why;
+  ModelTerms terms;
+  terms.num_parameters = 3;
+  terms.stiffness.push_back({lame.lambda_part, context.lambda});
+  terms.stiffness.push_back({lame.mu_part, context.mu});
+  terms.loads.push_back(
+      {0, analysis::assemble_load(problem, dofs, problem.load_cases[0]), constant_coefficient(1)});
+  effect->add_terms(context, 2, terms);
+  Observation all;  // every DOF observed
+  all.operator_.resize(dofs.num_dofs(), dofs.num_dofs());
+  all.operator_.setIdentity();
+  const ForwardModel model(std::move(terms), {all}, constraints.dofs, constraints.values,
+                           dofs.num_dofs(), 1);
+  // w = 0.7 exercises both halves of the blend.
+  const Eigen::Vector3d theta(1.0, kNu, 0.7);
+  const ModelEvaluation eval = model.evaluate(theta, true);
+  for (int k = 0; k < 3; ++k) {
+    // Central differences of the converged solution: truncation O(h^2) ~ 1e-8 relative with
+    // h = 1e-4 (the parameters are O(1)), round-off ~ 1e-10 / 1e-4 from the Newton tolerance.
+    // Measured: 3e-8 (E, nu), 1e-12 (w: the blend is linear in w).
+    const double h = 1e-4;
+    Eigen::VectorXd plus = theta, minus = theta;
+    plus[k] += h;
+    minus[k] -= h;
+    const Eigen::VectorXd difference =
+        (model.evaluate(plus, false).predictions[0] - model.evaluate(minus, false).predictions[0]) /
+        (2 * h);
+    const Eigen::VectorXd analytic = eval.jacobians[0].col(k);
+    EXPECT_LT((analytic - difference).norm(), 1e-6 * analytic.norm()) << "parameter " << k;
+  }
+}
+
+struct Outcome {
+  IdentifyResult result;
+  double sigma = 0.0;
+};
+
+// Data of the SVK model with E = 1.15 E_prior and Gaussian noise of 1/1000 of the tip deflection;
+// the identification is not told about the nonlinearity.
+Outcome identify_cantilever(double q, unsigned seed) {
+  analysis::Problem truth = cantilever(q);
+  truth.material.youngs_modulus *= kTrueScale;
+  std::vector<Marker> markers = beam_markers();
+  const analysis::Problem prior = cantilever(q);
+  const auto placements = place_markers(prior.patches, markers, 1e-9).placements;
+  const double sigma = 1e-3 * 3.17e-4 * q;
+  testing::add_noise(
+      markers, simulate_markers(truth, markers, placements, {{"geometric_nonlinearity", kSvk}}),
+      sigma, seed);
+  IdentifyOptions options;
+  options.holdout = false;
+  return {identify(prior, markers, placements, options), sigma};
+}
+
+TEST(IdentifyNonlinear, FindsTheNonlinearityOfALargeTipDeflection) {
+  // q = 450 Pa: 14% tip deflection; the nonlinear part (axial shortening, stiffening) is ~2% of
+  // the deflection, 20 times the noise.
+  const Outcome out = identify_cantilever(450.0, 3);
+  const IdentifyResult& r = out.result;
+  ASSERT_EQ(r.effects_added, std::vector<std::string>{"geometric_nonlinearity"});
+  EXPECT_GT(r.before.rms, 3 * out.sigma);  // the linear model cannot fit the data
+  EXPECT_LT(r.after.rms, 1.3 * out.sigma);
+  const ParameterEstimate& e = r.parameters[0];
+  EXPECT_LT(std::abs(e.value - kTrueScale * kPriorE), 3 * e.standard_error);
+  ASSERT_EQ(r.parameters.size(), 2u);
+  const ParameterEstimate& w = r.parameters[1];
+  EXPECT_EQ(w.name, "w");
+  EXPECT_GT(w.standard_error, 0.0);
+  EXPECT_LT(std::abs(w.value - 1.0), 3 * w.standard_error);
+}
+
+TEST(IdentifyNonlinear, DoesNotAddItInTheLinearRegime) {
+  // q = 0.45 Pa: 0.014% tip deflection; the nonlinear part is ~1e-4 of the deflection, a tenth of
+  // the noise.
+  const Outcome out = identify_cantilever(0.45, 4);
+  const IdentifyResult& r = out.result;
+  EXPECT_TRUE(r.effects_added.empty());
+  EXPECT_LT(r.after.rms, 1.3 * out.sigma);
+  const ParameterEstimate& e = r.parameters[0];
+  EXPECT_LT(std::abs(e.value - kTrueScale * kPriorE), 3 * e.standard_error);
+}
+
+}  // namespace
+}  // namespace isospring::fitting
