@@ -14,6 +14,7 @@ struct ImportOptions {
   double thickness = 0.0;
   std::vector<int> faces;
   bool report = false;
+  bool quiet = false;
 };
 
 void setup_import(CLI::App& app) {
@@ -30,6 +31,7 @@ void setup_import(CLI::App& app) {
                   "Extrude the (planar) faces along their normal by this thickness [m]")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--report", options->report, "Print the per-face report");
+  cmd->add_flag("-q,--quiet", options->quiet, "Do not print the \"wrote ...\" line");
   cmd->footer(
       "A solid of hexahedral topology becomes one volume patch (transfinite interpolation of its "
       "faces, or the extrusion of a face for prisms), a full solid of revolution with a 4-sided "
@@ -42,8 +44,9 @@ void setup_import(CLI::App& app) {
     if (options->report) std::cout << geometry::describe(model);
     const auto patches = geometry::cad_patches(model, options->thickness, options->faces);
     io::write_patch_file(options->output, patches);
-    std::cout << "wrote " << options->output << ": " << patches.size() << " patches from "
-              << options->input << " (file unit " << model.file_unit << ", written in m)\n";
+    if (!options->quiet)
+      std::cout << "wrote " << options->output << ": " << patches.size() << " patches from "
+                << options->input << " (file unit " << model.file_unit << ", written in m)\n";
   });
 }
 

@@ -18,6 +18,7 @@ struct RefineOptions {
   int h = 1;
   std::vector<int> elevate;
   std::vector<std::string> insert;
+  bool quiet = false;
 };
 
 int direction_of(const std::string& name) {
@@ -71,6 +72,7 @@ void setup_refine(CLI::App& app) {
   cmd->add_option("--insert", options->insert,
                   "Insert knots: DIRECTION=KNOTS, e.g. --insert u=0.3,0.3 --insert v=0.5 "
                   "(repeat a value to raise its multiplicity)");
+  cmd->add_flag("-q,--quiet", options->quiet, "Do not print the \"wrote ...\" line");
   cmd->footer("Order: --elevate, then --insert, then --h (k-refinement keeps C^(p-1)).");
   cmd->callback([options] {
     auto patches = io::read_patch_file(options->input);
@@ -83,8 +85,9 @@ void setup_refine(CLI::App& app) {
       points += static_cast<size_t>(p.num_points());
       elements += p.num_elements();
     }
-    std::cout << "wrote " << options->output << ": " << patches.size() << " patches, " << points
-              << " control points, " << elements << " elements\n";
+    if (!options->quiet)
+      std::cout << "wrote " << options->output << ": " << patches.size() << " patches, " << points
+                << " control points, " << elements << " elements\n";
   });
 }
 
