@@ -78,16 +78,17 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
     const Eigen::Vector3d d = Eigen::Vector3d(p.X(), p.Y(), p.Z()) - O;
     return Eigen::Vector3d(ex.dot(d), ey.dot(d), ez.dot(d));
   };
-  if (faces.Extent() != 4) {
-    why = "not a solid of revolution with a 4-sided profile (" + std::to_string(faces.Extent()) +
-          " faces)";
+  const int n_faces = faces.Extent();
+  if (n_faces != 4 && n_faces != 3) {
+    why =
+        "not a solid of revolution with a 4-sided profile (" + std::to_string(n_faces) + " faces)";
     return false;
   }
   // The meridian of each face in the half-plane at angle 0 (local x >= 0, y = 0), in local
   // coordinates (axis = z).
   std::vector<nurbs::Patch> meridians;
   try {
-    for (int f = 1; f <= 4; ++f) {
+    for (int f = 1; f <= n_faces; ++f) {
       const TopoDS_Face face = TopoDS::Face(faces(f));
       const BRepAdaptor_Surface s(face);
       gp_Ax1 face_axis;
@@ -133,10 +134,9 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
           r_min = std::min(r_min, r);
           r_max = std::max(r_max, r);
         }
-        if (r_min <= tolerance) {
-          why = "a solid of revolution touching its axis (disc cap): not one hexahedral sweep";
-          return false;
-        }
+        TopTools_IndexedMapOfShape wires;
+        TopExp::MapShapes(face, TopAbs_WIRE, wires);
+        if (wires.Extent() == 1) r_min = 0.0;  // a disc: its radial segment starts on the axis
         meridians.push_back(
             nurbs::Patch({nurbs::KnotVector(1, {0, 0, 1, 1})}, {{r_min, 0, z}, {r_max, 0, z}}));
       } else {
@@ -151,15 +151,26 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
     why = std::string("solid of revolution, but ") + e.what();
     return false;
   }
-  // Chain the meridians into a loop.
+  // Chain the meridians into a loop, starting at one that touches the axis (if any); a profile of
+  // three meridians with both open ends on the axis is closed by the axis segment (a solid
+  // cylinder: the volume then has a collapsed face on the axis, like the spheroid primitive).
   auto start = [](const nurbs::Patch& c) { return c.point({c.param_min(0), 0, 0}); };
   auto end = [](const nurbs::Patch& c) { return c.point({c.param_max(0), 0, 0}); };
-  std::vector<nurbs::Patch> loop{meridians[0]};
-  std::vector<bool> used(4, false);
-  used[0] = true;
-  for (int n = 1; n < 4; ++n) {
+  auto on_axis = [&](const Eigen::Vector3d& x) { return std::hypot(x.x(), x.y()) <= tolerance; };
+  const size_t n = meridians.size();
+  size_t first = 0;
+  for (size_t k = 0; k < n; ++k)
+    if (on_axis(start(meridians[k])) || on_axis(end(meridians[k]))) {
+      first = k;
+      if (!on_axis(start(meridians[k]))) meridians[k] = reverse_direction(meridians[k], 0);
+      break;
+    }
+  std::vector<nurbs::Patch> loop{meridians[first]};
+  std::vector<bool> used(n, false);
+  used[first] = true;
+  for (size_t m = 1; m < n; ++m) {
     bool linked = false;
-    for (size_t k = 0; k < 4 && !linked; ++k) {
+    for (size_t k = 0; k < n && !linked; ++k) {
       if (used[k]) continue;
       if ((start(meridians[k]) - end(loop.back())).norm() <= 2 * tolerance) {
         loop.push_back(meridians[k]);
@@ -173,6 +184,14 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
       why = "solid of revolution, but its face meridians do not form one closed profile";
       return false;
     }
+  }
+  if (n == 3) {
+    if (!on_axis(start(loop.front())) || !on_axis(end(loop.back()))) {
+      why = "solid of revolution, but its 3 face meridians do not end on the axis";
+      return false;
+    }
+    loop.push_back(nurbs::Patch({nurbs::KnotVector(1, {0, 0, 1, 1})},
+                                {end(loop.back()), start(loop.front())}));
   }
   nurbs::Patch profile;
   try {
@@ -211,8 +230,11 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
     for (int dir = 1; dir < 3; ++dir)
       for (int side = 0; side < 2; ++side) {
         const nurbs::Patch face = boundary_side(q, dir, side);
+        const Eigen::Vector3d mid = face.point({0.5 * (face.param_min(0) + face.param_max(0)),
+                                                0.5 * (face.param_min(1) + face.param_max(1)), 0});
+        if ((mid - O - ez * ez.dot(mid - O)).norm() <= tolerance) continue;  // collapsed axis
         double best = INFINITY;
-        for (int f = 1; f <= 4; ++f)
+        for (int f = 1; f <= n_faces; ++f)
           best = std::min(best, surface_deviation(face, TopoDS::Face(faces(f))));
         if (!(best <= tolerance)) {
           std::ostringstream msg;

@@ -5,11 +5,13 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepGProp.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <GProp_GProps.hxx>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <gp_Ax1.hxx>
 
 #include "cad_test_io.hpp"
@@ -103,6 +105,35 @@ TEST(CadRevolution, RevolvedTrapezoidAboutATiltedAxis) {
   expect_conforming_quarters(model.volume_patches);
   // STEP carries 12 significant digits (the tilted axis is not exact in the file).
   EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-10);
+}
+
+TEST(CadRevolution, SolidCylinderHasACollapsedAxis) {
+  // Three faces (side and two discs): the profile is closed by the axis segment.
+  const double r = 0.01, h = 0.03;
+  const TopoDS_Shape part =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0.1, 0, 0), gp_Dir(0, 1, 0)), r, h).Shape();
+  const CadModel model = test::step_round_trip(part, "solid_cylinder.step");
+  ASSERT_EQ(model.volume_patches.size(), 4u) << describe(model);
+  expect_conforming_quarters(model.volume_patches);  // Jacobian > 0 inside, 0 on the axis
+  EXPECT_NEAR(measure(model.volume_patches) / (M_PI * r * r * h), 1.0, 1e-12);
+}
+
+// Third-party file (../shared/cad): a 10 mm cube and a cylinder of radius 5 mm, height 10 mm.
+TEST(CadRevolution, SharedCubeAndCylinderAreVolumes) {
+  const auto file =
+      std::filesystem::path(ISOSPRING_SHARED_DIR) / "cad" / "cube_cylinder_cadquery.step";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "../shared/cad is not present";
+  const CadModel model = read_cad(file);
+  ASSERT_EQ(model.solids, 2);
+  EXPECT_EQ(model.solid_notes, (std::vector<std::string>{"", ""})) << describe(model);
+  ASSERT_EQ(model.volume_patches.size(), 5u);  // the cylinder's quarters (solid 0), the cube
+  const std::vector<nurbs::Patch> cylinder(model.volume_patches.begin(),
+                                           model.volume_patches.begin() + 4);
+  expect_conforming_quarters(cylinder);
+  // Exact: 1000 mm^3 + 250 pi mm^3 (the README's closed form; OCCT agrees to 3e-10).
+  EXPECT_NEAR(measure(model.volume_patches[4]) / 1e-6, 1.0, 1e-12);
+  EXPECT_NEAR(measure(cylinder) / (250 * M_PI * 1e-9), 1.0, 1e-12);
+  EXPECT_EQ(cad_patches(model).size(), 5u);
 }
 
 TEST(CadRevolution, OtherSolidsAreReported) {
