@@ -193,6 +193,7 @@ bool plot_histogram(const fs::path& png, const std::vector<double>& values, int 
                 [&](const fs::path& folder, const fs::path& out) {
                   std::ostringstream g;
                   g << header(options, png_terminal(), out)
+                    << "unset key\n"  // one unnamed series: no empty legend box
                     << "set style fill solid 0.6 border -1\n"
                     << "set boxwidth " << number(0.9 * width) << "\nset yrange [0:*]\n"
                     << "plot " << quoted((folder / "histogram.dat").string())
