@@ -83,6 +83,7 @@ DofMap::DofMap(const Problem& problem, double relative_tolerance)
       for (size_t b = a + 1; b < sides.size(); ++b) {
         const SideGrid& sa = sides[a];
         const SideGrid& sb = sides[b];
+        if (!problem.glue_patch_seams && sa.patch == sb.patch) continue;
         if (sa.points.size() != sb.points.size()) continue;
         if ((sa.lo - sb.lo).cwiseAbs().maxCoeff() > tol ||
             (sa.hi - sb.hi).cwiseAbs().maxCoeff() > tol)

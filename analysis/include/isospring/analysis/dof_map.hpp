@@ -17,7 +17,8 @@ class DofMap {
   /// Glues conforming interfaces: two sides (of different patches, or different sides of one
   /// patch) are glued when every control point of one coincides with a control point of the other
   /// in one of the grid orientations (reversal, transposition), to `relative_tolerance` times the
-  /// model's bounding-box diagonal. Partially matching sides (T-junctions) are not glued.
+  /// model's bounding-box diagonal. Partially matching sides (T-junctions) are not glued. Sides
+  /// of one patch are glued only when problem.glue_patch_seams is set (the default).
   DofMap(const Problem& problem, double relative_tolerance = 1e-6);
 
   int dofs_per_node() const { return dofs_per_node_; }

@@ -80,6 +80,10 @@ struct Problem {
   std::vector<Support> supports;
   std::vector<LoadCase> load_cases;
   int quadrature_points = 0;  // per direction; 0 means degree + 1
+  /// Glue coincident sides of the SAME patch (the seam of a closed revolved patch, e.g. a torus).
+  /// false leaves the seam open (a cut body), as the unmerged control nets of [S15] ch. 5 have it
+  /// (its torus has 2000 springs only without merging); interfaces between patches stay glued.
+  bool glue_patch_seams = true;
 };
 
 }  // namespace isospring::analysis
