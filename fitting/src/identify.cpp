@@ -373,6 +373,13 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
     group[m] = case_index.at(markers[m].load_case);
   }
   result.before = summarize(residual_before, all_rows, dim);
+  std::vector<std::string> case_ids;
+  for (const auto& load : problem.load_cases) case_ids.push_back(load.id);
+  auto describe = [&](const std::vector<Eigen::Vector3d>& residual) {
+    return describe_residual(positions, residual, group, case_ids, setup.nominal_loads, dim,
+                             context.centre, context.length);
+  };
+  result.residual_before = describe(residual_before);
   result.noise_given = options.noise_sigma > 0.0;
   result.noise_estimate = result.noise_given
                               ? options.noise_sigma
@@ -404,6 +411,13 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
          result.rounds.size() < max_rounds) {
     SelectionRound round;
     round.rss = current_fit.rss;
+    {
+      const auto predicted = marker_predictions(setup, current, current_fit.theta, markers.size());
+      std::vector<Eigen::Vector3d> residual(markers.size());
+      for (size_t m = 0; m < markers.size(); ++m)
+        residual[m] = markers[m].displacement - predicted[m];
+      round.residual = describe(residual);
+    }
     for (const std::string& note : unavailable)
       round.candidates.push_back(
           {note.substr(0, note.find(':')), 0, 0, 0, 1, note.substr(note.find(':') + 2)});
@@ -537,6 +551,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   for (size_t m = 0; m < markers.size(); ++m)
     residual_after[m] = markers[m].displacement - result.model_after[m];
   result.after = summarize(residual_after, all_rows, dim);
+  result.residual_after = describe(residual_after);
   result.observations = current_fit.rows;
   // Chi-square per degree of freedom against the noise level (weights are 1/sigma).
   result.chi2_before = rss_before / std::max(1, current_fit.rows - p_before);

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/identify_diagnosis.hpp"
 #include "isospring/fitting/measure.hpp"
 
 namespace isospring::fitting {
@@ -65,7 +66,8 @@ struct CandidateTest {
 };
 
 struct SelectionRound {
-  double rss = 0.0;  // before the round
+  double rss = 0.0;              // before the round
+  ResidualDescription residual;  // of the model before the round (identify_diagnosis.hpp)
   std::vector<CandidateTest> candidates;
   std::string added;                 // empty: none significant, the loop stopped
   std::vector<std::string> removed;  // earlier effects the backward step dropped
@@ -82,7 +84,8 @@ struct IdentifyResult {
   std::vector<std::pair<std::string, double>> derived;  // e.g. support stiffness values
   std::vector<std::string> spring_model_notes;          // per added effect
   ErrorSummary before, after;
-  double noise_estimate = 0.0;  // [m]
+  ResidualDescription residual_before, residual_after;  // baseline and final residual
+  double noise_estimate = 0.0;                          // [m]
   bool noise_given = false;
   double chi2_before = 0.0, chi2_after = 0.0;  // RSS / sigma^2 / (n - p)
   int observations = 0;
