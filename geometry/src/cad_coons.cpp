@@ -30,8 +30,11 @@
 namespace isospring::geometry::detail {
 
 nurbs::Patch curve_patch(const Handle(Geom_Curve) & curve, double first, double last) {
-  Handle(Geom_BSplineCurve) bspline =
-      GeomConvert::CurveToBSplineCurve(new Geom_TrimmedCurve(curve, first, last));
+  // On a periodic curve the trimmed curve may shift the range by a period: use its own bounds.
+  const Handle(Geom_TrimmedCurve) trimmed = new Geom_TrimmedCurve(curve, first, last);
+  first = trimmed->FirstParameter();
+  last = trimmed->LastParameter();
+  Handle(Geom_BSplineCurve) bspline = GeomConvert::CurveToBSplineCurve(trimmed);
   bspline = Handle(Geom_BSplineCurve)::DownCast(bspline->Copy());
   if (bspline->IsPeriodic()) bspline->SetNotPeriodic();
   // Clamp at the ends (the conversion keeps the curve's own parameter) and cut there.

@@ -79,7 +79,7 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
     return Eigen::Vector3d(ex.dot(d), ey.dot(d), ez.dot(d));
   };
   const int n_faces = faces.Extent();
-  if (n_faces != 4 && n_faces != 3) {
+  if (n_faces != 4 && n_faces != 3 && n_faces != 1) {
     why =
         "not a solid of revolution with a 4-sided profile (" + std::to_string(n_faces) + " faces)";
     return false;
@@ -157,6 +157,21 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
   auto start = [](const nurbs::Patch& c) { return c.point({c.param_min(0), 0, 0}); };
   auto end = [](const nurbs::Patch& c) { return c.point({c.param_max(0), 0, 0}); };
   auto on_axis = [&](const Eigen::Vector3d& x) { return std::hypot(x.x(), x.y()) <= tolerance; };
+  // One face (a torus): its closed meridian cut into four quarters of its parameter range, whose
+  // Coons patch is the single-patch disk (zero Jacobian at its 4 corners, like the torus
+  // primitive).
+  if (meridians.size() == 1) {
+    const nurbs::Patch m = meridians[0];
+    if ((start(m) - end(m)).norm() > 2 * tolerance) {
+      why = "solid of revolution, but its single face's meridian is not closed";
+      return false;
+    }
+    const double a = m.param_min(0), b = m.param_max(0);
+    const auto [h0, h1] = split_patch(m, 0, a + 0.5 * (b - a));
+    const auto [q0, q1] = split_patch(h0, 0, a + 0.25 * (b - a));
+    const auto [q2, q3] = split_patch(h1, 0, a + 0.75 * (b - a));
+    meridians = {q0, q1, q2, q3};
+  }
   const size_t n = meridians.size();
   size_t first = 0;
   for (size_t k = 0; k < n; ++k)

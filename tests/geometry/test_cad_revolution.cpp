@@ -7,6 +7,7 @@
 #include <BRepGProp.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
 #include <GProp_GProps.hxx>
 #include <algorithm>
 #include <array>
@@ -118,8 +119,9 @@ TEST(CadRevolution, SolidCylinderHasACollapsedAxis) {
   EXPECT_NEAR(measure(model.volume_patches) / (M_PI * r * r * h), 1.0, 1e-12);
 }
 
-// Third-party file (../shared/cad): a 10 mm cube and a cylinder of radius 5 mm, height 10 mm.
-TEST(CadRevolution, SharedCubeAndCylinderAreVolumes) {
+// Third-party files (../shared/cad): a 10 mm cube and a cylinder of radius 5 mm, height 10 mm;
+// the AP203 torus.
+TEST(CadRevolution, SharedCubeCylinderAndTorusAreVolumes) {
   const auto file =
       std::filesystem::path(ISOSPRING_SHARED_DIR) / "cad" / "cube_cylinder_cadquery.step";
   if (!std::filesystem::exists(file)) GTEST_SKIP() << "../shared/cad is not present";
@@ -134,16 +136,48 @@ TEST(CadRevolution, SharedCubeAndCylinderAreVolumes) {
   EXPECT_NEAR(measure(model.volume_patches[4]) / 1e-6, 1.0, 1e-12);
   EXPECT_NEAR(measure(cylinder) / (250 * M_PI * 1e-9), 1.0, 1e-12);
   EXPECT_EQ(cad_patches(model).size(), 5u);
+  // The AP203 torus (R 200 mm, r 50 mm): exact 2 pi^2 R r^2.
+  const CadModel torus = read_cad(file.parent_path() / "torus_ap203.stp");
+  ASSERT_EQ(torus.volume_patches.size(), 4u) << describe(torus);
+  EXPECT_NEAR(measure(torus.volume_patches) / (2 * M_PI * M_PI * 0.2 * 0.05 * 0.05), 1.0, 1e-12);
+}
+
+TEST(CadRevolution, SolidTorusIsFourQuartersWithADiskSection) {
+  // One face: the closed meridian circle is cut into four arcs whose Coons patch is the
+  // single-patch disk (as in the torus primitive: zero Jacobian only at its four corner lines).
+  const double R = 0.0875, r = 0.0375;
+  const CadModel model =
+      test::step_round_trip(test::cad_test_parts()["torus.step"].shape, "torus_solid.step");
+  ASSERT_EQ(model.volume_patches.size(), 4u) << describe(model);
+  expect_conforming_quarters(model.volume_patches);
+  EXPECT_NEAR(measure(model.volume_patches) / (2 * M_PI * M_PI * R * r * r), 1.0, 1e-12);
+  for (const nurbs::Patch& q : model.volume_patches)  // the swept sides are on the torus
+    for (int dir = 1; dir < 3; ++dir)
+      for (int side = 0; side < 2; ++side) {
+        const nurbs::Patch face = boundary_side(q, dir, side);
+        for (int n = 0; n <= 6; ++n)
+          for (int m = 0; m <= 6; ++m) {
+            const Eigen::Vector3d x = face.point(
+                {face.param_min(0) + (face.param_max(0) - face.param_min(0)) * n / 6,
+                 face.param_min(1) + (face.param_max(1) - face.param_min(1)) * m / 6, 0});
+            EXPECT_NEAR(std::hypot(std::hypot(x.x(), x.y()) - R, x.z()), r, 1e-15);
+          }
+      }
 }
 
 TEST(CadRevolution, OtherSolidsAreReported) {
-  // The solid torus is one face (a disc profile): not a sweep of a 4-sided profile.
-  const CadModel torus =
-      test::step_round_trip(test::cad_test_parts()["torus.step"].shape, "torus_solid.step");
-  EXPECT_TRUE(torus.volume_patches.empty());
-  ASSERT_EQ(torus.solid_notes.size(), 1u);
-  EXPECT_FALSE(torus.solid_notes[0].empty());
-  EXPECT_NE(describe(torus).find("solid 0: not"), std::string::npos);
+  // A ball: one face whose meridian is a half circle (pole to pole), not a closed profile.
+  const CadModel ball = test::step_round_trip(BRepPrimAPI_MakeSphere(0.05).Shape(), "ball.step");
+  EXPECT_TRUE(ball.volume_patches.empty());
+  ASSERT_EQ(ball.solid_notes.size(), 1u);
+  EXPECT_NE(ball.solid_notes[0].find("meridian is not closed"), std::string::npos)
+      << ball.solid_notes[0];
+  EXPECT_NE(describe(ball).find("solid 0: solid of revolution, but"), std::string::npos);
+  // The plate with holes: neither hexahedral nor of revolution.
+  const CadModel plate = test::step_round_trip(
+      test::cad_test_parts()["plate_with_holes.step"].shape, "plate_solid.step");
+  EXPECT_TRUE(plate.volume_patches.empty());
+  EXPECT_NE(plate.solid_notes[0].find("not hexahedral"), std::string::npos);
 }
 
 }  // namespace

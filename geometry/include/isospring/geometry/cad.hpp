@@ -13,12 +13,11 @@
 // volume patch by trivariate transfinite interpolation (coons_volume; exact trilinear for planar
 // blocks); a hexahedral prism whose base is a natural face (e.g. a bumped spline face) becomes the
 // exact extrusion of that face; a full solid of revolution with a 4-sided profile (a tube, a
-// revolved trapezoid, a solid cylinder whose profile closes along the axis) becomes four exact
-// rational 90-degree volume patches. Planar faces can also
-// be extruded along their normal into volumes.
-// Not handled (reported per solid): other solids (holes, L-sections, solids of revolution whose
-// profile is not 4-sided such as spheres, cones and tori), curved 4-sided faces whose interior is
-// not the blend of their edges.
+// revolved trapezoid, a solid cylinder whose profile closes along the axis, a solid torus whose
+// circular section is cut into four arcs) becomes four exact rational 90-degree volume patches.
+// Planar faces can also be extruded along their normal into volumes. Not handled (reported per
+// solid): other solids (holes, L-sections, solids of revolution whose profile is not 4-sided such
+// as balls and cones), curved 4-sided faces whose interior is not the blend of their edges.
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
