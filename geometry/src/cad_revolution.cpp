@@ -240,8 +240,9 @@ bool revolution_patches(const TopoDS_Shape& solid, std::vector<nurbs::Patch>& pa
     knots[0] = nurbs::KnotVector(knots[0].degree(), t);
     quarters.emplace_back(knots, q.control_points(), q.weights());
   }
-  // Every boundary side (profile side swept) must lie on a CAD face.
-  for (const nurbs::Patch& q : quarters)
+  // Every boundary side (profile side swept) must lie on a CAD face. The quarters are exact
+  // rotated copies of each other (same profile, same arc), so the first one is checked.
+  for (const nurbs::Patch& q : {quarters.front()})
     for (int dir = 1; dir < 3; ++dir)
       for (int side = 0; side < 2; ++side) {
         const nurbs::Patch face = boundary_side(q, dir, side);
