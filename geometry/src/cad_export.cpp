@@ -75,7 +75,20 @@ void write_cad(const std::filesystem::path& file, const std::vector<nurbs::Patch
     STEPControl_Controller::Init();  // the unit statics exist only after initialisation
     IGESControl_Controller::Init();
     Interface_Static::SetCVal("xstep.cascade.unit", "M");
-    const std::string name = file.string();
+    // Written next to the target and renamed when complete (atomic on one file system): a failed
+    // or interrupted export never leaves a truncated part where the user expects a good one.
+    // (io/atomic_file.hpp cannot be used here: io comes after geometry in the module order.)
+    const std::filesystem::path temporary =
+        file.parent_path() / ("." + file.filename().string() + ".isospring-tmp" + ext);
+    const std::string name = temporary.string();
+    struct RemoveOnFailure {
+      const std::filesystem::path& path;
+      bool keep = false;
+      ~RemoveOnFailure() {
+        std::error_code ignored;
+        if (!keep) std::filesystem::remove(path, ignored);
+      }
+    } cleanup{temporary};
     if (step) {
       Interface_Static::SetCVal("write.step.unit", "M");  // before the writer builds its model
       STEPControl_Writer writer;
@@ -98,6 +111,12 @@ void write_cad(const std::filesystem::path& file, const std::vector<nurbs::Patch
       if (!writer.Write(name.c_str()))
         throw std::runtime_error("OpenCascade could not write " + name);
     }
+    std::error_code error;
+    std::filesystem::rename(temporary, file, error);
+    if (error)
+      throw std::runtime_error(file.string() + ": cannot move the written part into place (" +
+                               error.message() + ")");
+    cleanup.keep = true;
   } catch (const Standard_Failure& e) {
     throw std::runtime_error(file.string() + ": OpenCascade failed: " + e.GetMessageString());
   }

@@ -215,6 +215,29 @@ TEST(CadExport, RoundTripReproducesTheGeometry) {
   }
 }
 
+TEST(CadExport, WritesAtomically) {
+  // Complete: the part appears under its name and no temporary file is left beside it.
+  const fs::path dir = temp_folder() / "atomic";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_cad(dir / "box.step", box(1, 2, 3));
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"box.step"});
+  // Failed: an existing part is kept untouched when a new write cannot complete (a folder
+  // stands where the temporary file would go, so OpenCascade's writer fails).
+  const std::string before = [&] {
+    std::ifstream in(dir / "box.step");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  fs::create_directories(dir / ".box.step.isospring-tmp.step");
+  EXPECT_ANY_THROW(write_cad(dir / "box.step", box(2, 2, 2)));
+  std::ifstream in(dir / "box.step");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), before);
+  fs::remove_all(dir);
+}
+
 TEST(CadImport, BadFilesAreInputErrors) {
   const fs::path dir = temp_folder();
   auto write = [&](const std::string& name, const std::string& text) {
