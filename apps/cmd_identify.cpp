@@ -39,6 +39,52 @@ nlohmann::json errors_json(const fitting::ErrorSummary& e) {
   return {{"rms", e.rms}, {"max", e.max}};
 }
 
+nlohmann::json vector_json(const Eigen::Vector3d& v, int dim) {
+  nlohmann::json j = nlohmann::json::array();
+  for (int c = 0; c < dim; ++c) j.push_back(v[c]);
+  return j;
+}
+
+nlohmann::json residual_json(const fitting::ResidualDescription& d) {
+  const int dim = d.dimension;
+  nlohmann::json j{
+      {"rms", d.rms},
+      {"component_rms", vector_json(d.component_rms, dim)},
+      {"constant_fraction", d.constant_fraction},
+      {"linear_fraction", d.linear_fraction},
+      {"noise_fraction", d.noise_fraction},
+      {"load_correlation", std::isnan(d.load_correlation) ? nlohmann::json(nullptr)
+                                                          : nlohmann::json(d.load_correlation)},
+      {"summary", d.summary}};
+  for (const auto& c : d.load_cases)
+    j["load_cases"].push_back({{"id", c.id},
+                               {"markers", c.markers},
+                               {"rms", c.rms},
+                               {"component_rms", vector_json(c.component_rms, dim)},
+                               {"load_norm", c.load_norm},
+                               {"resultant", vector_json(c.resultant, dim)},
+                               {"rms_per_load", c.rms_per_load}});
+  return j;
+}
+
+// The residual description as a table and a sentence (report.md).
+void residual_markdown(io::MarkdownReport& md, const std::string& title,
+                       const fitting::ResidualDescription& d) {
+  const int dim = d.dimension;
+  auto components = [dim](const Eigen::Vector3d& v) {
+    std::string s;
+    for (int c = 0; c < dim; ++c) s += (c ? ", " : "") + io::format_number(v[c], 3);
+    return s;
+  };
+  std::vector<std::vector<std::string>> rows;
+  rows.push_back({"all", io::format_number(d.rms, 3), components(d.component_rms), "", ""});
+  for (const auto& c : d.load_cases)
+    rows.push_back({c.id, io::format_number(c.rms, 3), components(c.component_rms),
+                    io::format_number(c.load_norm, 3), io::format_number(c.rms_per_load, 3)});
+  md.paragraph(title + ": " + d.summary);
+  md.table({"load case", "rms [m]", "rms per component [m]", "|f| [N]", "rms / |f| [m/N]"}, rows);
+}
+
 double model_diagonal(const std::vector<nurbs::Patch>& patches) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
   for (const auto& p : patches) {
@@ -205,6 +251,8 @@ void run_identify(const IdentifyCommandOptions& options) {
                                     {"value", p.value},
                                     {"standard_error", p.standard_error}});
   for (const auto& [name, value] : r.derived) report["derived"][name] = value;
+  report["residual_before"] = residual_json(r.residual_before);
+  report["residual_after"] = residual_json(r.residual_after);
   report["rms_before"] = r.before.rms;
   report["rms_after"] = r.after.rms;
   report["max_before"] = r.before.max;
@@ -220,7 +268,10 @@ void run_identify(const IdentifyCommandOptions& options) {
                                     {"before", errors_json(lc.before)},
                                     {"after", errors_json(lc.after)}});
   for (const auto& round : r.rounds) {
-    nlohmann::json j{{"rss", round.rss}, {"added", round.added}, {"removed", round.removed}};
+    nlohmann::json j{{"rss", round.rss},
+                     {"added", round.added},
+                     {"removed", round.removed},
+                     {"residual", residual_json(round.residual)}};
     for (const auto& t : round.candidates)
       j["candidates"].push_back({{"effect", t.effect},
                                  {"parameters", t.parameters},
@@ -324,6 +375,13 @@ void run_identify(const IdentifyCommandOptions& options) {
     md.paragraph("Hold-out (fit on every other marker, validate on the rest): validation rms " +
                  io::format_number(r.holdout.validation_before.rms, 4) + " m before, " +
                  io::format_number(r.holdout.validation_after.rms, 4) + " m after.");
+  md.heading(2, "Residual");
+  md.paragraph(
+      "Share of the residual energy in constant and linear functions of position per load case "
+      "and component (rigid motions, uniform strain errors) against what pure noise would put "
+      "there, per-component and per-load-case RMS, and RMS per unit load.");
+  residual_markdown(md, "Nominal model", r.residual_before);
+  residual_markdown(md, "Final model", r.residual_after);
   md.heading(2, "Selection");
   for (size_t k = 0; k < r.rounds.size(); ++k) {
     rows.clear();
@@ -332,7 +390,8 @@ void run_identify(const IdentifyCommandOptions& options) {
                       io::format_number(t.p_value, 3), t.note});
     md.paragraph(
         "Round " + std::to_string(k + 1) + ": " +
-        (r.rounds[k].added.empty() ? "nothing significant, stop" : "added " + r.rounds[k].added));
+        (r.rounds[k].added.empty() ? "nothing significant, stop" : "added " + r.rounds[k].added) +
+        ". Residual before the round: " + r.rounds[k].residual.summary);
     md.table({"candidate", "parameters", "F", "p", "note"}, rows);
   }
   if (!r.spring_model_notes.empty()) {
