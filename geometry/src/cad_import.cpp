@@ -286,8 +286,10 @@ CadModel read_cad(const std::filesystem::path& file) {
     std::string revolution_why;
     if (detail::hexahedron_patch(solids(s), natural, patch, why)) {
       model.volume_patches.push_back(patch);
+      model.patch_solid.push_back(s - 1);
     } else if (detail::revolution_patches(solids(s), quarters, revolution_why)) {
       model.volume_patches.insert(model.volume_patches.end(), quarters.begin(), quarters.end());
+      model.patch_solid.insert(model.patch_solid.end(), quarters.size(), s - 1);
       why.clear();
     } else if (revolution_why.rfind("not ", 0) != 0) {
       why = revolution_why;  // it is a solid of revolution: say what stopped it
@@ -327,6 +329,28 @@ std::string describe(const CadModel& model) {
     out << "  face " << f.index << ": " << f.surface_type << ", " << f.wires << " wire(s), "
         << f.edges << " edges, area " << f.area << " m^2, " << usability(f) << "\n";
   return out.str();
+}
+
+std::vector<nurbs::Patch> cad_solid_patches(const CadModel& model, const std::vector<int>& solids) {
+  const std::string name = model.file.string();
+  if (solids.empty()) throw InputError(name + ": solids: give at least one solid index (0-based)");
+  std::vector<nurbs::Patch> patches;
+  for (size_t k = 0; k < solids.size(); ++k) {
+    const int s = solids[k];
+    if (s < 0 || s >= model.solids)
+      throw InputError(name + ": solids[" + std::to_string(k) + "] = " + std::to_string(s) +
+                       " is not a solid of the part (it has " + std::to_string(model.solids) +
+                       "; indices are 0-based, listed by `isospring info`)");
+    if (std::count(solids.begin(), solids.end(), s) > 1)
+      throw InputError(name + ": solids: solid " + std::to_string(s) + " is listed twice");
+    if (!model.solid_notes[static_cast<size_t>(s)].empty())
+      throw InputError(name + ": solid " + std::to_string(s) +
+                       " cannot be a volume patch: " + model.solid_notes[static_cast<size_t>(s)] +
+                       "; leave it out of \"solids\" or split it in the CAD program");
+    for (size_t p = 0; p < model.volume_patches.size(); ++p)
+      if (model.patch_solid[p] == s) patches.push_back(model.volume_patches[p]);
+  }
+  return patches;
 }
 
 std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,

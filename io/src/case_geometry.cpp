@@ -39,7 +39,9 @@ class GeometryFields {
   double number(const std::string& field) const {
     used_.insert(field);
     if (!object_.contains(field))
-      fail(field, "is missing; a " + type_ + " needs it (see `isospring help geometry`)");
+      fail(field,
+           "is missing; a " + type_ +
+               " needs it (geometry types and their fields: README.md, 'Case files', 'geometry')");
     return to_number(object_.at(field), field);
   }
 
@@ -92,7 +94,9 @@ class GeometryFields {
   void reject_unknown() const {
     for (auto it = object_.begin(); it != object_.end(); ++it)
       if (it.key() != "type" && !used_.count(it.key()))
-        fail(it.key(), "is not a field of a " + type_ + " (see `isospring help geometry`)");
+        fail(it.key(),
+             "is not a field of a " + type_ +
+                 " (geometry types and their fields: README.md, 'Case files', 'geometry')");
   }
 
   const std::string& prefix() const { return prefix_; }
@@ -232,6 +236,20 @@ const std::map<std::string, Builder>& builders() {
              faces.push_back(v.get<int>());
            }
          }
+         std::vector<int> solids;
+         if (f.has("solids")) {
+           if (f.has("faces") || thickness > 0.0)
+             f.fail("solids",
+                    "cannot be combined with faces or thickness: choose solids "
+                    "(volumes) or faces (surfaces, optionally extruded)");
+           const nlohmann::json& list = f.object().at("solids");
+           if (!list.is_array()) f.fail("solids", "must be a list of solid indices (0-based)");
+           for (const auto& v : list) {
+             if (!v.is_number_integer()) f.fail("solids", "must hold integers, got " + v.dump());
+             solids.push_back(v.get<int>());
+           }
+           return geometry::cad_solid_patches(geometry::read_cad(file), solids);
+         }
          return geometry::cad_patches(geometry::read_cad(file), thickness, faces);
        }},
       {"patches",
@@ -306,7 +324,7 @@ std::string geometry_types_help() {
   coupled_spheroid  (no fields)                     [S15] Table 5.1: two spheroids, z in [0, 4]
   thin_plate        region (a 2D geometry) thickness   extruded along +z
   patches           file                            a patch file (JSON)
-  cad               file [thickness, faces]         STEP/IGES part (see `isospring import`)
+  cad               file [thickness, faces | solids] STEP/IGES part (see `isospring import`)
 )";
 }
 

@@ -80,7 +80,8 @@ TEST(CaseGeometry, MistakesNameTheCaseFileAndTheField) {
   EXPECT_EQ(error_of({{"type", "box"}, {"size", {1.0, 2.0}}}),
             "case.json: geometry.size must have 3 numbers for a box, got 2");
   EXPECT_EQ(error_of({{"type", "box"}, {"size", {1.0, 2.0, 3.0}}, {"sise", 1}}),
-            "case.json: geometry.sise is not a field of a box (see `isospring help geometry`)");
+            "case.json: geometry.sise is not a field of a box (geometry types and their fields: "
+            "README.md, 'Case files', 'geometry')");
   EXPECT_NE(error_of({{"type", "boxx"}}).find("case.json: geometry.type 'boxx' is unknown"),
             std::string::npos);
   EXPECT_NE(error_of({{"size", 1}}).find("case.json: geometry.type is missing"), std::string::npos);
@@ -129,6 +130,33 @@ TEST(CaseGeometry, CadPartFromTheExamples) {
   EXPECT_THROW(build_case_geometry({{"type", "cad"}, {"file", "block.step"}, {"faces", {99}}}, dir,
                                    "case.json"),
                nurbs::InputError);
+}
+
+TEST(CaseGeometry, CadSolidsSelection) {
+  const auto dir = std::filesystem::path(ISOSPRING_SOURCE_DIR) / "examples" / "cad";
+  // The tube (radii 15 and 20 mm, 100 mm long) is one solid of revolution: 4 quarter volumes.
+  const auto tube = build_case_geometry({{"type", "cad"}, {"file", "tube.step"}, {"solids", {0}}},
+                                        dir, "case.json");
+  ASSERT_EQ(tube.size(), 4u);
+  EXPECT_NEAR(geometry::measure(tube) / (M_PI * (0.02 * 0.02 - 0.015 * 0.015) * 0.1), 1.0, 1e-12);
+  auto message = [&](const json& g) {
+    try {
+      build_case_geometry(g, dir, "case.json");
+    } catch (const nurbs::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(message({{"type", "cad"}, {"file", "tube.step"}, {"solids", {1}}})
+                .find("solids[0] = 1 is not a solid of the part (it has 1"),
+            std::string::npos);
+  EXPECT_NE(message({{"type", "cad"}, {"file", "tube.step"}, {"solids", {0}}, {"faces", {0}}})
+                .find("geometry.solids cannot be combined with faces"),
+            std::string::npos);
+  // The bracket is not a volume: the message says why and what to do.
+  EXPECT_NE(message({{"type", "cad"}, {"file", "bracket.step"}, {"solids", {0}}})
+                .find("solid 0 cannot be a volume patch"),
+            std::string::npos);
 }
 
 TEST(CaseGeometry, HelpListsEveryType) {

@@ -50,6 +50,7 @@ struct CadModel {
   std::vector<nurbs::Patch> face_patches;  // one per usable face (natural or Coons), in face order
   std::vector<int> patch_face;             // face index of each face patch
   std::vector<nurbs::Patch> volume_patches;  // solids as volumes (1 per block, 4 per revolution)
+  std::vector<int> patch_solid;              // solid index (0-based) of each volume patch
   std::vector<std::string> solid_notes;      // per solid: empty if a volume patch, else why not
 };
 
@@ -67,6 +68,11 @@ std::string describe(const CadModel& model);
 /// requested face cannot be used.
 std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness = 0.0,
                                       const std::vector<int>& faces = {});
+
+/// The volume patches of the chosen solids (0-based, in file order), e.g. one body of a
+/// multi-body part. Throws InputError naming the file and the solid when an index is out of range
+/// or a chosen solid did not become volume patches (with the reason, from solid_notes).
+std::vector<nurbs::Patch> cad_solid_patches(const CadModel& model, const std::vector<int>& solids);
 
 /// Writes patches as B-spline faces (volumes as their six boundary faces) to STEP or IGES (by
 /// extension), in metres. Throws nurbs::InputError for an unknown extension, std::runtime_error
