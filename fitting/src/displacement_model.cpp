@@ -120,21 +120,31 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
   // meaningless, so the trial fails (Ceres then shortens the step).
   if (!k_group.allFinite() || !(k_group.minCoeff() > 0.0)) return false;
 
-  double* values = k_.valuePtr();
-  std::fill(values, values + k_.nonZeros(), 0.0);
-  for (size_t s = 0; s < springs_.size(); ++s) {
-    const double k = k_group[group_of_spring_[s]];
-    for (int e = begin_[s]; e < begin_[s + 1]; ++e) values[slot_[e]] += k * coefficient_[e];
+  // Both solvers evaluate a trial point without the Jacobian and, once it is accepted, again
+  // with it: the factorisation and displacements of an unchanged theta are reused.
+  if (!(factored_ && theta.size() == factored_theta_.size() && theta == factored_theta_)) {
+    factored_ = false;
+    factor_at_inverse_ = false;
+    double* values = k_.valuePtr();
+    std::fill(values, values + k_.nonZeros(), 0.0);
+    for (size_t s = 0; s < springs_.size(); ++s) {
+      const double k = k_group[group_of_spring_[s]];
+      for (int e = begin_[s]; e < begin_[s + 1]; ++e) values[slot_[e]] += k * coefficient_[e];
+    }
+    solver_.factorize(k_);
+    if (solver_.info() != Eigen::Success) return false;
+    u_.resize(static_cast<size_t>(cases));
+    for (int c = 0; c < cases; ++c) {
+      u_[c] = solver_.solve(load_[c]);
+      if (!u_[c].allFinite()) return false;
+    }
+    factored_ = true;
+    factored_theta_ = theta;
   }
-  factor_at_inverse_ = false;
-  solver_.factorize(k_);
-  if (solver_.info() != Eigen::Success) return false;
+  const std::vector<Eigen::VectorXd>& u = u_;
 
   residuals.resize(static_cast<Eigen::Index>(cases) * rows_per_case_);
-  std::vector<Eigen::VectorXd> u(static_cast<size_t>(cases));
   for (int c = 0; c < cases; ++c) {
-    u[c] = solver_.solve(load_[c]);
-    if (!u[c].allFinite()) return false;
     const Eigen::Index offset = static_cast<Eigen::Index>(c) * rows_per_case_;
     for (int row = 0; row < rows_per_case_; ++row) {
       const int f = row_free_[row];

@@ -67,6 +67,10 @@ class DisplacementModel {
   std::vector<int> begin_, slot_;
   std::vector<double> coefficient_;
   bool one_spring_per_group_ = false;
+  // The theta solver_ is factorised at (valid when factored_) and its displacements per case.
+  bool factored_ = false;
+  Eigen::VectorXd factored_theta_;
+  std::vector<Eigen::VectorXd> u_;
   // Kept from the last evaluation with a Jacobian (adjoint form) for gram(): K^-1 and, per case,
   // every spring's k_s (g_s^T u_c).
   Eigen::MatrixXd inverse_;
