@@ -106,14 +106,15 @@ ResidualDescription describe_residual(const std::vector<Eigen::Vector3d>& positi
   for (int a = 1; a < dim; ++a)
     if (d.component_rms[a] > d.component_rms[largest]) largest = a;
   const double smooth = d.constant_fraction + d.linear_fraction;
-  d.summary = "constant and linear modes per load case and component explain " + percent(smooth) +
-              " of the residual energy (constant " + percent(d.constant_fraction) + ", linear " +
-              percent(d.linear_fraction) + "; pure noise: about " + percent(d.noise_fraction) +
-              "), " +
-              (smooth > 0.5 ? "a smooth, rigid-motion-like or uniform-strain-like misfit"
-               : smooth > 3.0 * d.noise_fraction ? "partly smooth"
-                                                 : "no more than noise would put there") +
-              "; largest component " + std::string(1, "xyz"[largest]) + ".";
+  d.summary =
+      "constant and linear modes per load case and component explain " + percent(smooth) +
+      " of the residual energy (constant " + percent(d.constant_fraction) + ", linear " +
+      percent(d.linear_fraction) + "; pure noise: about " + percent(d.noise_fraction) + "), " +
+      (smooth > 0.5 ? "a smooth misfit (a rigid motion, a uniform strain or another slowly varying "
+                      "field)"
+       : smooth > 3.0 * d.noise_fraction ? "partly smooth"
+                                         : "no more than noise would put there") +
+      "; largest component " + std::string(1, "xyz"[largest]) + ".";
   return d;
 }
 
