@@ -119,6 +119,50 @@ TEST(ModelFile, BadFieldsAreNamed) {
   expect_error(empty, "particles");
 }
 
+TEST(ModelFile, LoadsRoundTripAndAddUp) {
+  SpringModel model;
+  model.network = small_network();
+  model.units = default_model_units();
+  model.gravity = Eigen::Vector3d(0.0, -9.81, 0.1 / 3.0);
+  model.load_cases = {{"L1", {{1, Eigen::Vector3d(1.0 / 3.0, 2.0, -1e-9)}, {3, {0, 0, 5}}}},
+                      {"L2", {}}};
+  const fs::path dir = temp_dir("loads");
+  write_spring_model_json(dir / "model.json", model);
+  const SpringModel back = read_model_json(dir / "model.json");
+  EXPECT_EQ(back.gravity, model.gravity);  // full precision: bit exact
+  ASSERT_EQ(back.load_cases.size(), 2u);
+  EXPECT_EQ(back.load_cases[0].id, "L1");
+  ASSERT_EQ(back.load_cases[0].forces.size(), 2u);
+  EXPECT_EQ(back.load_cases[0].forces[0].second, model.load_cases[0].forces[0].second);
+  EXPECT_TRUE(back.load_cases[1].forces.empty());
+  // Force vector: the listed forces plus m_i g on every particle.
+  const Eigen::VectorXd f = model_force_vector(back, 0, true);
+  ASSERT_EQ(f.size(), 12);
+  EXPECT_EQ(f.segment(3, 3), Eigen::Vector3d(1.0 / 3.0, 2.0, -1e-9) + 0.25 * model.gravity);
+  EXPECT_EQ(f.segment(9, 3), Eigen::Vector3d(0, 0, 5) + 1e-7 * model.gravity);
+  EXPECT_EQ(f.segment(0, 3), Eigen::Vector3d::Zero());  // mass 0
+  EXPECT_EQ(model_force_vector(back, 0, false).segment(3, 3),
+            Eigen::Vector3d(1.0 / 3.0, 2.0, -1e-9));
+  // Files without loads read as before: zero gravity, no load cases.
+  const SpringModel plain = model_from_json(model_to_json(small_network()), "model.json");
+  EXPECT_TRUE(plain.gravity.isZero());
+  EXPECT_TRUE(plain.load_cases.empty());
+  // Bad loads are named.
+  const json good = spring_model_to_json(model);
+  auto with = [&](const std::string& pointer, const json& value) {
+    json doc = good;
+    doc[json::json_pointer(pointer)] = value;
+    return doc;
+  };
+  expect_error(with("/load_cases/0/forces/1/0", 4),
+               "load_cases[0].forces[1][0]: particle index 4 out of range");
+  expect_error(with("/load_cases/0/forces/0", json::array({1, 2.0})),
+               "load_cases[0].forces[0]: must be [particle, fx, fy, fz]");
+  expect_error(with("/load_cases/1/id", 3), "load_cases[1].id: must be a string");
+  expect_error(with("/gravity", json::array({0, "g", 0})), "gravity[1]: must be a number");
+  fs::remove_all(dir);
+}
+
 TEST(ModelFile, WriterRefusesAnInvalidNetworkAndKeepsTheOldFile) {
   const fs::path path = temp_dir("writer") / "model.json";
   write_model_json(path, small_network());
