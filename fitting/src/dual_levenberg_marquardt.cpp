@@ -21,18 +21,17 @@ double cost_of(const BoundedLeastSquares& problem, const Eigen::VectorXd& x,
 }
 
 // The LM step for damping a = w + mu with the active columns of J (and entries of e) zeroed.
-// `gram` is J J^T on the rows `rows` (dual; rows of J that are zero, e.g. held nodes, add nothing
-// and are left out) or J^T J (primal), without the damping.
+// `gram` is J J^T (dual) or J^T J (primal), without the damping. In the dual form `jacobian` and
+// `r` hold only the rows of J that are not zero (held nodes add nothing to the step).
 Eigen::VectorXd lm_step(const Eigen::MatrixXd& jacobian, const Eigen::MatrixXd& gram, bool dual,
-                        const std::vector<Eigen::Index>& rows, const Eigen::VectorXd& r,
-                        const Eigen::VectorXd& e, double w, double a) {
+                        const Eigen::VectorXd& r, const Eigen::VectorXd& e, double w, double a) {
   Eigen::MatrixXd system = gram;
   system.diagonal().array() += a;
   const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(system);
   if (dual) {
-    const Eigen::MatrixXd j = jacobian(rows, Eigen::all);
+    const Eigen::MatrixXd& j = jacobian;
     // No cancellation in the data part: -J^T (a I + J J^T)^-1 r.
-    Eigen::VectorXd d = -j.transpose() * llt.solve(Eigen::VectorXd(r(rows)));
+    Eigen::VectorXd d = -j.transpose() * llt.solve(r);
     if (w > 0.0) d -= (w / a) * (e - j.transpose() * llt.solve(Eigen::VectorXd(j * e)));
     return d;
   }
@@ -88,7 +87,8 @@ DualLmSummary solve_dual_levenberg_marquardt(const BoundedLeastSquares& problem,
       break;
     }
     // The m x m (dual) or P x P (primal) Gram matrix; symmetric, so one triangle is formed.
-    Eigen::MatrixXd gram;
+    Eigen::MatrixXd gram, reduced_jacobian;
+    Eigen::VectorXd reduced_r;
     std::vector<Eigen::Index> rows;
     if (!dual) {
       gram.setZero(p, p);
@@ -96,12 +96,13 @@ DualLmSummary solve_dual_levenberg_marquardt(const BoundedLeastSquares& problem,
     } else {
       for (Eigen::Index i = 0; i < m; ++i)
         if (active_jacobian.row(i).cwiseAbs().maxCoeff() > 0.0) rows.push_back(i);
+      reduced_jacobian = active_jacobian(rows, Eigen::all);
+      reduced_r = r(rows);
       if (problem.gram && problem.gram(weight, gram)) {
         gram = Eigen::MatrixXd(gram(rows, rows));
       } else {
-        const Eigen::MatrixXd j = active_jacobian(rows, Eigen::all);
-        gram.setZero(j.rows(), j.rows());
-        gram.selfadjointView<Eigen::Lower>().rankUpdate(j);
+        gram.setZero(reduced_jacobian.rows(), reduced_jacobian.rows());
+        gram.selfadjointView<Eigen::Lower>().rankUpdate(reduced_jacobian);
       }
     }
     if (mu < 0.0) mu = 1e-4 * std::max(gram.diagonal().maxCoeff(), 1e-300);
@@ -109,7 +110,9 @@ DualLmSummary solve_dual_levenberg_marquardt(const BoundedLeastSquares& problem,
     bool accepted = false, done = false;
     while (!accepted && iteration < options.max_iterations) {
       ++iteration;
-      const Eigen::VectorXd step = lm_step(active_jacobian, gram, dual, rows, r, e, w, w + mu);
+      const Eigen::VectorXd step =
+          dual ? lm_step(reduced_jacobian, gram, true, reduced_r, e, w, w + mu)
+               : lm_step(active_jacobian, gram, false, r, e, w, w + mu);
       const Eigen::VectorXd trial = (x + step).cwiseMax(problem.lower).cwiseMin(problem.upper);
       const Eigen::VectorXd d = trial - x;
       if (d.norm() <= options.parameter_tolerance * (x.norm() + options.parameter_tolerance)) {
