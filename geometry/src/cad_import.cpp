@@ -35,6 +35,7 @@
 
 #include "cad_coons.hpp"
 #include "cad_hexahedron.hpp"
+#include "cad_reader.hpp"
 #include "cad_revolution.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
@@ -206,6 +207,10 @@ bool natural_patch(const TopoDS_Face& face, CadFace& report, nurbs::Patch& patch
 }
 
 }  // namespace
+
+TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::string& file_unit) {
+  return read_shape(file, file_unit);
+}
 
 CadModel read_cad(const std::filesystem::path& file) {
   CadModel model;
