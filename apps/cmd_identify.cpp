@@ -222,7 +222,9 @@ void run_identify(const IdentifyCommandOptions& options) {
       fitting::identify(c.problem, kept, placements, identify_options);
 
   // Carry it through: recalibrate the spring model against the corrected reference. A failed
-  // recalibration is reported, not fatal: the identification itself stands.
+  // recalibration is reported, not fatal: the identification itself stands. That includes input
+  // errors of the calibration (no density for the masses, prescribed non-zero supports): the case
+  // is fine for identification; only the "calibration" object itself is checked strictly above.
   progress("recalibrating the spring model against the corrected reference");
   const fitting::CalibrationSettings calibration_settings =
       parse_calibration(c.calibration, options.case_file).settings;
@@ -230,8 +232,6 @@ void run_identify(const IdentifyCommandOptions& options) {
   std::string recalibration_error;
   try {
     recalibration = fitting::recalibrate_identified(c.problem, r, calibration_settings);
-  } catch (const nurbs::InputError&) {
-    throw;
   } catch (const std::exception& e) {
     recalibration_error = e.what();
     progress.warn("recalibration failed: " + recalibration_error + "; model.json not written");
