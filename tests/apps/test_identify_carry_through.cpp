@@ -78,5 +78,26 @@ TEST(IdentifyCarryThrough, ExportedModelWithGravityReproducesTheCorrectedReferen
   EXPECT_LT(report["recalibration"]["percent_e_rms"].get<double>(), 2.0);
 }
 
+TEST(IdentifyCarryThrough, RecalibrationFailureIsReportedNotFatal) {
+  // Without a density the spring model has no masses: the identification still runs (gravity is
+  // then unavailable), the recalibration's error is reported and model.json is not written.
+  testing::TemporaryFolder out;
+  const std::filesystem::path folder = out.path() / "case";
+  std::filesystem::create_directories(folder);
+  nlohmann::json c = nlohmann::json::parse(std::ifstream(kExample));
+  c["material"].erase("density");
+  std::ofstream(folder / "case.json") << c.dump();
+  std::filesystem::copy_file(std::string(ISOSPRING_SOURCE_DIR) + "/examples/identify/markers.csv",
+                             folder / "markers.csv");
+  const auto run = testing::run_isospring("identify " + (folder / "case.json").string() + " -o " +
+                                          (out.path() / "o").string() + " --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out.path() / "o/report.json"));
+  ASSERT_TRUE(report["recalibration"].contains("error"));
+  EXPECT_NE(report["recalibration"]["error"].get<std::string>().find("density"), std::string::npos)
+      << report["recalibration"];
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "o/model.json"));
+}
+
 }  // namespace
 }  // namespace isospring
