@@ -55,21 +55,23 @@ class DisplacementCost : public ceres::CostFunction {
   mutable Eigen::MatrixXd j_;
 };
 
-// sqrt(w) (theta_s - p_s): pulls a spring's log-stiffness towards a fixed prior value.
-class PriorRegularization : public ceres::SizedCostFunction<1, 1> {
+// sqrt(w) (theta_s - phi_a): pulls a spring's log-stiffness towards its group's shared value
+// phi_a (a free parameter).
+class EqualityRegularization : public ceres::SizedCostFunction<1, 1, 1> {
  public:
-  PriorRegularization(double weight, double prior)
-      : root_weight_(std::sqrt(weight)), prior_(prior) {}
+  explicit EqualityRegularization(double weight) : root_weight_(std::sqrt(weight)) {}
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    residuals[0] = root_weight_ * (parameters[0][0] - prior_);
-    if (jacobians && jacobians[0]) jacobians[0][0] = root_weight_;
+    residuals[0] = root_weight_ * (parameters[0][0] - parameters[1][0]);
+    if (jacobians) {
+      if (jacobians[0]) jacobians[0][0] = root_weight_;
+      if (jacobians[1]) jacobians[1][0] = -root_weight_;
+    }
     return true;
   }
 
  private:
   double root_weight_;
-  double prior_;
 };
 
 // Initial stiffness: k_s = E L0_s (the dimensionally right scale of a lattice spring), then one
@@ -138,10 +140,16 @@ void solve_with_ceres(detail::DisplacementModel& model, const DisplacementFitOpt
   for (int g = 0; g < groups && !options.upper_bounds.empty(); ++g)
     problem.SetParameterUpperBound(blocks[g], 0, std::log(options.upper_bounds[g]));
   for (int g = 0; g < groups; ++g) problem.SetParameterLowerBound(blocks[g], 0, log_floor);
-  if (options.regularization > 0.0)
+  // Shared values start at the group means of the start (prior) and are free.
+  std::vector<double> shared;
+  if (options.regularization > 0.0) {
+    const std::vector<int>& group = options.regularization_groups.group_of_spring;
+    shared.assign(static_cast<size_t>(options.regularization_groups.num_groups()), 0.0);
+    for (int g = 0; g < groups; ++g) shared[group[g]] = prior[g];
     for (int g = 0; g < groups; ++g)
-      problem.AddResidualBlock(new PriorRegularization(options.regularization, prior[g]), nullptr,
-                               &theta[g]);
+      problem.AddResidualBlock(new EqualityRegularization(options.regularization), nullptr,
+                               &theta[g], &shared[group[g]]);
+  }
 
   ceres::Solver::Options solver_options;
   solver_options.max_num_iterations = options.max_iterations;
@@ -178,6 +186,7 @@ void solve_dual(detail::DisplacementModel& model, const DisplacementFitOptions& 
     problem.upper[g] = std::log(options.upper_bounds[g]);
   if (options.regularization > 0.0) {
     problem.prior = prior;
+    problem.prior_groups = options.regularization_groups.group_of_spring;
     problem.prior_weight = options.regularization;
   }
   detail::DualLmOptions lm;

@@ -12,29 +12,118 @@ namespace isospring::fitting::detail {
 
 namespace {
 
+// The prior at x: fixed, or the group means of x (prior_groups).
+Eigen::VectorXd prior_at(const BoundedLeastSquares& problem, const Eigen::VectorXd& x) {
+  if (problem.prior_groups.empty()) return problem.prior;
+  const int groups =
+      *std::max_element(problem.prior_groups.begin(), problem.prior_groups.end()) + 1;
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(groups), count = Eigen::VectorXd::Zero(groups);
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    sum[problem.prior_groups[i]] += x[i];
+    count[problem.prior_groups[i]] += 1.0;
+  }
+  Eigen::VectorXd prior(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    prior[i] = sum[problem.prior_groups[i]] / count[problem.prior_groups[i]];
+  return prior;
+}
+
 double cost_of(const BoundedLeastSquares& problem, const Eigen::VectorXd& x,
                const Eigen::VectorXd& r) {
   double cost = 0.5 * r.squaredNorm();
   if (problem.prior_weight > 0.0)
-    cost += 0.5 * problem.prior_weight * (x - problem.prior).squaredNorm();
+    cost += 0.5 * problem.prior_weight * (x - prior_at(problem, x)).squaredNorm();
   return cost;
 }
 
-// The LM step for damping a = w + mu with the active columns of J (and entries of e) zeroed.
-// `gram` is J J^T (dual) or J^T J (primal), without the damping. In the dual form `jacobian` and
-// `r` hold only the rows of J that are not zero (held nodes add nothing to the step).
+// Free shared prior values (prior_groups) for the current active set. The prior Hessian is
+// w (I - P), P the group averaging; restricted to the free parameters F, D = alpha I - w P_FF
+// (alpha = w + mu) has per group a rank-one deficit, so by Sherman-Morrison
+// alpha D^-1 = T = I + A C A^T, A: free-member indicators, c_a = (w / n_a) / (alpha - w n_aF /
+// n_a).
+struct SharedPrior {
+  const std::vector<int>* group = nullptr;  // null: a fixed prior (D = alpha I, T = I)
+  Eigen::VectorXd size, free_size;          // n_a and n_aF
+  std::vector<bool> frozen;
+
+  SharedPrior(const BoundedLeastSquares& problem, const std::vector<bool>& frozen_parameters)
+      : frozen(frozen_parameters) {
+    if (problem.prior_groups.empty() || !(problem.prior_weight > 0.0)) return;
+    group = &problem.prior_groups;
+    const int groups = *std::max_element(group->begin(), group->end()) + 1;
+    size = free_size = Eigen::VectorXd::Zero(groups);
+    for (size_t i = 0; i < group->size(); ++i) {
+      size[(*group)[i]] += 1.0;
+      if (!frozen[i]) free_size[(*group)[i]] += 1.0;
+    }
+  }
+  Eigen::VectorXd c(double w, double alpha) const {
+    return (w / size.array()) / (alpha - w * free_size.array() / size.array());
+  }
+  Eigen::VectorXd free_sums(const Eigen::VectorXd& v) const {
+    Eigen::VectorXd sums = Eigen::VectorXd::Zero(size.size());
+    for (size_t i = 0; i < group->size(); ++i)
+      if (!frozen[i]) sums[(*group)[i]] += v[static_cast<Eigen::Index>(i)];
+    return sums;
+  }
+  Eigen::VectorXd apply_t(const Eigen::VectorXd& v, const Eigen::VectorXd& c) const {
+    if (!group) return v;
+    const Eigen::VectorXd sums = c.cwiseProduct(free_sums(v));
+    Eigen::VectorXd out = v;
+    for (size_t i = 0; i < group->size(); ++i)
+      if (!frozen[i]) out[static_cast<Eigen::Index>(i)] += sums[(*group)[i]];
+    return out;
+  }
+  // J A: per group, the sum of its free columns.
+  Eigen::MatrixXd group_columns(const Eigen::MatrixXd& j) const {
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(j.rows(), size.size());
+    for (size_t i = 0; i < group->size(); ++i)
+      if (!frozen[i]) out.col((*group)[i]) += j.col(static_cast<Eigen::Index>(i));
+    return out;
+  }
+  // d^T (I - P) d (fixed prior: d^T d).
+  double quadratic(const Eigen::VectorXd& d) const {
+    double q = d.squaredNorm();
+    if (!group) return q;
+    Eigen::VectorXd sums = Eigen::VectorXd::Zero(size.size());
+    for (size_t i = 0; i < group->size(); ++i) sums[(*group)[i]] += d[static_cast<Eigen::Index>(i)];
+    for (Eigen::Index a = 0; a < sums.size(); ++a) q -= sums[a] * sums[a] / size[a];
+    return q;
+  }
+};
+
+// The LM step for damping mu (alpha = w + mu) with the active columns of J (and entries of e)
+// zeroed. `gram` is J J^T (dual) or J^T J (primal), without the damping. In the dual form
+// `jacobian` and `r` hold only the rows of J that are not zero (held nodes add nothing).
+// Dual (Woodbury, S = alpha I + J J^T + (J A) C (J A)^T): d = -T J^T S^-1 r - h + T J^T S^-1 J h,
+// h = T w e / alpha; the data part has no cancellation.
 Eigen::VectorXd lm_step(const Eigen::MatrixXd& jacobian, const Eigen::MatrixXd& gram, bool dual,
-                        const Eigen::VectorXd& r, const Eigen::VectorXd& e, double w, double a) {
+                        const Eigen::VectorXd& r, const Eigen::VectorXd& e, double w, double alpha,
+                        const SharedPrior& shared) {
   Eigen::MatrixXd system = gram;
-  system.diagonal().array() += a;
-  const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(system);
+  system.diagonal().array() += alpha;
+  const Eigen::VectorXd c = shared.group ? shared.c(w, alpha) : Eigen::VectorXd();
   if (dual) {
     const Eigen::MatrixXd& j = jacobian;
-    // No cancellation in the data part: -J^T (a I + J J^T)^-1 r.
-    Eigen::VectorXd d = -j.transpose() * llt.solve(r);
-    if (w > 0.0) d -= (w / a) * (e - j.transpose() * llt.solve(Eigen::VectorXd(j * e)));
+    if (shared.group) {
+      const Eigen::MatrixXd ja = shared.group_columns(j);
+      system += ja * c.asDiagonal() * ja.transpose();
+    }
+    const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(system);
+    Eigen::VectorXd d = -shared.apply_t(j.transpose() * llt.solve(r), c);
+    if (w > 0.0) {
+      const Eigen::VectorXd h = shared.apply_t(w * e, c) / alpha;
+      d += -h + shared.apply_t(j.transpose() * llt.solve(Eigen::VectorXd(j * h)), c);
+    }
     return d;
   }
+  if (shared.group)  // H = J^T J + alpha I - w P_FF
+    for (size_t i = 0; i < shared.group->size(); ++i)
+      for (size_t k = 0; k < shared.group->size(); ++k)
+        if (!shared.frozen[i] && !shared.frozen[k] && (*shared.group)[i] == (*shared.group)[k])
+          system(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) -=
+              w / shared.size[(*shared.group)[i]];
+  const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(system);
   return -llt.solve(Eigen::VectorXd(jacobian.transpose() * r + w * e));
 }
 
@@ -55,7 +144,7 @@ DualLmSummary solve_dual_levenberg_marquardt(const BoundedLeastSquares& problem,
   double cost = cost_of(problem, x, r);
   summary.initial_cost = cost;
   auto prior_offset = [&](const Eigen::VectorXd& at) {
-    return w > 0.0 ? Eigen::VectorXd(at - problem.prior) : Eigen::VectorXd::Zero(p);
+    return w > 0.0 ? Eigen::VectorXd(at - prior_at(problem, at)) : Eigen::VectorXd::Zero(p);
   };
 
   double mu = -1.0, nu = 2.0;
@@ -81,6 +170,9 @@ DualLmSummary solve_dual_levenberg_marquardt(const BoundedLeastSquares& problem,
         e[i] = 0.0;
       }
     }
+    std::vector<bool> frozen(static_cast<size_t>(p));
+    for (Eigen::Index i = 0; i < p; ++i) frozen[static_cast<size_t>(i)] = weight[i] == 0.0;
+    const SharedPrior shared(problem, frozen);
     if (projected <= options.gradient_tolerance) {
       summary.converged = true;
       summary.message = "projected gradient below gradient_tolerance";
@@ -111,8 +203,8 @@ DualLmSummary solve_dual_levenberg_marquardt(const BoundedLeastSquares& problem,
     while (!accepted && iteration < options.max_iterations) {
       ++iteration;
       const Eigen::VectorXd step =
-          dual ? lm_step(reduced_jacobian, gram, true, reduced_r, e, w, w + mu)
-               : lm_step(active_jacobian, gram, false, r, e, w, w + mu);
+          dual ? lm_step(reduced_jacobian, gram, true, reduced_r, e, w, w + mu, shared)
+               : lm_step(active_jacobian, gram, false, r, e, w, w + mu, shared);
       const Eigen::VectorXd trial = (x + step).cwiseMax(problem.lower).cwiseMin(problem.upper);
       const Eigen::VectorXd d = trial - x;
       if (d.norm() <= options.parameter_tolerance * (x.norm() + options.parameter_tolerance)) {
@@ -123,7 +215,7 @@ DualLmSummary solve_dual_levenberg_marquardt(const BoundedLeastSquares& problem,
       }
       // Decrease predicted by the Gauss-Newton model of F along the projected step.
       const double predicted =
-          -gradient.dot(d) - 0.5 * ((jacobian * d).squaredNorm() + w * d.squaredNorm());
+          -gradient.dot(d) - 0.5 * ((jacobian * d).squaredNorm() + w * shared.quadratic(d));
       double trial_cost = INFINITY;
       if (problem.evaluate(trial, trial_r, nullptr) && trial_r.allFinite())
         trial_cost = cost_of(problem, trial, trial_r);

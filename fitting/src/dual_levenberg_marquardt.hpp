@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace isospring::fitting::detail {
 
@@ -30,7 +31,13 @@ struct BoundedLeastSquares {
   std::function<bool(const Eigen::VectorXd& weight, Eigen::MatrixXd& gram)> gram;
   Eigen::VectorXd lower;  // per parameter; -inf when none
   Eigen::VectorXd upper;  // per parameter; +inf when none
-  Eigen::VectorXd prior;  // p (used when prior_weight > 0)
+  Eigen::VectorXd prior;  // p (used when prior_weight > 0 and prior_groups is empty)
+  /// Non-empty: the prior is not fixed but one free shared value per group (prior_groups[i]: the
+  /// group of parameter i), eliminated in closed form: p_i = the mean of x over i's group (the
+  /// minimiser of the prior term for given x). The cost is then 1/2 |r|^2 + 1/2 w |(I - P) x|^2
+  /// (P: group averaging), gradient J^T r + w (x - P x), prior Hessian w (I - P); the step
+  /// handles it exactly (Sherman-Morrison per group inside the Woodbury form, see the .cpp).
+  std::vector<int> prior_groups;
   double prior_weight = 0.0;
 };
 

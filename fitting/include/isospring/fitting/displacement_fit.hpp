@@ -45,11 +45,11 @@ struct DisplacementFitOptions {
   /// 1e-6 times softer than the network's stiffest contributes nothing measurable, so the bound
   /// costs no accuracy while keeping cond(K) within ~1e6 of the rest network's.
   double min_stiffness_ratio = 1e-6;
-  /// > 0: every parameter is pulled towards a fixed prior by residuals sqrt(w) (theta_s - p_s),
-  /// p_s = the mean starting log-stiffness of its `regularization_groups` group (per-spring fits
-  /// start from the grouped optimum, so p_s is that group's fitted value and w -> infinity
-  /// recovers the grouped fit). A Tikhonov prior: it makes the underdetermined per-spring problem
-  /// well posed and picks, among the near-optimal stiffness sets, the one closest to the groups.
+  /// > 0: every parameter is pulled towards a shared value per `regularization_groups` group
+  /// by residuals sqrt(w) (theta_s - phi_group), the shared values free (w -> infinity recovers
+  /// the grouped fit). It picks, among the near-optimal per-spring stiffness sets (more springs
+  /// than residuals), one close to a grouping; without it a per-spring fit usually interpolates
+  /// the fitted cases exactly.
   double regularization = 0.0;
   Grouping regularization_groups;
   int max_iterations = 200;
