@@ -233,7 +233,13 @@ DisplacementFitResult fit_displacements(const DisplacementFitData& data,
   Eigen::VectorXd k0 = options.initial.empty()
                            ? initial_stiffness(model, grouping, options.youngs_modulus)
                            : Eigen::Map<const Eigen::VectorXd>(options.initial.data(), groups);
-  const double log_floor = std::log(options.min_stiffness_ratio * k0.maxCoeff());
+  // The floor never lies above a starting value: a start taken from an earlier fit (per-spring
+  // fits start at the grouped optimum, whose spread can exceed 1 / min_stiffness_ratio) must not
+  // be moved, or the fit would start, and end, worse than the fit it refines.
+  if (!(k0.minCoeff() > 0.0) || !k0.allFinite())
+    throw nurbs::InputError("calibration: initial stiffnesses must be positive and finite");
+  const double log_floor =
+      std::log(std::min(options.min_stiffness_ratio * k0.maxCoeff(), k0.minCoeff()));
   std::vector<double> theta(static_cast<size_t>(groups));
   for (int g = 0; g < groups; ++g) {
     double k = k0[g];

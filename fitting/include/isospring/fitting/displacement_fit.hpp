@@ -39,7 +39,8 @@ struct DisplacementFitOptions {
   Grouping grouping;                 // parameters: one stiffness per group
   std::vector<double> initial;       // per group; empty: a scaled E * L0 guess (see .cpp)
   std::vector<double> upper_bounds;  // per group; empty: none
-  /// Every stiffness is bounded below by this fraction of the largest initial group stiffness.
+  /// Every stiffness is bounded below by this fraction of the largest initial group stiffness
+  /// (or by the smallest initial stiffness when that is lower: a given start is never moved).
   /// Log-parameters alone only keep k > 0: a group that the data would rather switch off drifts
   /// towards k = 0, K(k) becomes numerically singular and its solves turn to noise. A spring
   /// 1e-6 times softer than the network's stiffest contributes nothing measurable, so the bound
