@@ -79,7 +79,15 @@ TEST(IdentifyCalculix, FindsTheSelfWeightInCalculixData) {
   const analysis::Problem nominal = bar(false);
   const fitting::PlacementResult placed = fitting::place_markers(nominal.patches, markers, 1e-9);
   ASSERT_TRUE(placed.outside.empty());
-  const fitting::IdentifyResult r = fitting::identify(nominal, markers, placed.placements);
+  // The linear candidates only: this test is about data from an independent code. The bar
+  // bends by ~1 mm over 200 mm (strains ~1e-4), where large-deformation effects are far below
+  // the data's resolution, and geometric_nonlinearity's Newton solves on these 1,350 DOFs would
+  // multiply the test's time; that candidate is tested in test_identify_nonlinear.cpp (found at
+  // 14 % deflection, not added at 0.014 %) and the whole library in 3D by Identify3D.
+  fitting::IdentifyOptions options;
+  options.candidates = {"gravity", "support_compliance", "stiffness_gradient", "rigid_offset",
+                        "load_scale"};
+  const fitting::IdentifyResult r = fitting::identify(nominal, markers, placed.placements, options);
   fs::remove_all(dir);
 
   const auto& added = r.effects_added;
