@@ -126,7 +126,7 @@ void setup_analyze(CLI::App& app) {
       "OUTDIR/<load-case-id>_control_displacements.csv (i,x,y,z,ux,uy,uz per control point) and\n"
       "OUTDIR/result.vtm + OUTDIR/result/ (ParaView: sampled and Bezier geometry with\n"
       "displacement_<id>, stress_<id>, von_mises_<id>, strain_energy_density_<id>; control net).\n"
-      "Case-file format: docs/case-file.md.");
+      "Case-file format: README.md, section \"Case files\".");
   cmd->add_option("CASE", options->case_file, "Case file (.json)")
       ->required()
       ->check(CLI::ExistingFile);
