@@ -2,6 +2,7 @@
 // Helpers for CAD tests on parts made with OpenCascade: write a shape to STEP (metres) and read it
 // back through read_cad, and half-spaces for cutting parts.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepPrimAPI_MakeHalfSpace.hxx>
@@ -18,7 +19,8 @@ namespace isospring::geometry::test {
 
 inline CadModel step_round_trip(const TopoDS_Shape& shape, const std::string& name) {
   const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / "isospring_test_cad_io";
+      std::filesystem::temp_directory_path() /
+      (std::string("isospring_test_cad_io-") + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   STEPControl_Controller::Init();
   Interface_Static::SetCVal("xstep.cascade.unit", "M");

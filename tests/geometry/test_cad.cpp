@@ -1,6 +1,7 @@
 // CAD import/export: test parts made with OpenCascade, the third-party files of ../shared/cad,
 // exact round trips and bad files.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepGProp.hxx>
@@ -31,7 +32,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_folder() {
-  const fs::path dir = fs::temp_directory_path() / "isospring_test_cad";
+  const fs::path dir =
+      fs::temp_directory_path() / (std::string("isospring_test_cad-") + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }

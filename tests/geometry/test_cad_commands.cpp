@@ -1,5 +1,6 @@
 // End to end: `isospring import` and `isospring export-step` on the committed block and tube.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <cmath>
 #include <cstdlib>
@@ -24,7 +25,8 @@ int run(const std::string& arguments) {
 
 TEST(CadCommands, ImportThenExportStep) {
   if (!fs::exists(ISOSPRING_EXECUTABLE)) GTEST_SKIP() << "build the isospring program first";
-  const fs::path dir = fs::temp_directory_path() / "isospring_test_cad_commands";
+  const fs::path dir = fs::temp_directory_path() /
+                       (std::string("isospring_test_cad_commands-") + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path block = fs::path(ISOSPRING_SOURCE_DIR) / "examples" / "cad" / "block.step";
   ASSERT_EQ(run("import " + block.string() + " -o " + (dir / "block.json").string()), 0);

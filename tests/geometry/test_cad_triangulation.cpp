@@ -2,6 +2,7 @@
 // (total area against OpenCascade's BRepGProp) and are oriented outwards (the divergence theorem
 // over the triangles gives the solid's volume), and `isospring import --display` writes them.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <Eigen/Geometry>
 #include <cstdlib>
@@ -70,7 +71,8 @@ TEST(CadTriangulation, BadInputIsAnInputError) {
 
 TEST(CadTriangulation, ImportWritesTheDisplayFile) {
   if (!fs::exists(ISOSPRING_EXECUTABLE)) GTEST_SKIP() << "build the isospring program first";
-  const fs::path dir = fs::temp_directory_path() / "isospring_test_cad_display";
+  const fs::path dir = fs::temp_directory_path() /
+                       (std::string("isospring_test_cad_display-") + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   // The bracket cannot become patches (exit 1), but its display is written first so the user

@@ -1,6 +1,7 @@
 // The case-file "geometry" object: every type builds the primitive it names, and every mistake
 // is an InputError naming the case file and the field.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <cmath>
 #include <filesystem>
@@ -64,7 +65,8 @@ TEST(CaseGeometry, EveryTypeHasItsClosedFormMeasure) {
 }
 
 TEST(CaseGeometry, PatchFileIsReadRelativeToTheCase) {
-  const auto dir = std::filesystem::temp_directory_path() / "isospring_case_geometry_test";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   (std::string("isospring_case_geometry_test-") + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   write_patch_file(dir / "ring.json",
                    build({{"type", "annulus"}, {"inner_radius", 1.0}, {"outer_radius", 3.0}}));

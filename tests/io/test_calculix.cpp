@@ -1,6 +1,7 @@
 // CalculiX decks: consistent face loads against the closed-form 20-node values, and the whole
 // problem against an independent solver (ccx) at matched refinement.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <cstdlib>
 #include <filesystem>
@@ -85,7 +86,8 @@ TEST(Calculix, RejectsWhatADeckCannotExpress) {
 }
 
 TEST(Calculix, ReadsDisplacementBlocks) {
-  const fs::path file = fs::temp_directory_path() / "isospring_calculix_test.dat";
+  const fs::path file = fs::temp_directory_path() / (std::string("isospring_calculix_test-") +
+                                                     std::to_string(::getpid()) + ".dat");
   std::ofstream(file) << "\n displacements (vx,vy,vz) for set NALL and time  0.1000000E+01\n\n"
                          "         1  1.000000E-03 -2.000000E-04  0.000000E+00\n"
                          "        12 -3.500000E-02  4.000000E+00  5.000000E-01\n\n"

@@ -1,6 +1,7 @@
 // Case files: a valid case is translated faithfully, and every kind of bad input is an InputError
 // whose message starts with the file name and names the field.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <filesystem>
 #include <fstream>
@@ -144,7 +145,8 @@ TEST(CaseFile, DiscretisationOfAGeometryWithInteriorKnots) {
 }
 
 TEST(CaseFile, ReadsFromDiskAndResolvesMeasurements) {
-  const fs::path dir = fs::temp_directory_path() / "isospring_case_file_test";
+  const fs::path dir = fs::temp_directory_path() /
+                       (std::string("isospring_case_file_test-") + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "markers.csv") << "id,x,y,z\n";
   json doc = cantilever();

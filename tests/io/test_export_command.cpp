@@ -1,6 +1,7 @@
 // `isospring export` end to end: every format from one model.json, read back (json exactly,
 // VTK with VTK's reader, MJCF/SOFA by their element counts), and the exit codes for bad input.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkXMLPolyDataReader.h>
@@ -38,7 +39,8 @@ class ExportCommand : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!fs::exists(ISOSPRING_EXECUTABLE)) GTEST_SKIP() << "the isospring program is not built";
-    dir_ = fs::temp_directory_path() / "isospring_test_export_command";
+    dir_ = fs::temp_directory_path() /
+           (std::string("isospring_test_export_command-") + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     network_.positions = {{0, 0, 0}, {0.1, 0, 0}, {0.1, 0.1, 0}, {0, 0.1, 0}};

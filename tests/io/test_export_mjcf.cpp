@@ -3,6 +3,7 @@
 // static displacements are compared with the linear spring model K u = f solved here with Eigen
 // (small loads: strains ~1e-4, so geometric nonlinearity is ~1e-4 relative).
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -133,7 +134,8 @@ TEST(ExportMjcf, MujocoSettlesToTheLinearSpringSolution) {
   MjcfOptions options;
   options.gravity = Vector3d::Zero();
   options.comment = "test -- lattice";
-  const fs::path dir = fs::temp_directory_path() / "isospring_test_mjcf";
+  const fs::path dir = fs::temp_directory_path() /
+                       (std::string("isospring_test_mjcf-") + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path path = dir / "lattice.xml";
   write_mjcf(path, n, options);

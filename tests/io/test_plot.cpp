@@ -1,6 +1,7 @@
 // gnuplot figures: each function produces a real PNG (signature and IHDR size as requested)
 // when gnuplot is installed; bad inputs give false, never an exception.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <cmath>
 #include <fstream>
@@ -13,7 +14,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path plot_dir() {
-  const fs::path dir = fs::temp_directory_path() / "isospring_test_plot";
+  const fs::path dir = fs::temp_directory_path() /
+                       (std::string("isospring_test_plot-") + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }

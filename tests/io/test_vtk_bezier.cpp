@@ -5,6 +5,7 @@
 // read-back points and weights. Both must match nurbs::Patch::point to 1e-12 on random rational
 // patches with repeated knots, and an affine control field must be reproduced exactly.
 #include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
 #include <vtkCell.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
@@ -117,7 +118,8 @@ TEST_P(VtkBezier, CellsReproduceThePatchExactly) {
     values.emplace_back();
     for (const Vector3d& x : patch.control_points()) values.back().push_back(A * x + b);
   }
-  const fs::path dir = fs::temp_directory_path() / "isospring_test_vtk_bezier";
+  const fs::path dir = fs::temp_directory_path() /
+                       (std::string("isospring_test_vtk_bezier-") + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path path = dir / ("bezier" + std::to_string(dim) + ".vtu");
   write_patches_bezier_vtu(path, patches, {control_vector_field("u", values)});
