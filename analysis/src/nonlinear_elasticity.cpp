@@ -16,6 +16,7 @@
 #include "assembly_structure.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/tangent_solver.hpp"
 #include "isospring/analysis/validation.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "reduced_system.hpp"
@@ -207,31 +208,6 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
 }
 
 namespace {
-
-// Factorisation of the free tangent block: CHOLMOD LLT, simplicial LDLT when not positive
-// definite (compressive states can make the tangent indefinite; LDLT without pivoting still
-// handles the usual non-zero pivots).
-class TangentSolver {
- public:
-  bool compute(const Eigen::SparseMatrix<double>& upper) {
-    llt_.cholmod().print = 0;  // an indefinite tangent is handled below, not printed
-    llt_.compute(upper);
-    use_llt_ = llt_.info() == Eigen::Success;
-    if (use_llt_) return true;
-    ldlt_.compute(upper);
-    if (ldlt_.info() != Eigen::Success) return false;
-    const auto d = ldlt_.vectorD();
-    return d.allFinite() && d.cwiseAbs().minCoeff() > 0.0;
-  }
-  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
-    return use_llt_ ? Eigen::VectorXd(llt_.solve(rhs)) : Eigen::VectorXd(ldlt_.solve(rhs));
-  }
-
- private:
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt_;
-  bool use_llt_ = true;
-};
 
 struct StepOutcome {
   bool converged = false;

@@ -5,6 +5,8 @@
 #include <Eigen/CholmodSupport>
 #include <stdexcept>
 
+#include "free_block.hpp"
+
 namespace isospring::fitting {
 
 Coefficient linear_coefficient(int index, double scale) {
@@ -34,25 +36,6 @@ Coefficient product(Coefficient a, Coefficient b) {
   };
 }
 
-namespace {
-
-// Upper triangle of the free-free block of a full symmetric matrix.
-Eigen::SparseMatrix<double> free_block(const Eigen::SparseMatrix<double>& m,
-                                       const std::vector<int>& free_index, int num_free) {
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int c = 0; c < m.outerSize(); ++c)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(m, c); it; ++it) {
-      const int fr = free_index[static_cast<size_t>(it.row())];
-      const int fc = free_index[static_cast<size_t>(it.col())];
-      if (fr >= 0 && fc >= 0 && fr <= fc) triplets.emplace_back(fr, fc, it.value());
-    }
-  Eigen::SparseMatrix<double> block(num_free, num_free);
-  block.setFromTriplets(triplets.begin(), triplets.end());
-  return block;
-}
-
-}  // namespace
-
 ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observations,
                            const std::vector<int>& constrained_dofs,
                            const std::vector<double>& constrained_values, int num_dofs,
@@ -79,7 +62,7 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
     }
   for (const MatrixTerm& term : terms_.stiffness)
     free_blocks_.push_back(
-        free_block(term.matrix, free_index_, static_cast<int>(free_dofs_.size())));
+        detail::free_upper_block(term.matrix, free_index_, static_cast<int>(free_dofs_.size())));
   if (!terms_.nonlinear.empty()) nonlinear_cache_ = make_nonlinear_cache();
 }
 

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "free_block.hpp"
+#include "isospring/analysis/tangent_solver.hpp"
 #include "isospring/fitting/identify_model.hpp"
 
 namespace isospring::fitting {
@@ -24,44 +26,6 @@ std::shared_ptr<ForwardModel::NonlinearCache> ForwardModel::make_nonlinear_cache
 }
 
 namespace {
-
-// Upper triangle of the free-free block of a full symmetric matrix.
-Eigen::SparseMatrix<double> free_upper(const Eigen::SparseMatrix<double>& m,
-                                       const std::vector<int>& free_index, int num_free) {
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int c = 0; c < m.outerSize(); ++c)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(m, c); it; ++it) {
-      const int fr = free_index[static_cast<size_t>(it.row())];
-      const int fc = free_index[static_cast<size_t>(it.col())];
-      if (fr >= 0 && fc >= 0 && fr <= fc) triplets.emplace_back(fr, fc, it.value());
-    }
-  Eigen::SparseMatrix<double> block(num_free, num_free);
-  block.setFromTriplets(triplets.begin(), triplets.end());
-  return block;
-}
-
-// CHOLMOD LLT, or a simplicial LDLT when the tangent is not positive definite (compression).
-class TangentSolver {
- public:
-  bool compute(const Eigen::SparseMatrix<double>& upper) {
-    llt_.cholmod().print = 0;  // handled below, not printed
-    llt_.compute(upper);
-    use_llt_ = llt_.info() == Eigen::Success;
-    if (use_llt_) return true;
-    ldlt_.compute(upper);
-    if (ldlt_.info() != Eigen::Success) return false;
-    const auto d = ldlt_.vectorD();
-    return d.allFinite() && d.cwiseAbs().minCoeff() > 0.0;
-  }
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const {
-    return use_llt_ ? Eigen::MatrixXd(llt_.solve(rhs)) : Eigen::MatrixXd(ldlt_.solve(rhs));
-  }
-
- private:
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt_;
-  bool use_llt_ = true;
-};
 
 constexpr double kTolerance = 1e-10;  // |r_free| relative to the load (or the reactions)
 constexpr int kMaxIterations = 30;
@@ -104,7 +68,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       Eigen::SparseMatrix<double> tangent;
       terms_.nonlinear[t].evaluate(u, e[t], parts[t], tangent_ff ? &tangent : nullptr);
       for (size_t k = 0; k < parts[t].size(); ++k) r += e[t][k] * parts[t][k];
-      if (tangent_ff) *tangent_ff += free_upper(tangent, free_index_, nf);
+      if (tangent_ff) *tangent_ff += detail::free_upper_block(tangent, free_index_, nf);
     }
     return r;
   };
@@ -112,7 +76,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
   // Newton at load factor s (loads and prescribed values scaled) from u, updated in place. On
   // success `solver` holds the factorised tangent at the converged u.
   auto newton = [&](const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
-                    TangentSolver& solver) {
+                    analysis::TangentSolver& solver) {
     for (int d = 0; d < num_dofs_; ++d)
       if (free_index_[static_cast<size_t>(d)] < 0) u[d] = s * prescribed_[d];
     Eigen::SparseMatrix<double> tangent_ff;
@@ -144,7 +108,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
   // Linear solution and its derivatives (only needed for the blend).
   const int w_index = terms_.nonlinear_weight;
   const double w = w_index >= 0 ? theta[w_index] : 1.0;
-  TangentSolver linear_solver;
+  analysis::TangentSolver linear_solver;
   if (w_index >= 0 && !linear_solver.compute(kff))
     throw std::runtime_error(
         "the stiffness at the current parameters is not positive definite (a parameter left "
@@ -162,7 +126,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
     }
     // Newton from the last solution; else from zero (its first step is the linear solution),
     // then in 2, 4, ... equal load steps.
-    TangentSolver solver;
+    analysis::TangentSolver solver;
     Eigen::VectorXd u;
     {
       const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
@@ -196,7 +160,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
           rhs -= (terms_.stiffness[j].matrix * v) * dc[j].transpose();
       return rhs;
     };
-    auto solve_free = [&](const TangentSolver& factor, const Eigen::MatrixXd& rhs) {
+    auto solve_free = [&](const analysis::TangentSolver& factor, const Eigen::MatrixXd& rhs) {
       Eigen::MatrixXd rhs_free(nf, rhs.cols());
       for (int k = 0; k < nf; ++k) rhs_free.row(k) = rhs.row(free_dofs_[static_cast<size_t>(k)]);
       const Eigen::MatrixXd x_free = factor.solve(rhs_free);
