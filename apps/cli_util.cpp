@@ -68,4 +68,12 @@ std::vector<nurbs::Patch> read_patches_any(const std::filesystem::path& path) {
   return io::read_patch_file(path);
 }
 
+std::filesystem::path output_folder(const std::string& option_value) {
+  const std::filesystem::path folder(option_value);
+  if (std::filesystem::exists(folder) && !std::filesystem::is_directory(folder))
+    throw nurbs::InputError("-o " + option_value +
+                            ": exists and is not a folder; give a folder for the outputs");
+  return folder;
+}
+
 }  // namespace isospring::apps

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <memory>
 
+#include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/io/case_file.hpp"
@@ -34,10 +35,7 @@ nlohmann::json vector_json(const Eigen::Vector3d& v, int dimension) {
 void run_analyze(const AnalyzeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("analyze", options.quiet);
-  const std::filesystem::path out_dir(options.output);
-  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir))
-    throw nurbs::InputError("-o " + options.output +
-                            ": exists and is not a folder; give a folder for the outputs");
+  const std::filesystem::path out_dir = output_folder(options.output);
 
   progress("reading " + options.case_file);
   const io::Case c = io::read_case_file(options.case_file);

@@ -9,6 +9,7 @@
 
 #include "calibration_outputs.hpp"
 #include "calibration_settings.hpp"
+#include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/static_solver.hpp"
@@ -87,10 +88,7 @@ void write_errors_csv(const std::filesystem::path& path, const analysis::DofMap&
 void run_calibrate(const CalibrateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("calibrate", options.quiet);
-  const std::filesystem::path out_dir(options.output);
-  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir))
-    throw nurbs::InputError("-o " + options.output +
-                            ": exists and is not a folder; give a folder for the outputs");
+  const std::filesystem::path out_dir = output_folder(options.output);
 
   progress("reading " + options.case_file);
   const io::Case c = io::read_case_file(options.case_file);

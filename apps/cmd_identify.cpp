@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "calibration_settings.hpp"
+#include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/fitting/identify.hpp"
 #include "isospring/fitting/identify_recalibration.hpp"
@@ -158,10 +159,7 @@ void write_markers(const std::filesystem::path& out_dir, const analysis::Problem
 
 void run_identify(const IdentifyCommandOptions& options) {
   const io::Progress progress("identify", options.quiet);
-  const std::filesystem::path out_dir(options.output);
-  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir))
-    throw nurbs::InputError("-o " + options.output +
-                            ": exists and is not a folder; give a folder for the outputs");
+  const std::filesystem::path out_dir = output_folder(options.output);
   progress("reading " + options.case_file);
   const io::Case c = io::read_case_file(options.case_file);
   if (!c.measurements)

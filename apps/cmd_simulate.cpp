@@ -74,10 +74,7 @@ double max_norm(const Eigen::VectorXd& flat, int dim) {
 void run_simulate(const SimulateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("simulate", options.quiet);
-  const fs::path out_dir(options.output);
-  if (fs::exists(out_dir) && !fs::is_directory(out_dir))
-    throw nurbs::InputError("-o " + options.output +
-                            ": exists and is not a folder; give a folder for the outputs");
+  const std::filesystem::path out_dir = output_folder(options.output);
   if (!(options.dt > 0.0) || !std::isfinite(options.dt))
     throw nurbs::InputError("--dt: must be a positive time step in s");
   io::SpringModel model = io::read_model_json(options.model);

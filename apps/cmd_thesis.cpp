@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/fitting/acceleration_fit.hpp"
 #include "isospring/fitting/calibration.hpp"
@@ -258,10 +259,7 @@ std::string holdout_cell(const std::vector<fitting::CaseErrors>& cases) {
 
 void run_thesis(const ThesisOptions& options) {
   const io::Progress progress("thesis", options.quiet);
-  const std::filesystem::path out_dir(options.output);
-  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir))
-    throw nurbs::InputError("-o " + options.output +
-                            ": exists and is not a folder; give a folder for the outputs");
+  const std::filesystem::path out_dir = output_folder(options.output);
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json report = io::report_header("thesis", ISOSPRING_VERSION, "");
   io::MarkdownReport md;

@@ -66,6 +66,28 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
   if (!terms_.nonlinear.empty()) nonlinear_cache_ = make_nonlinear_cache();
 }
 
+void ForwardModel::load_vector(int l, const Eigen::VectorXd& theta, bool with_jacobian,
+                               Eigen::VectorXd& force, Eigen::MatrixXd& dforce) const {
+  force = Eigen::VectorXd::Zero(num_dofs_);
+  dforce = Eigen::MatrixXd::Zero(num_dofs_, with_jacobian ? num_parameters() : 0);
+  for (const VectorTerm& term : terms_.loads) {
+    if (term.load_case >= 0 && term.load_case != l) continue;
+    Eigen::VectorXd g;
+    force += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
+    if (with_jacobian) dforce += term.vector * g.transpose();
+  }
+}
+
+void ForwardModel::add_offsets(int l, const Eigen::VectorXd& theta, bool with_jacobian,
+                               Eigen::VectorXd& y, Eigen::MatrixXd& jac) const {
+  for (const VectorTerm& term : terms_.offsets) {
+    if (term.load_case >= 0 && term.load_case != l) continue;
+    Eigen::VectorXd g;
+    y += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
+    if (with_jacobian) jac += term.vector * g.transpose();
+  }
+}
+
 ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_jacobian) const {
   if (!terms_.nonlinear.empty()) return evaluate_nonlinear(theta, with_jacobian);
   const int p = num_parameters();
@@ -94,14 +116,9 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
 
   ModelEvaluation out;
   for (int l = 0; l < num_load_cases_; ++l) {
-    Eigen::VectorXd force = Eigen::VectorXd::Zero(num_dofs_);
-    Eigen::MatrixXd dforce = Eigen::MatrixXd::Zero(num_dofs_, with_jacobian ? p : 0);
-    for (const VectorTerm& term : terms_.loads) {
-      if (term.load_case >= 0 && term.load_case != l) continue;
-      Eigen::VectorXd g;
-      force += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
-      if (with_jacobian) dforce += term.vector * g.transpose();
-    }
+    Eigen::VectorXd force;
+    Eigen::MatrixXd dforce;
+    load_vector(l, theta, with_jacobian, force, dforce);
     // u = prescribed + free solution of K_ff u_f = f_f - (K u_c)_f.
     Eigen::VectorXd ku_c = Eigen::VectorXd::Zero(num_dofs_);
     if (prescribed_.squaredNorm() > 0.0)
@@ -127,12 +144,7 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
       for (int k = 0; k < nf; ++k) du.row(free_dofs_[static_cast<size_t>(k)]) = du_free.row(k);
       jac = h * du;
     }
-    for (const VectorTerm& term : terms_.offsets) {
-      if (term.load_case >= 0 && term.load_case != l) continue;
-      Eigen::VectorXd g;
-      y += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
-      if (with_jacobian) jac += term.vector * g.transpose();
-    }
+    add_offsets(l, theta, with_jacobian, y, jac);
     out.predictions.push_back(std::move(y));
     out.jacobians.push_back(std::move(jac));
     out.displacements.push_back(std::move(u));

@@ -36,7 +36,6 @@ constexpr int kMaxSteps = 64;  // load steps of the last attempt
 ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
                                                  bool with_jacobian) const {
   if (!nonlinear_cache_) throw std::logic_error("ForwardModel: nonlinear cache missing");
-  const int p = num_parameters();
   const int nf = static_cast<int>(free_dofs_.size());
   const size_t nt = terms_.stiffness.size();
   std::vector<double> c(nt);
@@ -116,14 +115,9 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
 
   ModelEvaluation out;
   for (int l = 0; l < num_load_cases_; ++l) {
-    Eigen::VectorXd force = Eigen::VectorXd::Zero(num_dofs_);
-    Eigen::MatrixXd dforce = Eigen::MatrixXd::Zero(num_dofs_, with_jacobian ? p : 0);
-    for (const VectorTerm& term : terms_.loads) {
-      if (term.load_case >= 0 && term.load_case != l) continue;
-      Eigen::VectorXd g;
-      force += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
-      if (with_jacobian) dforce += term.vector * g.transpose();
-    }
+    Eigen::VectorXd force;
+    Eigen::MatrixXd dforce;
+    load_vector(l, theta, with_jacobian, force, dforce);
     // Newton from the last solution; else from zero (its first step is the linear solution),
     // then in 2, 4, ... equal load steps.
     analysis::TangentSolver solver;
@@ -197,12 +191,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
     }
     if (w_index >= 0) u = w * u + (1.0 - w) * u_linear;
     Eigen::VectorXd y = h * u;
-    for (const VectorTerm& term : terms_.offsets) {
-      if (term.load_case >= 0 && term.load_case != l) continue;
-      Eigen::VectorXd g;
-      y += term.coefficient(theta, with_jacobian ? &g : nullptr) * term.vector;
-      if (with_jacobian) jac += term.vector * g.transpose();
-    }
+    add_offsets(l, theta, with_jacobian, y, jac);
     out.predictions.push_back(std::move(y));
     out.jacobians.push_back(std::move(jac));
     out.displacements.push_back(std::move(u));

@@ -91,6 +91,14 @@ class ForwardModel {
   ModelEvaluation evaluate(const Eigen::VectorXd& theta, bool with_jacobian) const;
 
  private:
+  // Load case l's nodal force at theta and, when with_jacobian, its derivative (columns: the
+  // parameters); shared by the linear and the nonlinear evaluation.
+  void load_vector(int l, const Eigen::VectorXd& theta, bool with_jacobian, Eigen::VectorXd& force,
+                   Eigen::MatrixXd& dforce) const;
+  // Adds load case l's observation offsets (e.g. a rigid motion of the measurement frame) to the
+  // predictions y and, when with_jacobian, their derivatives to jac.
+  void add_offsets(int l, const Eigen::VectorXd& theta, bool with_jacobian, Eigen::VectorXd& y,
+                   Eigen::MatrixXd& jac) const;
   // evaluate() with nonlinear terms (identify_model_nonlinear.cpp).
   ModelEvaluation evaluate_nonlinear(const Eigen::VectorXd& theta, bool with_jacobian) const;
   // The last converged nonlinear solution per load case: Newton's start at the next theta (a
