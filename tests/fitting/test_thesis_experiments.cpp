@@ -2,8 +2,13 @@
 // Published: 1.14 / 2.79 (%e_rms / %e_max, 2 groups, simulated annealing).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/spring_static.hpp"
+#include "isospring/analysis/static_solver.hpp"
 #include "isospring/fitting/calibration.hpp"
 #include "isospring/fitting/spring_mesh.hpp"
 #include "isospring/fitting/thesis_experiments.hpp"
@@ -57,6 +62,76 @@ TEST(ThesisExperiments, SquareGroupedFitFindsTwoGroups) {
   // Measured 2.57 / 4.68: above the published 1.14 / 2.79 with this protocol (see report).
   EXPECT_LT(result.fit[0].control.percent_e_rms, 3.0);
   EXPECT_LT(result.fit[0].control.percent_e_max, 5.0);
+}
+
+// Is the square's grouped 2.55 %e_rms (published 1.14) an optimizer gap or the protocol? With 2
+// groups the objective depends on the scale s and the ratio r = k_diagonal / k_edge only, and
+// for fixed r the best scale is a closed-form projection (u scales as 1/s). A scan over r from
+// 1e-3 to 1e3 (4001 log-spaced values, so neighbouring ratios differ by 0.35 %) with that scale
+// therefore bounds the global minimum from above: Levenberg-Marquardt must be at or below it.
+// The scan recomputes the errors independently of the fit (IGA reference from solve_static, loads
+// from assemble_load, spring solves from solve_spring_linear); it first reproduces the fit's own
+// error at the fitted stiffnesses to 1e-9, which checks that reconstruction.
+TEST(ThesisExperiments, SquareTwoGroupFitIsTheGlobalOptimum) {
+  const ThesisObject square = thesis_square(6, 2);
+  CalibrationSettings settings;
+  settings.fit_cases = {"fit_points"};
+  const CalibrationResult result = calibrate(square.problem, settings);
+  ASSERT_EQ(result.parameters, 2);
+  const analysis::DofMap dofs(square.problem);
+  const analysis::SpringNetwork& network = result.mesh.network;
+  ASSERT_EQ(static_cast<size_t>(dofs.num_nodes()), network.positions.size());  // nothing merged
+  size_t c = 0;
+  while (square.problem.load_cases[c].id != "fit_points") ++c;
+  const Eigen::VectorXd force =
+      analysis::assemble_load(square.problem, dofs, square.problem.load_cases[c]);
+  const Eigen::VectorXd reference =
+      analysis::solve_static(square.problem).load_cases[c].displacement;
+  const int dim = dofs.dofs_per_node();
+  double o_max = 0.0;
+  for (int a = 0; a < dofs.num_nodes(); ++a)
+    o_max = std::max(o_max, reference.segment(a * dim, dim).norm());
+  auto percent_rms = [&](const Eigen::VectorXd& u) {
+    return 100.0 * std::sqrt((u - reference).squaredNorm() / dofs.num_nodes()) / o_max;
+  };
+  EXPECT_NEAR(percent_rms(analysis::solve_spring_linear(network, force).displacement),
+              result.fit[0].control.percent_e_rms, 1e-9 * result.fit[0].control.percent_e_rms);
+
+  double best = INFINITY;
+  for (int i = 0; i <= 4000; ++i) {
+    const double ratio = std::pow(10.0, -3.0 + 6.0 * i / 4000.0);
+    analysis::SpringNetwork trial = network;
+    for (auto& s : trial.springs) s.stiffness = s.group == 0 ? 1.0 : ratio;
+    const Eigen::VectorXd u = analysis::solve_spring_linear(trial, force).displacement;
+    const double scale = u.dot(reference) / u.squaredNorm();  // best 1/s for this ratio
+    best = std::min(best, percent_rms(scale * u));
+  }
+  // Measured: fit 2.548957, scan 2.548966 (a grid can only be at or above the optimum).
+  EXPECT_LE(result.fit[0].control.percent_e_rms, best * (1 + 1e-6));
+  EXPECT_GT(result.fit[0].control.percent_e_rms, 0.999 * best);
+}
+
+// Per-spring fits from several grouped starts (as `isospring thesis` runs them): the per-spring
+// objective is not convex, and on the ellipse the best end point does not come from the best
+// grouping (29 groups at gamma 0.01 -> 2.51 %e_rms) but from a coarser one. Measured with the
+// starts gamma 0.2 and 0.01: 1.57 / 4.20, below the published 2.44 / 6.67.
+TEST(ThesisExperiments, EllipsePerSpringFromSeveralStartsIsBelowPublished) {
+  const ThesisObject ellipse = thesis_ellipse();
+  CalibrationSettings settings;
+  settings.fit_cases = {"fit_points"};
+  settings.holdout_cases = ellipse.holdout_cases;
+  settings.max_iterations = 3000;
+  settings.per_spring = true;
+  settings.regularization = 1e-7;
+  settings.gamma_sweep = {0.2, 0.01};
+  const CalibrationResult result = calibrate(ellipse.problem, settings);
+  EXPECT_EQ(result.parameters, 110);
+  EXPECT_LE(result.fit[0].control.percent_e_rms, ellipse.published_e_rms);
+  EXPECT_LE(result.fit[0].control.percent_e_max, ellipse.published_e_max);
+  for (const auto& s : result.mesh.network.springs)
+    EXPECT_TRUE(s.stiffness > 0.0 && std::isfinite(s.stiffness));
+  ASSERT_EQ(result.holdout.size(), 2u);
+  for (const auto& h : result.holdout) EXPECT_TRUE(std::isfinite(h.control.percent_e_rms));
 }
 
 // The four curved objects of Table 5.1: spring counts against published-results.md, every load
