@@ -20,6 +20,7 @@
 #include "isospring/analysis/validation.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "reduced_system.hpp"
+#include "thread_scope.hpp"
 
 namespace isospring::analysis {
 
@@ -257,23 +258,12 @@ StepOutcome newton(const SvkAssembler& assembler, const LameParameters& lame,
   return out;
 }
 
-class ThreadScope {
- public:
-  explicit ThreadScope(int threads) : previous_(omp_get_max_threads()) {
-    if (threads > 0) omp_set_num_threads(threads);
-  }
-  ~ThreadScope() { omp_set_num_threads(previous_); }
-
- private:
-  int previous_;
-};
-
 }  // namespace
 
 std::vector<NonlinearLoadCaseResult> solve_static_nonlinear(const Problem& problem,
                                                             const NonlinearOptions& options) {
   validate_problem(problem);
-  const ThreadScope threads(options.threads);
+  const detail::ThreadScope threads(options.threads);
   const DofMap dofs(problem);
   const Constraints constraints = build_constraints(problem, dofs);
   check_rigid_body_modes(problem, dofs, constraints);

@@ -12,6 +12,7 @@
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/validation.hpp"
 #include "reduced_system.hpp"
+#include "thread_scope.hpp"
 
 namespace isospring::analysis {
 
@@ -21,23 +22,11 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Restores the OpenMP thread count on scope exit.
-class ThreadScope {
- public:
-  explicit ThreadScope(int threads) : previous_(omp_get_max_threads()) {
-    if (threads > 0) omp_set_num_threads(threads);
-  }
-  ~ThreadScope() { omp_set_num_threads(previous_); }
-
- private:
-  int previous_;
-};
-
 }  // namespace
 
 StaticResult solve_static(const Problem& problem, const SolverOptions& options) {
   validate_problem(problem);
-  const ThreadScope threads(options.threads);
+  const detail::ThreadScope threads(options.threads);
   const DofMap dofs(problem);
   const Constraints constraints = build_constraints(problem, dofs);
   check_rigid_body_modes(problem, dofs, constraints);
