@@ -1,11 +1,14 @@
 // `isospring export MODEL.json -o OUT [--format json|mjcf|sofa|vtk]`: a calibrated spring model
 // (model.json) for real-time engines and viewers: MuJoCo MJCF, a SOFA scene, VTK poly data, or
 // a validated, normalised model.json.
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "file_report.hpp"
 #include "isospring/io/export_mjcf.hpp"
 #include "isospring/io/export_sofa.hpp"
 #include "isospring/io/model_file.hpp"
@@ -42,6 +45,47 @@ Eigen::Vector3d parse_gravity(const std::string& text) {
   return {g[0], g[1], g[2]};
 }
 
+// <stem>.report.json / .md beside the export: what the engine receives (counts, mass, stiffness
+// and damping ranges, loads), so a user can check it without opening the file.
+void write_export_report(const ExportOptions& options, const std::string& format,
+                         const io::SpringModel& model) {
+  const analysis::SpringNetwork& network = model.network;
+  FileReport report("export", options.input, options.output);
+  nlohmann::json& j = report.json;
+  const auto fixed = std::count(network.fixed.begin(), network.fixed.end(), true);
+  double mass = 0.0;
+  for (double m : network.masses) mass += m;
+  double k_min = INFINITY, k_max = 0.0, c_min = INFINITY, c_max = 0.0;
+  for (const auto& s : network.springs) {
+    k_min = std::min(k_min, s.stiffness), k_max = std::max(k_max, s.stiffness);
+    c_min = std::min(c_min, s.damping), c_max = std::max(c_max, s.damping);
+  }
+  j["format"] = format;
+  j["particles"] = network.positions.size();
+  j["fixed_particles"] = fixed;
+  j["springs"] = network.springs.size();
+  j["dimension"] = network.dimension;
+  j["total_mass"] = mass;
+  j["stiffness_range"] = {k_min, k_max};
+  j["damping_range"] = {c_min, c_max};
+  j["load_cases"] = model.load_cases.size();
+  j["units"] = model.units;
+  if (format == "mjcf" || format == "sofa") {
+    const Eigen::Vector3d g = parse_gravity(options.gravity);
+    j["gravity"] = {g.x(), g.y(), g.z()};
+    j["timestep"] = options.timestep;
+  }
+  io::MarkdownReport& md = report.markdown;
+  md.heading(1, "isospring export: " + options.input + " -> " + options.output);
+  md.table({"format", "particles", "fixed", "springs", "total mass [kg]", "stiffness [N/m]",
+            "damping [N s/m]"},
+           {{format, std::to_string(network.positions.size()), std::to_string(fixed),
+             std::to_string(network.springs.size()), io::format_number(mass),
+             io::format_number(k_min, 4) + " .. " + io::format_number(k_max, 4),
+             io::format_number(c_min, 4) + " .. " + io::format_number(c_max, 4)}});
+  report.write();
+}
+
 void run_export(const ExportOptions& options) {
   const io::SpringModel model = io::read_model_json(options.input);
   const std::string format = format_of(options);
@@ -72,6 +116,7 @@ void run_export(const ExportOptions& options) {
   } else {
     io::write_spring_network_vtp(output, model.network);
   }
+  write_export_report(options, format, model);
   if (!options.quiet)
     std::cerr << "[export] wrote " << output.string() << " (" << format
               << "): " << model.network.positions.size() << " particles, "

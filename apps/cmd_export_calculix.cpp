@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "command.hpp"
+#include "file_report.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/calculix.hpp"
 #include "isospring/io/case_file.hpp"
@@ -36,6 +37,24 @@ void run_export_calculix(const ExportCalculixOptions& options) {
     throw nurbs::InputError(options.case_file + ": " + e.what());
   }
   io::write_file_atomically(output, deck.text);
+  FileReport report("export-calculix", options.case_file, output);
+  report.json["element_type"] = options.element;
+  report.json["nodes"] = deck.nodes.size();
+  report.json["elements"] = deck.elements;
+  report.json["load_cases"] = deck.load_case_ids;
+  report.json["run"] = "ccx -i " + output.stem().string();
+  report.markdown.heading(1, "isospring export-calculix: " + options.case_file);
+  report.markdown.paragraph(
+      "CalculiX deck " + options.output + ": " + std::to_string(deck.nodes.size()) + " nodes, " +
+      std::to_string(deck.elements) + " " + options.element + " elements (one per knot span, " +
+      "nodes on the exact NURBS geometry), one *STEP per load case. Run `ccx -i " +
+      output.stem().string() + "` in its folder; displacements are in " + output.stem().string() +
+      ".dat.");
+  std::vector<std::vector<std::string>> rows;
+  for (size_t i = 0; i < deck.load_case_ids.size(); ++i)
+    rows.push_back({std::to_string(i + 1), deck.load_case_ids[i]});
+  report.markdown.table({"step", "load case"}, rows);
+  report.write();
   progress("wrote " + options.output + ": " + std::to_string(deck.nodes.size()) + " nodes, " +
            std::to_string(deck.elements) + " " + options.element + " elements, " +
            std::to_string(deck.load_case_ids.size()) + " step(s); run `ccx -i " +

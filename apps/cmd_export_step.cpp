@@ -4,6 +4,7 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "file_report.hpp"
 #include "isospring/geometry/cad.hpp"
 
 namespace isospring::apps {
@@ -11,6 +12,7 @@ namespace {
 
 struct ExportStepOptions {
   std::string input, output;
+  bool quiet = false;
 };
 
 void setup_export_step(CLI::App& app) {
@@ -21,11 +23,33 @@ void setup_export_step(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->output, "Output .step/.stp/.iges/.igs file")->required();
-  cmd->footer("Volumes are written as their six boundary faces (outward normals); units: m.");
+  cmd->add_flag("-q,--quiet", options->quiet, "Do not print the \"wrote ...\" line");
+  cmd->footer(
+      "Volumes are written as their six boundary faces (outward normals); units: m. Also writes "
+      "<stem>.report.json and <stem>.report.md beside the output.");
   cmd->callback([options] {
     const auto patches = read_patches_any(options->input);
     geometry::write_cad(options->output, patches);
-    std::cout << "wrote " << options->output << ": " << patches.size() << " patches\n";
+    const std::filesystem::path output(options->output);
+    int faces = 0;
+    for (const auto& p : patches) faces += p.param_dim() == 3 ? 6 : 1;
+    FileReport report("export-step", options->input, output);
+    const std::string ext = output.extension().string();
+    report.json["format"] =
+        (ext == ".iges" || ext == ".igs" || ext == ".IGES" || ext == ".IGS") ? "iges" : "step";
+    report.json["patches"] = patches.size();
+    report.json["faces"] = faces;
+    report.json["file_bytes"] = std::filesystem::file_size(output);
+    report.json["units"] = "m";
+    report.markdown.heading(1, "isospring export-step: " + options->input);
+    report.markdown.paragraph(std::to_string(patches.size()) + " patches written to " +
+                              options->output + " as " + std::to_string(faces) +
+                              " B-spline faces (volumes as their six boundary faces), in m; " +
+                              std::to_string(std::filesystem::file_size(output)) + " bytes.");
+    report.markdown.table(patch_table_header(), patch_table_rows(patches));
+    report.write();
+    if (!options->quiet)
+      std::cout << "wrote " << options->output << ": " << patches.size() << " patches\n";
   });
 }
 

@@ -1,10 +1,13 @@
 // `isospring import PART.step -o patches.json`: a STEP/IGES part to a patch file (metres).
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
 #include "command.hpp"
+#include "file_report.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/cad_triangulation.hpp"
+#include "isospring/geometry/measure.hpp"
 #include "isospring/io/patch_file.hpp"
 #include "isospring/io/vtk_triangulation.hpp"
 
@@ -20,6 +23,74 @@ struct ImportOptions {
   bool report = false;
   bool quiet = false;
 };
+
+// <stem>.report.json / .md beside the patch file: what the part held, what became patches, and
+// for every face and solid that did not, why (the same notes `--report` prints).
+void write_import_report(const ImportOptions& options, const geometry::CadModel& model,
+                         const std::vector<nurbs::Patch>& patches, size_t display_triangles) {
+  FileReport report("import", options.input, options.output);
+  nlohmann::json& j = report.json;
+  j["file_unit"] = model.file_unit;
+  j["counts"] = {{"solids", model.solids},
+                 {"shells", model.shells},
+                 {"faces", model.faces},
+                 {"edges", model.edges}};
+  j["bounding_box"] = {{model.bbox_min.x(), model.bbox_min.y(), model.bbox_min.z()},
+                       {model.bbox_max.x(), model.bbox_max.y(), model.bbox_max.z()}};
+  j["cad_volume"] = model.volume;
+  j["cad_area"] = model.area;
+  j["options"] = {
+      {"faces", options.faces}, {"solids", options.solids}, {"thickness", options.thickness}};
+  std::vector<std::vector<std::string>> face_rows;
+  for (const auto& f : model.face_reports) {
+    const std::string kind = f.natural ? "natural" : (f.coons ? "coons" : "not usable");
+    j["faces"].push_back({{"index", f.index},
+                          {"surface_type", f.surface_type},
+                          {"wires", f.wires},
+                          {"edges", f.edges},
+                          {"area", f.area},
+                          {"conversion", kind},
+                          {"coons_deviation", f.coons_deviation},
+                          {"note", f.note}});
+    face_rows.push_back({std::to_string(f.index), f.surface_type, std::to_string(f.edges),
+                         io::format_number(f.area), kind, f.note.empty() ? "-" : f.note});
+  }
+  for (size_t s = 0; s < model.solid_notes.size(); ++s)
+    j["solids"].push_back(
+        {{"index", s},
+         {"volume_patches",
+          std::count(model.patch_solid.begin(), model.patch_solid.end(), static_cast<int>(s))},
+         {"note", model.solid_notes[s]}});
+  j["patch_count"] = patches.size();
+  for (const auto& p : patches) j["patches"].push_back(patch_json(p));
+  const double measure = patches.empty() ? 0.0 : geometry::measure(patches);
+  j["patches_measure"] = measure;
+  if (!options.display.empty())
+    j["display"] = {{"file", options.display}, {"triangles", display_triangles}};
+
+  io::MarkdownReport& md = report.markdown;
+  md.heading(1, "isospring import: " + options.input);
+  md.paragraph("File unit " + model.file_unit + " (written in m). " + std::to_string(model.solids) +
+               " solids, " + std::to_string(model.faces) + " faces, " +
+               std::to_string(model.edges) + " edges. " + std::to_string(patches.size()) +
+               " NURBS patches written to " + options.output + "; their " +
+               (patches.empty() || patches[0].param_dim() < 3 ? "area" : "volume") + " " +
+               io::format_number(measure) + " (CAD: volume " + io::format_number(model.volume) +
+               " m^3, area " + io::format_number(model.area) + " m^2).");
+  md.heading(2, "Patches");
+  md.table(patch_table_header(), patch_table_rows(patches));
+  md.heading(2, "Faces");
+  md.table({"face", "surface", "edges", "area [m^2]", "conversion", "note"}, face_rows);
+  std::vector<std::string> solid_lines;
+  for (size_t s = 0; s < model.solid_notes.size(); ++s)
+    solid_lines.push_back("solid " + std::to_string(s) + ": " +
+                          (model.solid_notes[s].empty() ? "volume patches" : model.solid_notes[s]));
+  if (!solid_lines.empty()) {
+    md.heading(2, "Solids");
+    md.bullets(solid_lines);
+  }
+  report.write();
+}
 
 void setup_import(CLI::App& app) {
   auto options = std::make_shared<ImportOptions>();
@@ -57,9 +128,11 @@ void setup_import(CLI::App& app) {
   cmd->callback([options] {
     const geometry::CadModel model = geometry::read_cad(options->input);
     if (options->report) std::cout << geometry::describe(model);
+    size_t display_triangles = 0;
     if (!options->display.empty()) {
       const auto mesh = geometry::triangulate_cad(options->input, options->deflection);
       io::write_triangulation_vtp(options->display, mesh);
+      display_triangles = mesh.triangles.size();
       if (!options->quiet)
         std::cout << "wrote " << options->display << ": " << mesh.triangles.size()
                   << " triangles of " << model.faces << " faces\n";
@@ -68,9 +141,11 @@ void setup_import(CLI::App& app) {
                              ? geometry::cad_patches(model, options->thickness, options->faces)
                              : geometry::cad_solid_patches(model, options->solids);
     io::write_patch_file(options->output, patches);
+    write_import_report(*options, model, patches, display_triangles);
     if (!options->quiet)
       std::cout << "wrote " << options->output << ": " << patches.size() << " patches from "
-                << options->input << " (file unit " << model.file_unit << ", written in m)\n";
+                << options->input << " (file unit " << model.file_unit << ", written in m); report "
+                << file_report_path(options->output, ".md").string() << "\n";
   });
 }
 

@@ -19,6 +19,7 @@
 #include "isospring/geometry/construction.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "occt_conversion.hpp"
+#include "occt_silence.hpp"
 
 namespace isospring::geometry {
 
@@ -72,7 +73,8 @@ void write_cad(const std::filesystem::path& file, const std::vector<nurbs::Patch
       if (!face.IsDone()) throw std::runtime_error("OpenCascade could not build a face");
       builder.Add(compound, face.Face());
     }
-    STEPControl_Controller::Init();  // the unit statics exist only after initialisation
+    const detail::SilenceOpenCascade silence;  // the writers' statistics would go to stdout
+    STEPControl_Controller::Init();            // the unit statics exist only after initialisation
     IGESControl_Controller::Init();
     Interface_Static::SetCVal("xstep.cascade.unit", "M");
     // Written next to the target and renamed when complete (atomic on one file system): a failed

@@ -23,7 +23,7 @@ std::string contents(const std::string& path) {
 }
 }  // namespace
 
-// (export-step has no --quiet: OpenCascade's STEP writer prints its own statistics on stdout.)
+// (export-step: FileReports.ExportsReportWhatTheyWrote.)
 TEST(Quiet, ImportAndRefineWriteSilently) {
   TemporaryFolder out;
   const std::vector<std::pair<std::string, std::string>> commands{

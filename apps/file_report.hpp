@@ -1,0 +1,46 @@
+#pragma once
+// Reports of the commands that write ONE file (import, refine, export, export-calculix,
+// export-step): beside the output, <dir>/<stem>.report.json and <dir>/<stem>.report.md, e.g.
+// `-o out/part.json` -> out/part.report.json and out/part.report.md. The commands that write a
+// folder put report.json / report.md into it instead (docs/outputs.md).
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "isospring/io/report.hpp"
+#include "isospring/nurbs/patch.hpp"
+
+namespace isospring::apps {
+
+/// out/part.json -> out/part.report.json (extension ".json") or out/part.report.md (".md").
+std::filesystem::path file_report_path(const std::filesystem::path& output,
+                                       const std::string& extension);
+
+/// One command's report: the header every report.json has (io::report_header), "output", and
+/// "seconds" since construction, filled by the command; written beside the output.
+class FileReport {
+ public:
+  FileReport(const std::string& command, const std::filesystem::path& input,
+             const std::filesystem::path& output);
+  nlohmann::json json;
+  io::MarkdownReport markdown;
+  /// Writes both files atomically; returns the JSON's path.
+  std::filesystem::path write();
+
+ private:
+  std::filesystem::path output_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+/// A patch for reports: parametric and physical dimension, rational, degrees, control points
+/// per direction, elements per direction, control-net bounding box, and its length / area /
+/// volume ("measure", geometry::measure).
+nlohmann::json patch_json(const nurbs::Patch& patch);
+
+/// One Markdown table row per patch: index, dimension, degrees, control points, elements, measure.
+std::vector<std::string> patch_table_header();
+std::vector<std::vector<std::string>> patch_table_rows(const std::vector<nurbs::Patch>& patches);
+
+}  // namespace isospring::apps

@@ -1,0 +1,131 @@
+// End-to-end: the commands that write one file (import, refine, export, export-calculix,
+// export-step) leave <stem>.report.json and <stem>.report.md beside it, and the report's numbers
+// agree with the written file read back and with independent values.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "isospring/io/model_file.hpp"
+#include "isospring/io/patch_file.hpp"
+#include "run_program.hpp"
+
+using isospring::testing::run_isospring;
+using isospring::testing::TemporaryFolder;
+
+namespace {
+std::string example(const std::string& name) {
+  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
+}
+
+std::string contents(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  return nlohmann::json::parse(in);
+}
+}  // namespace
+
+// The block is 0.1 x 0.02 x 0.02 m: OpenCascade's own volume (BRepGProp) and the volume of our
+// trilinear patch (Gauss quadrature, exact for it) must agree to round-off.
+TEST(FileReports, ImportReportsPatchesAndFacesOfTheBlock) {
+  TemporaryFolder out;
+  const auto run =
+      run_isospring("import " + example("cad/block.step") + " -o " + (out / "block.json") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json r = read_json(out / "block.report.json");
+  EXPECT_EQ(r["command"], "import");
+  EXPECT_EQ(r["patch_count"], 1);
+  EXPECT_EQ(r["counts"]["faces"], 6);
+  EXPECT_EQ(r["faces"].size(), 6u);
+  for (const auto& f : r["faces"]) EXPECT_EQ(f["conversion"], "natural");
+  EXPECT_NEAR(r["patches_measure"].get<double>(), r["cad_volume"].get<double>(),
+              1e-12 * r["cad_volume"].get<double>());
+  EXPECT_NEAR(r["cad_volume"].get<double>(), 0.1 * 0.02 * 0.02, 1e-15);
+  EXPECT_EQ(isospring::io::read_patch_file(out / "block.json").size(), 1u);
+  EXPECT_NE(contents(out / "block.report.md").find("| 0 | 3 | 1, 1, 1 | 2 x 2 x 2"),
+            std::string::npos);
+}
+
+// Refinement is exact: the report's deviation between old and new geometry is round-off
+// (1e-14 of the net size allows a few ulps of the de Boor / knot-insertion arithmetic), and its
+// counts are those of the written file.
+TEST(FileReports, RefineReportsCountsAndAnExactGeometry) {
+  TemporaryFolder out;
+  const auto run = run_isospring("refine " + example("patches/quarter_annulus.json") +
+                                 " --elevate 1 --h 4 -o " + (out / "fine.json") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json r = read_json(out / "fine.report.json");
+  const auto fine = isospring::io::read_patch_file(out / "fine.json");
+  const auto coarse = isospring::io::read_patch_file(example("patches/quarter_annulus.json"));
+  ASSERT_EQ(r["patches"].size(), fine.size());
+  const auto& p = r["patches"][0];
+  EXPECT_EQ(p["before"]["degrees"], nlohmann::json({coarse[0].degree(0), coarse[0].degree(1)}));
+  EXPECT_EQ(p["after"]["degrees"], nlohmann::json({fine[0].degree(0), fine[0].degree(1)}));
+  EXPECT_EQ(p["after"]["control_points"],
+            nlohmann::json({fine[0].num_points(0), fine[0].num_points(1)}));
+  EXPECT_EQ(p["after"]["elements"], nlohmann::json({4, 4}));
+  EXPECT_LT(p["geometry_deviation_relative"].get<double>(), 1e-14);
+  // Area of the quarter annulus is preserved: pi/4 (R^2 - r^2) for radii 1 and 2 = 3 pi / 4.
+  EXPECT_NEAR(p["after"]["measure"].get<double>(), 3.0 * M_PI / 4.0, 1e-12);
+  EXPECT_NE(contents(out / "fine.report.md").find("6 -> 42"), std::string::npos);
+}
+
+// export: counts and total mass against the model file read back; export-calculix: node count
+// against the deck's *NODE block; export-step: the file size, and silence with -q (OpenCascade's
+// writer statistics used to go to stdout).
+TEST(FileReports, ExportsReportWhatTheyWrote) {
+  TemporaryFolder out;
+  auto run = run_isospring("calibrate " + example("calibrate_square.json") + " -o " +
+                           (out / "cal") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  run = run_isospring("export " + (out / "cal/model.json") + " -o " + (out / "model.scn") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json e = read_json(out / "model.report.json");
+  const auto model = isospring::io::read_model_json(out / "cal/model.json");
+  EXPECT_EQ(e["format"], "sofa");
+  EXPECT_EQ(e["particles"], model.network.positions.size());
+  EXPECT_EQ(e["springs"], model.network.springs.size());
+  double mass = 0.0;
+  for (double m : model.network.masses) mass += m;
+  EXPECT_NEAR(e["total_mass"].get<double>(), mass, 1e-12 * mass);
+  // Lumped IGA masses sum to rho * area * thickness = 1143 * 4 * 1.
+  EXPECT_NEAR(mass, 1143.0 * 4.0, 1e-9 * mass);
+
+  run = run_isospring("export-calculix " + example("cantilever_box.json") + " -o " +
+                      (out / "box.inp") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json c = read_json(out / "box.report.json");
+  std::istringstream deck(contents(out / "box.inp"));
+  std::string line;
+  int nodes = 0;
+  bool in_nodes = false;
+  while (std::getline(deck, line)) {
+    if (!line.empty() && line[0] == '*') {
+      in_nodes = line == "*NODE" || line.rfind("*NODE,", 0) == 0;  // not *NODE PRINT / FILE
+      continue;
+    }
+    if (in_nodes && !line.empty()) ++nodes;
+  }
+  EXPECT_EQ(c["nodes"], nodes);
+  EXPECT_EQ(c["load_cases"].size(), 3u);
+
+  for (const std::string name : {"annulus.step", "annulus.igs"}) {
+    run = run_isospring("export-step " + example("patches/quarter_annulus.json") + " -o " +
+                        (out / name) + " -q");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(run.output, "") << name;
+    const std::string stem = name.substr(0, name.find('.'));
+    const nlohmann::json s = read_json(out / (stem + ".report.json"));
+    EXPECT_EQ(s["patches"], 1);
+    EXPECT_EQ(s["file_bytes"], std::filesystem::file_size(out / name));
+    EXPECT_EQ(s["format"], name.ends_with(".igs") ? "iges" : "step");
+  }
+}
