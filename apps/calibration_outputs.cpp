@@ -32,8 +32,6 @@ CalibrationOutputs write_calibration_outputs(const std::filesystem::path& out_di
   io::VtkScene scene;
   scene.patches = problem.patches;
   scene.network = network;
-  std::vector<double> all_errors;
-  std::vector<io::PlotSeries> by_position;
   for (const auto* cases : {&result.fit, &result.holdout})
     for (const fitting::CaseErrors& e : *cases) {
       const Field& ref = reference.at(case_index.at(e.id));
@@ -53,33 +51,45 @@ CalibrationOutputs write_calibration_outputs(const std::filesystem::path& out_di
         for (size_t i = 0; i < dofs.patch_nodes(p).size(); ++i)
           m.values[static_cast<size_t>(particle[static_cast<size_t>(dofs.patch_nodes(p)[i])])] =
               model[static_cast<size_t>(p)][i];
-      io::PlotSeries series{e.id + (cases == &result.fit ? " (fitted)" : " (held out)"), {}, {}};
-      for (size_t a = 0; a < particle.size(); ++a) {
+      for (size_t a = 0; a < particle.size(); ++a)
         r.values[static_cast<size_t>(particle[a])] = e.node_error[a];
+      scene.network_vectors.push_back(std::move(m));
+      scene.network_vectors.push_back(std::move(r));
+    }
+  io::write_vtk_scene(out_dir / "result.vtm", scene);
+  return {write_calibration_figures(out_dir, problem, result)};
+}
+
+std::vector<std::string> write_calibration_figures(const std::filesystem::path& out_dir,
+                                                   const analysis::Problem& problem,
+                                                   const fitting::CalibrationResult& result) {
+  const analysis::DofMap dofs(problem);
+  std::vector<double> all_errors;
+  std::vector<io::PlotSeries> by_position;
+  for (const auto* cases : {&result.fit, &result.holdout})
+    for (const fitting::CaseErrors& e : *cases) {
+      io::PlotSeries series{e.id + (cases == &result.fit ? " (fitted)" : " (held out)"), {}, {}};
+      for (size_t a = 0; a < e.node_error.size(); ++a) {
         const double percent = 100.0 * e.node_error[a].norm() / e.control.o_max;
         all_errors.push_back(percent);
         series.x.push_back(dofs.node_positions()[a].x());
         series.y.push_back(percent);
       }
-      scene.network_vectors.push_back(std::move(m));
-      scene.network_vectors.push_back(std::move(r));
       by_position.push_back(std::move(series));
     }
-  io::write_vtk_scene(out_dir / "result.vtm", scene);
-
-  CalibrationOutputs outputs;
+  std::vector<std::string> figures;
   io::PlotOptions options;
   options.title = "Control-point errors of the spring model (all load cases)";
   options.xlabel = "100 |u_nmsm - u_ref| / o_max [%]";
   options.ylabel = "control points";
   if (io::plot_histogram(out_dir / "errors_histogram.png", all_errors, 20, options))
-    outputs.figures.push_back("errors_histogram.png");
+    figures.push_back("errors_histogram.png");
   options.title = "Control-point error against position";
   options.xlabel = "x [m]";
   options.ylabel = "100 |u_nmsm - u_ref| / o_max [%]";
   if (io::plot_xy_scatter(out_dir / "errors_vs_position.png", by_position, options))
-    outputs.figures.push_back("errors_vs_position.png");
-  return outputs;
+    figures.push_back("errors_vs_position.png");
+  return figures;
 }
 
 }  // namespace isospring::apps

@@ -30,4 +30,10 @@ CalibrationOutputs write_calibration_outputs(
     const fitting::CalibrationResult& result,
     const std::vector<std::vector<std::vector<Eigen::Vector3d>>>& reference);
 
+/// Only the two figures (errors_histogram.png, errors_vs_position.png) of `result`'s fitted and
+/// held-out cases; returns the file names written (none when gnuplot is absent).
+std::vector<std::string> write_calibration_figures(const std::filesystem::path& out_dir,
+                                                   const analysis::Problem& problem,
+                                                   const fitting::CalibrationResult& result);
+
 }  // namespace isospring::apps

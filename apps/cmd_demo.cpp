@@ -12,6 +12,7 @@
 #include <iostream>
 #include <memory>
 
+#include "calibration_outputs.hpp"
 #include "calibration_settings.hpp"
 #include "command.hpp"
 #include "isospring/analysis/post_processing.hpp"
@@ -162,7 +163,10 @@ void run_demo(const DemoOptions& options) {
   const auto vtk_files = io::write_vtk_scene(out / "result.vtm", scene);
   progress("5/6 VTK: " + (out / "result.vtm").string() + " (" + std::to_string(vtk_files.size()) +
            " files)");
-  step_done("vtk", seconds_since(t), {{"files", vtk_files.size()}});
+  // The calibration's figures (the same as `isospring calibrate` draws), linked from report.md.
+  const std::vector<std::string> figures = write_calibration_figures(out, problem, calibration);
+  step_done("vtk_and_figures", seconds_since(t),
+            {{"files", vtk_files.size()}, {"figures", figures}});
 
   // 6. Exports for engines and the report.
   t = std::chrono::steady_clock::now();
@@ -186,6 +190,7 @@ void run_demo(const DemoOptions& options) {
   report["case"] = c.name;
   report["steps"] = steps;
   report["total_seconds"] = total;
+  report["figures"] = figures;
   io::write_json_report(out / "report.json", report);
 
   io::MarkdownReport md;
@@ -206,6 +211,7 @@ void run_demo(const DemoOptions& options) {
     rows.push_back({e.id, "held out", io::format_number(e.control.percent_e_rms, 3),
                     io::format_number(e.control.percent_e_max, 3)});
   md.table({"load case", "use", "%e_rms", "%e_max"}, rows);
+  for (const std::string& figure : figures) md.paragraph("![" + figure + "](" + figure + ")");
   md.paragraph(
       "Open `result.vtm` in ParaView (raise *Nonlinear Subdivision Level* to see the exact "
       "Bezier geometry curved). `model.json` is the calibrated spring model; "

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "run_program.hpp"
@@ -69,6 +70,16 @@ TEST(Demo, RunsThePipelineOnTheShippedBlock) {
   // The target is 30 s on the 2-core machine; the run takes ~3 s. Not a timing test:
   // only a guard against an accidental change of the shipped case to something huge.
   EXPECT_LT(report["total_seconds"].get<double>(), 120.0);
+
+  // The calibration figures exist (gnuplot is a project dependency) and report.md shows them.
+  std::ifstream md_in(dir / "out/report.md");
+  const std::string md((std::istreambuf_iterator<char>(md_in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(report["figures"].size(), 2u);
+  for (const json& figure : report["figures"]) {
+    const std::string name = figure.get<std::string>();
+    EXPECT_GT(std::filesystem::file_size(dir.path() / "out" / name), 1000u) << name;
+    EXPECT_NE(md.find("](" + name + ")"), std::string::npos) << name;
+  }
 }
 
 }  // namespace
