@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 
+#include <nlohmann/json.hpp>
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/io/patch_file.hpp"
@@ -16,6 +17,7 @@ struct EvalOptions {
   std::vector<std::string> at;
   int patch = 0;
   bool derivs = false;
+  bool json = false;
 };
 
 nurbs::Param parse_param(const std::string& text, const nurbs::Patch& patch) {
@@ -44,6 +46,9 @@ void setup_eval(CLI::App& app) {
       ->required();
   cmd->add_option("--patch", options->patch, "Patch index (default 0)");
   cmd->add_flag("--derivs", options->derivs, "Also print dX/du, dX/dv, dX/dw");
+  cmd->add_flag("--json", options->json,
+                "Print JSON instead: {\"points\": [{\"at\", \"point\", \"derivatives\"}]}, "
+                "full precision");
   cmd->callback([options] {
     const auto patches = io::read_patch_file(options->input);
     if (options->patch < 0 || options->patch >= static_cast<int>(patches.size()))
@@ -51,9 +56,20 @@ void setup_eval(CLI::App& app) {
                               std::to_string(patches.size()) + " patches (0-based index)");
     const nurbs::Patch& patch = patches[static_cast<size_t>(options->patch)];
     std::cout << std::setprecision(17);
+    nlohmann::json points = nlohmann::json::array();
     for (const std::string& text : options->at) {
       const nurbs::Param u = parse_param(text, patch);
       const nurbs::PatchDerivatives der = patch.derivatives(u, 1);
+      if (options->json) {
+        nlohmann::json entry = {
+            {"at", std::vector<double>(u.begin(), u.begin() + patch.param_dim())},
+            {"point", {der.point.x(), der.point.y(), der.point.z()}}};
+        if (options->derivs)
+          for (int d = 0; d < patch.param_dim(); ++d)
+            entry["derivatives"].push_back({der.first(0, d), der.first(1, d), der.first(2, d)});
+        points.push_back(entry);
+        continue;
+      }
       std::cout << text << ": " << der.point.x() << " " << der.point.y() << " " << der.point.z();
       if (options->derivs)
         for (int d = 0; d < patch.param_dim(); ++d)
@@ -62,6 +78,8 @@ void setup_eval(CLI::App& app) {
                     << der.first(2, d);
       std::cout << "\n";
     }
+    if (options->json)
+      std::cout << nlohmann::json{{"patch", options->patch}, {"points", points}}.dump(2) << "\n";
   });
 }
 

@@ -8,6 +8,7 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "file_report.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/measure.hpp"
 #include "isospring/io/case_file.hpp"
@@ -64,8 +65,60 @@ void print_case_summary(std::ostream& out, const io::Case& c) {
   out << "\n" << problem.patches.size() << " discretised patches:\n";
 }
 
+// The same information as JSON (--json), for scripts: {"file", "kind", "patches": [patch_json],
+// "total_measure"} plus "case" (name, formulation, material, supports, load_cases) or "cad"
+// (unit, counts, volume, area, faces usable).
+nlohmann::json info_json(const std::string& file) {
+  nlohmann::json j = {{"file", file}};
+  std::vector<nurbs::Patch> patches;
+  switch (input_kind(file)) {
+    case InputKind::kCad: {
+      const geometry::CadModel model = geometry::read_cad(file);
+      patches = model.volume_patches.empty() ? model.face_patches : model.volume_patches;
+      int usable = 0;
+      for (const auto& f : model.face_reports) usable += f.natural || f.coons;
+      j["kind"] = "cad";
+      j["cad"] = {{"file_unit", model.file_unit},
+                  {"solids", model.solids},
+                  {"faces", model.faces},
+                  {"edges", model.edges},
+                  {"usable_faces", usable},
+                  {"volume", model.volume},
+                  {"area", model.area}};
+      break;
+    }
+    case InputKind::kCaseFile: {
+      const io::Case c = io::read_case_file(file);
+      const analysis::Problem& problem = c.problem;
+      static const char* kFormulation[] = {"plane_stress", "plane_strain", "solid"};
+      patches = problem.patches;
+      j["kind"] = "case";
+      nlohmann::json ids = nlohmann::json::array();
+      for (const auto& lc : problem.load_cases) ids.push_back(lc.id);
+      j["case"] = {{"name", c.name},
+                   {"formulation", kFormulation[static_cast<int>(problem.formulation)]},
+                   {"E", problem.material.youngs_modulus},
+                   {"nu", problem.material.poisson_ratio},
+                   {"density", problem.material.density},
+                   {"thickness", problem.material.thickness},
+                   {"supports", problem.supports.size()},
+                   {"load_cases", ids}};
+      break;
+    }
+    case InputKind::kPatchFile:
+      patches = read_patches_any(file);
+      j["kind"] = "patches";
+      break;
+  }
+  j["patches"] = nlohmann::json::array();
+  for (const auto& p : patches) j["patches"].push_back(patch_json(p));
+  j["total_measure"] = patches.empty() ? 0.0 : geometry::measure(patches);
+  return j;
+}
+
 void setup_info(CLI::App& app) {
   auto file = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand(
       "info",
       "Describe a patch file, case file or STEP/IGES part: patches, degrees, knots, "
@@ -73,7 +126,14 @@ void setup_info(CLI::App& app) {
   cmd->add_option("FILE", *file, "Patch file or case file (.json), or CAD part (.step/.iges)")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->callback([file] {
+  cmd->add_flag("--json", *json,
+                "Print JSON instead (patches with degrees, control points, elements, bounds, "
+                "measure; case or CAD summary), full precision");
+  cmd->callback([file, json] {
+    if (*json) {
+      std::cout << info_json(*file).dump(2) << "\n";
+      return;
+    }
     std::cout << std::setprecision(10);
     switch (input_kind(*file)) {
       case InputKind::kCad: {
