@@ -114,8 +114,8 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   if (!calibration.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
   const Fields f(calibration, where);
   f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
-                 "damping_alpha", "upper_bounds", "merge_coincident", "max_iterations",
-                 "field_samples", "matrix_approach"});
+                 "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
+                 "max_iterations", "field_samples", "matrix_approach", "acceleration_objective"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)
@@ -137,11 +137,16 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
       f.fail("mass", "must be \"lumped\" or \"net_cells\" (got " + m.dump() + ")");
   }
   s.damping_alpha = f.number("damping_alpha", 0.0, 0.0, true);
+  s.damping_ratio = f.number("damping_ratio", 0.0, 0.0, true);
+  if (f.has("damping_alpha") && f.has("damping_ratio"))
+    f.fail("damping_ratio",
+           "give damping_alpha ([S15 4.18]) or damping_ratio (fraction of critical), not both");
   s.upper_bounds = f.boolean("upper_bounds", false);
   s.mesh.merge_coincident = f.boolean("merge_coincident", false);
   s.max_iterations = f.integer("max_iterations", s.max_iterations, 1);
   s.field_samples = f.integer("field_samples", s.field_samples, 2);
   request.matrix_approach = f.boolean("matrix_approach", true);
+  request.acceleration_objective = f.boolean("acceleration_objective", true);
   return request;
 }
 

@@ -185,7 +185,12 @@ void assign_damping_ratio(SpringNetwork& network, double zeta) {
                             " is not a non-negative number; use e.g. 0.05 for 5% of critical");
   for (Spring& s : network.springs) {
     const double mi = network.masses[s.i], mj = network.masses[s.j];
-    const double reduced = mi + mj > 0.0 ? mi * mj / (mi + mj) : 0.0;
+    // A held end does not move: the oscillator is the other particle alone (infinite mass on
+    // the held side, reduced mass -> the free mass).
+    const bool fixed_i = !network.fixed.empty() && network.fixed[s.i];
+    const bool fixed_j = !network.fixed.empty() && network.fixed[s.j];
+    double reduced = mi + mj > 0.0 ? mi * mj / (mi + mj) : 0.0;
+    if (fixed_i != fixed_j) reduced = fixed_i ? mj : mi;
     s.damping = 2.0 * zeta * std::sqrt(s.stiffness * reduced);
   }
 }

@@ -224,8 +224,14 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
         std::to_string(fit.groups_at_lower_bound) + " of " + std::to_string(result.parameters) +
         " stiffness groups sit at the lower bound (1e-6 of the stiffest): the data would rather "
         "switch those springs off; they carry no load in the calibrated model");
+  if (settings.damping_alpha > 0.0 && settings.damping_ratio > 0.0)
+    throw nurbs::InputError(
+        "calibration: give damping_alpha or damping_ratio, not both (they define the same "
+        "spring damping in two ways)");
   if (settings.damping_alpha > 0.0)
     analysis::assign_damping_alpha(mesh.network, settings.damping_alpha);
+  if (settings.damping_ratio > 0.0)
+    analysis::assign_damping_ratio(mesh.network, settings.damping_ratio);
 
   // Metrics per case of a network (fitted and held-out cases); throws when K is singular.
   auto evaluate = [&](const analysis::SpringNetwork& network, std::vector<CaseErrors>& fit_errors,

@@ -220,6 +220,9 @@ TEST(SpringMechanics, DampingAlphaFollowsS15) {
   net.masses = {2.0, 3.0};
   assign_damping_alpha(net, 200.0);
   EXPECT_NEAR(net.springs[0].damping, (1.0 / 200.0) * 2.0 * std::sqrt(400.0 * 5.0) / 0.5, 1e-14);
+  assign_damping_ratio(net, 0.1);  // particle 0 is held: the oscillator is particle 1 alone
+  EXPECT_NEAR(net.springs[0].damping, 0.2 * std::sqrt(400.0 * 3.0), 1e-13);
+  net.fixed[0] = false;  // both free: the reduced mass 2 * 3 / 5
   assign_damping_ratio(net, 0.1);
   EXPECT_NEAR(net.springs[0].damping, 0.2 * std::sqrt(400.0 * 6.0 / 5.0), 1e-14);
 }

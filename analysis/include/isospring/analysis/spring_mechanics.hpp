@@ -45,7 +45,10 @@ Eigen::VectorXd mass_diagonal(const SpringNetwork& network);
 void assign_damping_alpha(SpringNetwork& network, double alpha);
 
 /// Damping by a ratio zeta of each spring's critical damping with the two-body reduced mass:
-/// c = 2 zeta sqrt(k m_i m_j / (m_i + m_j)). Throws nurbs::InputError unless zeta >= 0.
+/// c = 2 zeta sqrt(k m_i m_j / (m_i + m_j)), or c = 2 zeta sqrt(k m) with the free particle's
+/// mass m when the other end is fixed: zeta is then the damping ratio of that spring's own
+/// oscillation (of a lone spring exactly; in a network, per spring). Throws nurbs::InputError
+/// unless zeta >= 0.
 void assign_damping_ratio(SpringNetwork& network, double zeta);
 
 /// Flat indices of the components of the fixed particles.

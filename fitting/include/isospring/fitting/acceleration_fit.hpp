@@ -48,7 +48,8 @@ AccelerationFitResult fit_accelerations(const DisplacementFitData& data,
 Eigen::VectorXd nonnegative_least_squares(const Eigen::MatrixXd& a, const Eigen::VectorXd& b);
 
 /// The acceleration baseline of a finished calibration: same problem, springs, masses, supports
-/// and grouping as `calibrated`, references re-solved by the IGA; its model is evaluated on the
+/// and grouping as `calibrated` (for a per-spring calibration: the rest-length grouping of its
+/// gamma, which it started from), references re-solved by the IGA; its model is evaluated on the
 /// fitted and held-out cases like the displacement fit. Returned as a MatrixComparison with
 /// method "acceleration" (fit.relative_residual: the acceleration residual above, not the
 /// Frobenius residual; fit.negative_springs: springs held at k = 0).

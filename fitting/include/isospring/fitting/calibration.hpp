@@ -28,6 +28,7 @@ struct CalibrationSettings {
   std::vector<std::string> fit_cases;      // ids; empty: every case not in holdout_cases
   std::vector<std::string> holdout_cases;  // ids evaluated, not fitted
   double damping_alpha = 0.0;              // > 0: [S15 4.18] damping on the fitted springs
+  double damping_ratio = 0.0;              // > 0: c = 2 zeta sqrt(k m_reduced) instead (not both)
   int max_iterations = 200;
   int field_samples = 11;  // per direction for the field metrics
   /// Also fit ||K_IGA - K_NMSM||_F (matrix approach) with the same grouping, and per element when
