@@ -252,8 +252,12 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
       CaseErrors errors;
       errors.id = problem.load_cases[c].id;
       errors.control = error_metrics(ref_points, model_points);
-      errors.field = field_error_metrics(problem.patches, per_patch(dofs, ref_points),
-                                         per_patch(dofs, model_points), settings.field_samples);
+      const auto ref_per_patch = per_patch(dofs, ref_points);
+      const auto model_per_patch = per_patch(dofs, model_points);
+      errors.field = field_error_metrics(problem.patches, ref_per_patch, model_per_patch,
+                                         settings.field_samples);
+      errors.surface = surface_error_metrics(problem.patches, ref_per_patch, model_per_patch,
+                                             settings.field_samples);
       for (size_t a = 0; a < ref_points.size(); ++a)
         errors.node_error.push_back(model_points[a] - ref_points[a]);
       (is_fit ? fit_errors : holdout_errors).push_back(std::move(errors));

@@ -2,6 +2,7 @@
 #include "isospring/fitting/error_metrics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "isospring/nurbs/error.hpp"
@@ -28,10 +29,15 @@ ErrorMetrics error_metrics(const std::vector<Eigen::Vector3d>& reference,
   return m;
 }
 
-ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
-                                 const std::vector<std::vector<Eigen::Vector3d>>& reference,
-                                 const std::vector<std::vector<Eigen::Vector3d>>& model,
-                                 int samples) {
+namespace {
+
+// Both displacement fields sum_a R_a(xi) u_a at the grid points (i, j, k) of `samples` equally
+// spaced parameters per direction of every patch that `keep` accepts.
+template <typename Keep>
+ErrorMetrics sampled_error_metrics(const std::vector<nurbs::Patch>& patches,
+                                   const std::vector<std::vector<Eigen::Vector3d>>& reference,
+                                   const std::vector<std::vector<Eigen::Vector3d>>& model,
+                                   int samples, Keep keep) {
   std::vector<Eigen::Vector3d> ref_points, model_points;
   for (size_t p = 0; p < patches.size(); ++p) {
     const nurbs::Patch& patch = patches[p];
@@ -41,8 +47,9 @@ ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
     for (int k = 0; k < count[2]; ++k)
       for (int j = 0; j < count[1]; ++j)
         for (int i = 0; i < count[0]; ++i) {
-          nurbs::Param u{0.0, 0.0, 0.0};
           const std::array<int, 3> at{i, j, k};
+          if (!keep(patch, at)) continue;
+          nurbs::Param u{0.0, 0.0, 0.0};
           for (int d = 0; d < dims; ++d)
             u[d] = patch.param_min(d) +
                    (patch.param_max(d) - patch.param_min(d)) * at[d] / std::max(1, samples - 1);
@@ -57,6 +64,31 @@ ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
         }
   }
   return error_metrics(ref_points, model_points);
+}
+
+}  // namespace
+
+ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
+                                 const std::vector<std::vector<Eigen::Vector3d>>& reference,
+                                 const std::vector<std::vector<Eigen::Vector3d>>& model,
+                                 int samples) {
+  return sampled_error_metrics(patches, reference, model, samples,
+                               [](const nurbs::Patch&, const std::array<int, 3>&) { return true; });
+}
+
+ErrorMetrics surface_error_metrics(const std::vector<nurbs::Patch>& patches,
+                                   const std::vector<std::vector<Eigen::Vector3d>>& reference,
+                                   const std::vector<std::vector<Eigen::Vector3d>>& model,
+                                   int samples) {
+  const int last = std::max(1, samples - 1);
+  return sampled_error_metrics(patches, reference, model, samples,
+                               [last](const nurbs::Patch& patch, const std::array<int, 3>& at) {
+                                 if (patch.param_dim() < 3)
+                                   return true;  // a membrane is its own surface
+                                 for (int d = 0; d < 3; ++d)
+                                   if (at[d] == 0 || at[d] == last) return true;
+                                 return false;
+                               });
 }
 
 }  // namespace isospring::fitting

@@ -46,7 +46,8 @@ struct CalibrationSettings {
 struct CaseErrors {
   std::string id;
   ErrorMetrics control;                     // on the control points (nodes)
-  ErrorMetrics field;                       // on the displacement field
+  ErrorMetrics field;                       // on the displacement field (whole domain)
+  ErrorMetrics surface;                     // on the physical surface (boundary faces in 3D)
   std::vector<Eigen::Vector3d> node_error;  // u_nmsm - u_ref per node
 };
 

@@ -26,4 +26,13 @@ ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
                                  const std::vector<std::vector<Eigen::Vector3d>>& model,
                                  int samples = 11);
 
+/// Over the physical surface: like field_error_metrics, but a volume patch is sampled on its six
+/// boundary faces only (`samples` per direction, each point once: samples^3 - (samples - 2)^3
+/// per patch), which is what a user sees and what markers measure; surface patches (membranes)
+/// are sampled over their whole domain. Faces glued to another patch are sampled too.
+ErrorMetrics surface_error_metrics(const std::vector<nurbs::Patch>& patches,
+                                   const std::vector<std::vector<Eigen::Vector3d>>& reference,
+                                   const std::vector<std::vector<Eigen::Vector3d>>& model,
+                                   int samples = 11);
+
 }  // namespace isospring::fitting
