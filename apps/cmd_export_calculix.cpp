@@ -1,6 +1,8 @@
 // `isospring export-calculix CASE.json -o deck.inp`: the case's 3D problem as a CalculiX input
 // deck (20-node hexahedra on the exact geometry), for an independent check with `ccx -i deck`.
+#include <cctype>
 #include <memory>
+#include <sstream>
 
 #include "command.hpp"
 #include "file_report.hpp"
@@ -19,6 +21,31 @@ struct ExportCalculixOptions {
   std::string element = "C3D20R";
   bool quiet = false;
 };
+
+// The node and element sets the deck defines (NSET= on *NODE/*NSET, ELSET= on *ELEMENT/*ELSET),
+// read from the deck text itself so the report names exactly what CalculiX will see.
+nlohmann::json deck_sets(const std::string& text) {
+  nlohmann::json sets = {{"node_sets", nlohmann::json::array()},
+                         {"element_sets", nlohmann::json::array()}};
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] != '*' || line.rfind("**", 0) == 0) continue;  // ** is a comment
+    std::string upper = line;
+    for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    const std::string keyword = upper.substr(0, upper.find(','));
+    const bool node_set = keyword == "*NODE" || keyword == "*NSET";
+    const bool element_set = keyword == "*ELEMENT" || keyword == "*ELSET";
+    const std::string key = node_set ? "NSET=" : "ELSET=";
+    const size_t at = upper.find(key);
+    if ((!node_set && !element_set) || at == std::string::npos) continue;
+    const size_t begin = at + key.size();
+    std::string name = line.substr(begin, line.find(',', begin) - begin);
+    while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) name.pop_back();
+    sets[node_set ? "node_sets" : "element_sets"].push_back(name);
+  }
+  return sets;
+}
 
 void run_export_calculix(const ExportCalculixOptions& options) {
   const io::Progress progress("export-calculix", options.quiet);
@@ -42,6 +69,9 @@ void run_export_calculix(const ExportCalculixOptions& options) {
   report.json["nodes"] = deck.nodes.size();
   report.json["elements"] = deck.elements;
   report.json["load_cases"] = deck.load_case_ids;
+  const nlohmann::json sets = deck_sets(deck.text);
+  report.json["node_sets"] = sets["node_sets"];
+  report.json["element_sets"] = sets["element_sets"];
   report.json["run"] = "ccx -i " + output.stem().string();
   report.markdown.heading(1, "isospring export-calculix: " + options.case_file);
   report.markdown.paragraph(
@@ -49,7 +79,8 @@ void run_export_calculix(const ExportCalculixOptions& options) {
       std::to_string(deck.elements) + " " + options.element + " elements (one per knot span, " +
       "nodes on the exact NURBS geometry), one *STEP per load case. Run `ccx -i " +
       output.stem().string() + "` in its folder; displacements are in " + output.stem().string() +
-      ".dat.");
+      ".dat. Node sets: " + sets["node_sets"].dump() +
+      "; element sets: " + sets["element_sets"].dump() + ".");
   std::vector<std::vector<std::string>> rows;
   for (size_t i = 0; i < deck.load_case_ids.size(); ++i)
     rows.push_back({std::to_string(i + 1), deck.load_case_ids[i]});

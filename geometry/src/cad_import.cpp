@@ -42,6 +42,7 @@
 #include "isospring/geometry/measure.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "occt_conversion.hpp"
+#include "occt_silence.hpp"
 
 namespace isospring::geometry {
 
@@ -98,6 +99,9 @@ TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_uni
   if (!Interface_Static::SetCVal("xstep.cascade.unit", "M") ||
       std::string(Interface_Static::CVal("xstep.cascade.unit")) != "M")
     throw std::runtime_error("OpenCascade refused xstep.cascade.unit = M");
+  // The readers report progress ("Total number of loaded entities", transfer statistics) through
+  // the default messenger, i.e. on stdout, which `info --json` and `--quiet` must keep clean.
+  const detail::SilenceOpenCascade silence;
   TopoDS_Shape shape;
   if (ext == ".step" || ext == ".stp") {
     {  // A STEP file starts with ISO-10303-21; anything else is not worth handing to OCCT.

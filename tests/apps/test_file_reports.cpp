@@ -115,7 +115,16 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
     if (in_nodes && !line.empty()) ++nodes;
   }
   EXPECT_EQ(c["nodes"], nodes);
-  EXPECT_EQ(c["load_cases"].size(), 3u);
+  // 20 x 4 x 4 knot spans, one C3D20R per span; serendipity nodes = the (2n+1)^3 quadratic grid
+  // without element centres (320) and face centres (20*4*5 + 20*5*4 + 21*4*4 = 1136).
+  EXPECT_EQ(c["elements"], 20 * 4 * 4);
+  EXPECT_EQ(c["nodes"], 41 * 9 * 9 - 320 - 1136);
+  EXPECT_EQ(c["element_type"], "C3D20R");
+  EXPECT_EQ(c["node_sets"], nlohmann::json({"Nall"}));
+  EXPECT_EQ(c["element_sets"], nlohmann::json({"Eall"}));
+  EXPECT_EQ(c["load_cases"], nlohmann::json({"tip_down", "tip_side", "gravity"}));
+  EXPECT_NE(contents(out / "box.report.md").find("1865 nodes, 320 C3D20R elements"),
+            std::string::npos);
 
   for (const std::string name : {"annulus.step", "annulus.igs"}) {
     run = run_isospring("export-step " + example("patches/quarter_annulus.json") + " -o " +

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "run_program.hpp"
@@ -39,4 +40,23 @@ TEST(Quiet, ImportAndRefineWriteSilently) {
     ASSERT_FALSE(contents(out / file).empty()) << command;
     EXPECT_EQ(contents(out / file), contents(out / ("loud_" + file))) << command;
   }
+}
+
+// OpenCascade's IGES reader announces "Total number of loaded entities" on stdout; reading a part
+// (import -q, info --json) must not, or scripts parsing the JSON break. No IGES part is shipped,
+// so one is written from a shipped patch file first.
+TEST(Quiet, ReadingAnIgesPartPrintsNothing) {
+  TemporaryFolder out;
+  auto run = run_isospring("export-step " + example("patches/quarter_annulus.json") + " -o " +
+                           (out / "annulus.igs") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  run = run_isospring("import " + (out / "annulus.igs") + " -o " + (out / "annulus.json") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.output, "");
+  run = run_isospring("info " + (out / "annulus.igs") + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // The whole output (stdout and stderr) is one JSON document: nothing printed around it.
+  nlohmann::json info;
+  ASSERT_NO_THROW(info = nlohmann::json::parse(run.output)) << run.output;
+  EXPECT_EQ(info["kind"], "cad");
 }
