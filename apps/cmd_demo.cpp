@@ -218,6 +218,7 @@ void run_demo(const DemoOptions& options) {
       "`model_mujoco.xml` and `model_sofa.scn` load in MuJoCo and SOFA.");
   md.write(out / "report.md");
 
+  if (options.quiet) return;  // --quiet: the report files say it all; nothing on stdout
   std::cout << "isospring demo finished in " << io::format_number(total, 3) << " s. Results in "
             << out.string() << "/:\n"
             << "  result.vtm        open in ParaView: paraview " << (out / "result.vtm").string()

@@ -33,6 +33,8 @@ TEST(Demo, RunsThePipelineOnTheShippedBlock) {
   const TemporaryFolder dir;
   const auto run = run_isospring("demo -q -o " + dir / "out");
   ASSERT_EQ(run.exit_code, 0) << run.output;
+  // -q: no summary of the files on stdout (it is printed without -q).
+  EXPECT_EQ(run.output.find("isospring demo finished"), std::string::npos) << run.output;
   for (const char* file : {"result.vtm", "report.json", "report.md", "model.json",
                            "model_mujoco.xml", "model_sofa.scn"})
     EXPECT_TRUE(std::filesystem::exists(dir.path() / "out" / file)) << file;
