@@ -66,8 +66,13 @@ void write_export_report(const ExportOptions& options, const std::string& format
   j["springs"] = network.springs.size();
   j["dimension"] = network.dimension;
   j["total_mass"] = mass;
-  j["stiffness_range"] = {k_min, k_max};
-  j["damping_range"] = {c_min, c_max};
+  // A network without springs (particles only) has no ranges: null, "-" in the table.
+  const bool any = !network.springs.empty();
+  j["stiffness_range"] = any ? nlohmann::json{k_min, k_max} : nlohmann::json();
+  j["damping_range"] = any ? nlohmann::json{c_min, c_max} : nlohmann::json();
+  const auto range = [any](double lo, double hi) {
+    return any ? io::format_number(lo, 4) + " .. " + io::format_number(hi, 4) : std::string("-");
+  };
   j["load_cases"] = model.load_cases.size();
   j["units"] = model.units;
   if (format == "mjcf" || format == "sofa") {
@@ -80,9 +85,8 @@ void write_export_report(const ExportOptions& options, const std::string& format
   md.table({"format", "particles", "fixed", "springs", "total mass [kg]", "stiffness [N/m]",
             "damping [N s/m]"},
            {{format, std::to_string(network.positions.size()), std::to_string(fixed),
-             std::to_string(network.springs.size()), io::format_number(mass),
-             io::format_number(k_min, 4) + " .. " + io::format_number(k_max, 4),
-             io::format_number(c_min, 4) + " .. " + io::format_number(c_max, 4)}});
+             std::to_string(network.springs.size()), io::format_number(mass), range(k_min, k_max),
+             range(c_min, c_max)}});
   report.write();
 }
 

@@ -3,6 +3,8 @@
 // agree with the written file read back and with independent values.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -98,6 +100,14 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
   EXPECT_NEAR(e["total_mass"].get<double>(), mass, 1e-12 * mass);
   // Lumped IGA masses sum to rho * area * thickness = 1143 * 4 * 1.
   EXPECT_NEAR(mass, 1143.0 * 4.0, 1e-9 * mass);
+  // Stiffness range and fixed count against the springs and particles read back.
+  double k_min = INFINITY, k_max = 0.0;
+  for (const auto& spring : model.network.springs)
+    k_min = std::min(k_min, spring.stiffness), k_max = std::max(k_max, spring.stiffness);
+  EXPECT_EQ(e["stiffness_range"], nlohmann::json({k_min, k_max}));
+  EXPECT_EQ(e["fixed_particles"],
+            std::count(model.network.fixed.begin(), model.network.fixed.end(), true));
+  EXPECT_EQ(e["gravity"].size(), 3u);  // sofa and mjcf scenes carry gravity
 
   run = run_isospring("export-calculix " + example("cantilever_box.json") + " -o " +
                       (out / "box.inp") + " -q");
