@@ -180,6 +180,13 @@ void run_calibrate(const CalibrateOptions& options) {
                                  {"percent_e_max", report["percent_e_max"]},
                                  {"groups", result.parameters},
                                  {"gamma", result.gamma}}}};
+  // How the springs' c was set, so a reader of model.json can tell alpha from zeta.
+  if (settings.damping_alpha > 0.0)
+    provenance["damping"] = {{"alpha", settings.damping_alpha}};
+  else if (settings.damping_ratio > 0.0)
+    provenance["damping"] = {{"ratio", settings.damping_ratio}};
+  else
+    provenance["damping"] = nullptr;
   io::write_model_json(out_dir / "model.json", network, provenance);
   const analysis::DofMap dofs(c.problem);
   std::vector<io::PointVectors> vectors;
@@ -226,8 +233,8 @@ void run_calibrate(const CalibrateOptions& options) {
   md.paragraph(
       "%e_rms / %e_max on the control points [S15 4.20-4.21]; field: the NURBS displacement "
       "fields of both models sampled over the whole parameter domain; surface: sampled on the "
-      "boundary faces of volume patches (the whole membrane in 2D), what a viewer or a marker "
-      "sees.");
+      "boundary faces of volume patches without interfaces, seams and collapsed sides (in 2D "
+      "the membrane is the surface: the field values), what a viewer or a marker sees.");
   md.paragraph(std::to_string(network.positions.size()) + " particles, " +
                std::to_string(network.springs.size()) + " springs, " +
                std::to_string(result.parameters) + " stiffness parameters; " +

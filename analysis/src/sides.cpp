@@ -2,6 +2,8 @@
 #include "isospring/analysis/sides.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <map>
 
 namespace isospring::analysis {
 
@@ -26,6 +28,48 @@ std::vector<int> side_control_points(const nurbs::Patch& patch, int dir, int end
     }
   if (grid_size) *grid_size = {na, nb};
   return indices;
+}
+
+std::vector<std::array<bool, 6>> inner_sides(const std::vector<nurbs::Patch>& patches,
+                                             const DofMap& dofs, double relative_tolerance) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& patch : patches) {
+    const auto [plo, phi] = patch.control_bounds();
+    lo = lo.cwiseMin(plo);
+    hi = hi.cwiseMax(phi);
+  }
+  const double tol = patches.empty() ? 0.0 : relative_tolerance * (hi - lo).norm();
+  std::vector<std::array<bool, 6>> inner(patches.size(), std::array<bool, 6>{});
+  // DofMap glues whole sides only (every point of one onto a point of the other), so a glued
+  // side's node set is another side's node set; sides that merely touch share fewer nodes.
+  std::map<std::vector<int>, std::vector<std::pair<size_t, int>>> sides_of_nodes;
+  for (size_t p = 0; p < patches.size(); ++p)
+    for (int dir = 0; dir < patches[p].param_dim(); ++dir)
+      for (int end = 0; end < 2; ++end) {
+        std::array<int, 2> size{0, 0};
+        const std::vector<int> points = side_control_points(patches[p], dir, end, &size);
+        auto x = [&](int a, int b) -> const Eigen::Vector3d& {
+          return patches[p].control_point(points[static_cast<size_t>(a + size[0] * b)]);
+        };
+        // Collapsed along the first (rows of constant b are points) or the second direction.
+        bool first = true, second = true;
+        for (int b = 0; b < size[1]; ++b)
+          for (int a = 0; a < size[0]; ++a) {
+            first = first && (x(a, b) - x(0, b)).norm() <= tol;
+            second = second && (x(a, b) - x(a, 0)).norm() <= tol;
+          }
+        // A curve's end (size {1, 1}) is a point by nature, not a collapsed side.
+        if (size[0] * size[1] > 1 && (first || second))
+          inner[p][static_cast<size_t>(2 * dir + end)] = true;
+        std::vector<int> nodes;
+        for (int i : points) nodes.push_back(dofs.node(static_cast<int>(p), i));
+        std::sort(nodes.begin(), nodes.end());
+        sides_of_nodes[nodes].push_back({p, 2 * dir + end});
+      }
+  for (const auto& [nodes, sides] : sides_of_nodes)
+    if (sides.size() > 1)
+      for (const auto& [p, side] : sides) inner[p][static_cast<size_t>(side)] = true;
+  return inner;
 }
 
 SideFrame side_frame(const Eigen::Matrix3d& jacobian, int param_dim, int dir, int end) {

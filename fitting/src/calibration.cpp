@@ -2,6 +2,7 @@
 #include "isospring/fitting/calibration.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/sides.hpp"
 #include "isospring/analysis/spring_mechanics.hpp"
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/analysis/static_solver.hpp"
@@ -233,6 +235,8 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
   if (settings.damping_ratio > 0.0)
     analysis::assign_damping_ratio(mesh.network, settings.damping_ratio);
 
+  // Faces inside the model (interfaces, seams, collapsed axes) are not its physical surface.
+  const std::vector<std::array<bool, 6>> inner = analysis::inner_sides(problem.patches, dofs);
   // Metrics per case of a network (fitted and held-out cases); throws when K is singular.
   auto evaluate = [&](const analysis::SpringNetwork& network, std::vector<CaseErrors>& fit_errors,
                       std::vector<CaseErrors>& holdout_errors) {
@@ -257,7 +261,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
       errors.field = field_error_metrics(problem.patches, ref_per_patch, model_per_patch,
                                          settings.field_samples);
       errors.surface = surface_error_metrics(problem.patches, ref_per_patch, model_per_patch,
-                                             settings.field_samples);
+                                             settings.field_samples, inner);
       for (size_t a = 0; a < ref_points.size(); ++a)
         errors.node_error.push_back(model_points[a] - ref_points[a]);
       (is_fit ? fit_errors : holdout_errors).push_back(std::move(errors));

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "isospring/nurbs/error.hpp"
 
@@ -32,7 +33,7 @@ ErrorMetrics error_metrics(const std::vector<Eigen::Vector3d>& reference,
 namespace {
 
 // Both displacement fields sum_a R_a(xi) u_a at the grid points (i, j, k) of `samples` equally
-// spaced parameters per direction of every patch that `keep` accepts.
+// spaced parameters per direction of every patch p that keep(p, patch, at) accepts.
 template <typename Keep>
 ErrorMetrics sampled_error_metrics(const std::vector<nurbs::Patch>& patches,
                                    const std::vector<std::vector<Eigen::Vector3d>>& reference,
@@ -48,7 +49,7 @@ ErrorMetrics sampled_error_metrics(const std::vector<nurbs::Patch>& patches,
       for (int j = 0; j < count[1]; ++j)
         for (int i = 0; i < count[0]; ++i) {
           const std::array<int, 3> at{i, j, k};
-          if (!keep(patch, at)) continue;
+          if (!keep(p, patch, at)) continue;
           nurbs::Param u{0.0, 0.0, 0.0};
           for (int d = 0; d < dims; ++d)
             u[d] = patch.param_min(d) +
@@ -72,23 +73,31 @@ ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
                                  const std::vector<std::vector<Eigen::Vector3d>>& reference,
                                  const std::vector<std::vector<Eigen::Vector3d>>& model,
                                  int samples) {
-  return sampled_error_metrics(patches, reference, model, samples,
-                               [](const nurbs::Patch&, const std::array<int, 3>&) { return true; });
+  return sampled_error_metrics(
+      patches, reference, model, samples,
+      [](size_t, const nurbs::Patch&, const std::array<int, 3>&) { return true; });
 }
 
 ErrorMetrics surface_error_metrics(const std::vector<nurbs::Patch>& patches,
                                    const std::vector<std::vector<Eigen::Vector3d>>& reference,
                                    const std::vector<std::vector<Eigen::Vector3d>>& model,
-                                   int samples) {
+                                   int samples, const std::vector<std::array<bool, 6>>& inner) {
+  if (!inner.empty() && inner.size() != patches.size())
+    throw nurbs::InputError("surface error metrics: inner faces for " +
+                            std::to_string(inner.size()) + " patches, the model has " +
+                            std::to_string(patches.size()));
   const int last = std::max(1, samples - 1);
-  return sampled_error_metrics(patches, reference, model, samples,
-                               [last](const nurbs::Patch& patch, const std::array<int, 3>& at) {
-                                 if (patch.param_dim() < 3)
-                                   return true;  // a membrane is its own surface
-                                 for (int d = 0; d < 3; ++d)
-                                   if (at[d] == 0 || at[d] == last) return true;
-                                 return false;
-                               });
+  return sampled_error_metrics(
+      patches, reference, model, samples,
+      [&, last](size_t p, const nurbs::Patch& patch, const std::array<int, 3>& at) {
+        if (patch.param_dim() < 3) return true;  // a membrane is its own surface
+        for (int d = 0; d < 3; ++d)
+          for (int end = 0; end < 2; ++end)
+            if (at[d] == (end == 0 ? 0 : last) &&
+                (inner.empty() || !inner[p][static_cast<size_t>(2 * d + end)]))
+              return true;
+        return false;
+      });
 }
 
 }  // namespace isospring::fitting

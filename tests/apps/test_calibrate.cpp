@@ -178,6 +178,7 @@ TEST(Calibrate, DampingRatioIsCarriedIntoTheModel) {
     EXPECT_NEAR(s.damping, 2 * 0.05 * std::sqrt(s.stiffness * m), 1e-12 * s.damping);
   }
   EXPECT_TRUE(read_json(out / "result/report.json")["acceleration_objective"].is_null());
+  EXPECT_EQ(read_json(out / "result/model.json")["provenance"]["damping"], json({{"ratio", 0.05}}));
 
   c["calibration"]["damping_alpha"] = 200;
   std::ofstream(out / "both.json") << c.dump();
@@ -205,4 +206,43 @@ TEST(Calibrate, ReportsTheAccelerationObjectiveBaseline) {
   EXPECT_EQ(a["fit"]["load_cases"].size(), 3u);
   EXPECT_EQ(a["holdout"]["load_cases"].size(), 1u);
   EXPECT_LT(report["percent_e_rms"].get<double>(), a["fit"]["percent_e_rms"].get<double>());
+  // A membrane is its own surface: the surface metric is the field metric, exactly.
+  for (const char* part : {"fit", "holdout"})
+    for (const json& e : report[part]["load_cases"]) {
+      EXPECT_EQ(e["surface_percent_e_rms"], e["field_percent_e_rms"]) << e.dump();
+      EXPECT_EQ(e["surface_percent_e_max"], e["field_percent_e_max"]) << e.dump();
+    }
+  EXPECT_EQ(read_json(out / "result/model.json")["provenance"]["damping"], json({{"alpha", 200}}));
+}
+
+// The surface metric of a volume, end to end on a small cantilever box. With 2 samples per
+// direction every sample is a corner of the box, so the surface and the field metrics sample the
+// same 8 points and must agree exactly; with 5 the field adds 27 interior points and the two
+// differ (the error inside the box is not the error on its surface).
+TEST(Calibrate, SurfaceMetricOfAVolume) {
+  TemporaryFolder out;
+  json c = read_json(example("cantilever_box.json"));
+  c["discretization"]["elements"] = {3, 1, 1};
+  c["load_cases"].erase(2);  // gravity: two traction cases suffice
+  c["calibration"] = {{"grouping", {{"gamma", 0.01}}},
+                      {"matrix_approach", false},
+                      {"acceleration_objective", false}};
+  std::map<int, json> cases;
+  for (int samples : {2, 5}) {
+    c["calibration"]["field_samples"] = samples;
+    const std::string name = "box" + std::to_string(samples);
+    std::ofstream(out / (name + ".json")) << c.dump();
+    const auto result =
+        run_isospring("calibrate " + (out / (name + ".json")) + " -o " + (out / name) + " -q");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    cases[samples] = read_json(out / (name + "/report.json"))["fit"]["load_cases"];
+    ASSERT_EQ(cases[samples].size(), 2u);
+  }
+  for (const json& e : cases[2]) {
+    EXPECT_GT(e["surface_percent_e_rms"].get<double>(), 0.0) << e.dump();
+    EXPECT_EQ(e["surface_percent_e_rms"], e["field_percent_e_rms"]) << e.dump();
+    EXPECT_EQ(e["surface_percent_e_max"], e["field_percent_e_max"]) << e.dump();
+  }
+  for (const json& e : cases[5])
+    EXPECT_NE(e["surface_percent_e_rms"], e["field_percent_e_rms"]) << e.dump();
 }

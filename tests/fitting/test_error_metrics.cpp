@@ -7,8 +7,11 @@
 
 #include <cmath>
 
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/sides.hpp"
 #include "isospring/fitting/error_metrics.hpp"
 #include "isospring/geometry/primitives.hpp"
+#include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/refine.hpp"
 
 namespace isospring::fitting {
@@ -65,6 +68,44 @@ TEST(ErrorMetrics, InteriorDifferenceIsZeroOnTheSurface) {
   EXPECT_EQ(s.percent_e_max, 0.0);
   const ErrorMetrics v = field_error_metrics({cube}, ref, model, 11);
   EXPECT_GT(v.percent_e_max, 1.0);
+}
+
+// Two such cubes glued along x = 1; the model differs from the reference (u = X) only at the 4
+// control points inside the shared face (net index 3 of the first cube, 0 of the second, the
+// same nodes). Those have zero basis functions on every outer face, so with the interface left
+// out the surface error is exactly zero; sampled anyway, the interface shows it. Each cube keeps
+// 11^3 - 9^3 - 9^2 samples: its outer shell minus the interface's interior grid.
+TEST(ErrorMetrics, InterfaceBetweenPatchesIsNotSurface) {
+  const nurbs::Patch a = cube_patch();
+  nurbs::Patch b = a;
+  for (int i = 0; i < b.num_points(); ++i)
+    b.set_control_point(i, a.control_point(i) + Eigen::Vector3d(1, 0, 0));
+  analysis::Problem problem;
+  problem.patches = {a, b};
+  const analysis::DofMap dofs(problem);
+  ASSERT_EQ(dofs.num_nodes(), 2 * 64 - 16);  // the 4 x 4 interface points are shared
+  const auto inner = analysis::inner_sides(problem.patches, dofs);
+  Field ref(2), model(2);
+  for (int p = 0; p < 2; ++p) {
+    const nurbs::Patch& patch = problem.patches[static_cast<size_t>(p)];
+    for (int index = 0; index < patch.num_points(); ++index) {
+      const Eigen::Vector3d x = patch.control_point(index);
+      const auto ijk = patch.net_position(index);
+      const bool on_interface_inside =
+          ijk[0] == (p == 0 ? 3 : 0) && ijk[1] % 3 != 0 && ijk[2] % 3 != 0;
+      ref[p].push_back(x);
+      model[p].push_back(on_interface_inside ? Eigen::Vector3d(x + Eigen::Vector3d(0.1, 0, 0)) : x);
+    }
+  }
+  const ErrorMetrics s = surface_error_metrics(problem.patches, ref, model, 11, inner);
+  EXPECT_EQ(s.points, 2 * (11 * 11 * 11 - 9 * 9 * 9 - 9 * 9));
+  EXPECT_EQ(s.percent_e_max, 0.0);
+  EXPECT_NEAR(s.o_max, std::sqrt(2.0 * 2.0 + 1.0 + 1.0), 1e-14);  // the corner (2, 1, 1)
+  const ErrorMetrics all = surface_error_metrics(problem.patches, ref, model, 11);
+  EXPECT_GT(all.percent_e_max, 1.0);
+  // inner faces for a different number of patches: a programming error caught with a message.
+  EXPECT_THROW(surface_error_metrics(problem.patches, ref, model, 11, {inner[0]}),
+               nurbs::InputError);
 }
 
 // A membrane (surface patch) is its own surface: both samplings agree exactly.

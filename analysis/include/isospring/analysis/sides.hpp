@@ -4,6 +4,7 @@
 #include <array>
 #include <vector>
 
+#include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/problem.hpp"
 
 namespace isospring::analysis {
@@ -21,6 +22,16 @@ struct SideFrame {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   double measure = 0.0;
 };
+/// Sides that are not part of the model's outer surface, indexed [p][2 * dir + end] (entries
+/// beyond a patch's parametric dimension are false):
+/// - glued sides: the control points map to exactly the nodes of another side under `dofs` (an
+///   interface between patches, or the seam of a closed patch);
+/// - collapsed sides: every row of the side's control grid in one of its two directions is a
+///   single point (to `relative_tolerance` times the model's control-net diagonal), so the side
+///   has no area; e.g. the axis of a revolved solid, which lies inside it, or a pole.
+std::vector<std::array<bool, 6>> inner_sides(const std::vector<nurbs::Patch>& patches,
+                                             const DofMap& dofs, double relative_tolerance = 1e-6);
+
 SideFrame side_frame(const Eigen::Matrix3d& parametric_jacobian, int param_dim, int dir, int end);
 
 }  // namespace isospring::analysis

@@ -1,6 +1,7 @@
 #pragma once
 // %e_rms and %e_max [NC10, S15 4.20-4.21] on control points and on the physical model.
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "isospring/nurbs/patch.hpp"
@@ -26,13 +27,17 @@ ErrorMetrics field_error_metrics(const std::vector<nurbs::Patch>& patches,
                                  const std::vector<std::vector<Eigen::Vector3d>>& model,
                                  int samples = 11);
 
-/// Over the physical surface: like field_error_metrics, but a volume patch is sampled on its six
+/// Over the physical surface: like field_error_metrics, but a volume patch is sampled on its
 /// boundary faces only (`samples` per direction, each point once: samples^3 - (samples - 2)^3
-/// per patch), which is what a user sees and what markers measure; surface patches (membranes)
-/// are sampled over their whole domain. Faces glued to another patch are sampled too.
+/// per patch when every face is outer), which is what a user sees and what markers measure; surface
+/// patches (membranes) are sampled over their whole domain. `inner` ([patch][2 * dir + end], as
+/// analysis::inner_sides gives it; empty: none) names faces that are not on the surface
+/// (interfaces between patches, seams, collapsed axes), which are left out; their edges stay
+/// where they border an outer face.
 ErrorMetrics surface_error_metrics(const std::vector<nurbs::Patch>& patches,
                                    const std::vector<std::vector<Eigen::Vector3d>>& reference,
                                    const std::vector<std::vector<Eigen::Vector3d>>& model,
-                                   int samples = 11);
+                                   int samples = 11,
+                                   const std::vector<std::array<bool, 6>>& inner = {});
 
 }  // namespace isospring::fitting
