@@ -3,6 +3,7 @@
 #include "isospring/fitting/displacement_fit.hpp"
 
 #include <ceres/ceres.h>
+#include <omp.h>
 
 #include <chrono>
 #include <cmath>
@@ -180,6 +181,10 @@ void solve_dual(detail::DisplacementModel& model, const DisplacementFitOptions& 
   problem.gram = [&model](const Eigen::VectorXd& weight, Eigen::MatrixXd& gram) {
     return model.gram(weight, gram);
   };
+  problem.k_form = [&model](const Eigen::VectorXd& weight, const std::vector<Eigen::Index>& rows,
+                            Eigen::MatrixXd& k, Eigen::MatrixXd& k_squared, Eigen::MatrixXd& g) {
+    return model.dual_k_form(weight, rows, k, k_squared, g);
+  };
   problem.lower = Eigen::VectorXd::Constant(groups, log_floor);
   problem.upper = Eigen::VectorXd::Constant(groups, INFINITY);
   for (int g = 0; g < groups && !options.upper_bounds.empty(); ++g)
@@ -197,6 +202,15 @@ void solve_dual(detail::DisplacementModel& model, const DisplacementFitOptions& 
   lm.function_tolerance = 1e-10;
   lm.on_iteration = options.on_iteration;
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(theta.data(), groups);
+  // One thread for Eigen's dense products here (restored on return): its only parallel work is
+  // the blocked Cholesky of the ~500 x 500 dual system, too small to pay for the threads. Two
+  // threads cost ~0.25 s more CPU over a 6^3 per-spring fit (idle-spinning OpenMP workers) and
+  // gained no wall time on 2 cores.
+  struct SingleThread {
+    int previous = omp_get_max_threads();
+    SingleThread() { omp_set_num_threads(1); }
+    ~SingleThread() { omp_set_num_threads(previous); }
+  } single_thread;
   const detail::DualLmSummary summary = detail::solve_dual_levenberg_marquardt(problem, x, lm);
   for (int g = 0; g < groups; ++g) theta[g] = x[g];
   result.iterations = summary.iterations;

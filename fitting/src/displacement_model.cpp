@@ -161,14 +161,15 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
   jacobian->setZero(residuals.size(), groups_);
   const bool use_inverse = groups_ * cases > free;
   Eigen::MatrixXd& inverse = inverse_;
-  if (use_inverse)
-    inverse = solver_.solve(Eigen::MatrixXd::Identity(free, free));
-  else
+  if (use_inverse) {
+    if (identity_.rows() != free) identity_ = Eigen::MatrixXd::Identity(free, free);
+    inverse = solver_.solve(identity_);
+  } else
     inverse.resize(0, 0);  // gram() is only valid for the adjoint form
   factor_at_inverse_ = use_inverse;
   spring_force_.assign(static_cast<size_t>(cases), Eigen::VectorXd(springs_.size()));
   // K^-1's residual rows (zero for held DOFs), gathered once: the adjoint columns are axpys.
-  Eigen::MatrixXd rows;
+  Eigen::MatrixXd& rows = inverse_rows_;
   if (use_inverse) {
     rows.setZero(rows_per_case_, free);
     for (int f = 0; f < free; ++f)
@@ -260,6 +261,54 @@ bool DisplacementModel::gram(const Eigen::VectorXd& weight, Eigen::MatrixXd& res
             result.block(c * rows_per_case_, d * rows_per_case_, rows_per_case_, rows_per_case_)
                 .transpose();
     }
+  return true;
+}
+
+bool DisplacementModel::dual_k_form(const Eigen::VectorXd& weight,
+                                    const std::vector<Eigen::Index>& rows, Eigen::MatrixXd& k,
+                                    Eigen::MatrixXd& k_squared, Eigen::MatrixXd& g) const {
+  const int free = dofs_.num_free();
+  if (!one_spring_per_group_ || !factor_at_inverse_ || spring_force_.size() != 1 ||
+      static_cast<int>(rows.size()) != free)
+    return false;
+  // The row -> free DOF map must be a permutation.
+  std::vector<int> dof_of_row(rows.size());
+  std::vector<bool> seen(static_cast<size_t>(free), false);
+  for (size_t a = 0; a < rows.size(); ++a) {
+    if (rows[a] < 0 || rows[a] >= rows_per_case_) return false;
+    const int f = row_free_[static_cast<size_t>(rows[a])];
+    if (f < 0 || seen[static_cast<size_t>(f)]) return false;
+    seen[static_cast<size_t>(f)] = true;
+    dof_of_row[a] = f;
+  }
+  // Everything in row order: the row of free DOF f is position_of_dof[f].
+  std::vector<int> position_of_dof(static_cast<size_t>(free));
+  for (int a = 0; a < free; ++a) position_of_dof[static_cast<size_t>(dof_of_row[a])] = a;
+  // k_ holds K at the Jacobian's point while factor_at_inverse_ (the solver's factorisation).
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation(free);
+  for (int f = 0; f < free; ++f) permutation.indices()[f] = position_of_dof[static_cast<size_t>(f)];
+  Eigen::SparseMatrix<double> k_rows;
+  k_rows = k_.selfadjointView<Eigen::Upper>().twistedBy(permutation);  // P K P^T, both triangles
+  k = k_rows;
+  k_squared = Eigen::SparseMatrix<double>(k_rows * k_rows);
+  // s^2 P B W B^T P^T: per spring s^2 w_s (k_s g_s^T u)^2 g_s g_s^T.
+  const double scale = scale_[0] * scale_[0];
+  g.setZero(free, free);
+  for (size_t s = 0; s < springs_.size(); ++s) {
+    const double force = spring_force_[0][static_cast<Eigen::Index>(s)];
+    const double w = scale * weight[group_of_spring_[s]] * force * force;
+    if (w == 0.0) continue;
+    const SpringData& sp = springs_[s];
+    int index[6];
+    double value[6];
+    int n = 0;
+    for (int e = 0; e < dim_; ++e) {
+      if (sp.free_i[e] >= 0) index[n] = position_of_dof[sp.free_i[e]], value[n++] = sp.n[e];
+      if (sp.free_j[e] >= 0) index[n] = position_of_dof[sp.free_j[e]], value[n++] = -sp.n[e];
+    }
+    for (int b = 0; b < n; ++b)
+      for (int a = 0; a < n; ++a) g(index[a], index[b]) += w * value[a] * value[b];
+  }
   return true;
 }
 

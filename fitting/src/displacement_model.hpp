@@ -40,6 +40,16 @@ class DisplacementModel {
   /// no such evaluation happened), then the caller forms J W J^T itself.
   bool gram(const Eigen::VectorXd& weight, Eigen::MatrixXd& result);
 
+  /// The dual LM system in K form, for the last evaluation with a Jacobian in the adjoint form
+  /// when it had one load case, one spring per parameter and `rows` (the residual rows the LM
+  /// keeps) observe every free DOF exactly once (P: that row -> free DOF permutation). Then
+  /// a I + J W J^T = K_r^-1 (a K_r^2 + G_r) K_r^-1 with K_r = P K P^T and G_r = s^2 P B W B^T
+  /// P^T (B W B^T: the spring matrix of gram()), so the LM factorises a K_r^2 + G_r and needs no
+  /// K^-1 G K^-1 (a solve with one right-hand side per free DOF). Fills the dense K_r, K_r^2 and
+  /// G_r; false when the conditions do not hold (the caller then uses gram()).
+  bool dual_k_form(const Eigen::VectorXd& weight, const std::vector<Eigen::Index>& rows,
+                   Eigen::MatrixXd& k, Eigen::MatrixXd& k_squared, Eigen::MatrixXd& g) const;
+
   /// scale_c u_ref,c for every residual row: residuals = scale_c u_c - scaled_reference().
   const Eigen::VectorXd& scaled_reference() const { return scaled_reference_; }
 
@@ -74,6 +84,8 @@ class DisplacementModel {
   // Kept from the last evaluation with a Jacobian (adjoint form) for gram(): K^-1 and, per case,
   // every spring's k_s (g_s^T u_c).
   Eigen::MatrixXd inverse_;
+  // Work matrices of the adjoint form kept between evaluations (no MB-sized allocation each).
+  Eigen::MatrixXd identity_, inverse_rows_;
   bool factor_at_inverse_ = false;  // solver_ still holds the factorisation inverse_ came from
   std::vector<Eigen::VectorXd> spring_force_;
   Eigen::SparseMatrix<double> k_;  // upper triangle on the free DOFs

@@ -29,6 +29,14 @@ struct BoundedLeastSquares {
   /// Optional: J diag(weight) J^T at the point of the last evaluation with a Jacobian, when the
   /// problem has a cheaper way than the dense product; returns false to fall back to it.
   std::function<bool(const Eigen::VectorXd& weight, Eigen::MatrixXd& gram)> gram;
+  /// Optional, dual form only: the system a I + J W J^T restricted to the kept residual rows
+  /// `rows` as K^-1 (a K^2 + G) K^-1 with symmetric K, K^2 and G (all rows x rows), when the
+  /// problem has that structure (the displacement model's K form); false to use gram instead.
+  /// The LM then factorises a K^2 + G (+ the shared-prior term K (J A) C (J A)^T K) per trial
+  /// and never forms J W J^T.
+  std::function<bool(const Eigen::VectorXd& weight, const std::vector<Eigen::Index>& rows,
+                     Eigen::MatrixXd& k, Eigen::MatrixXd& k_squared, Eigen::MatrixXd& g)>
+      k_form;
   Eigen::VectorXd lower;  // per parameter; -inf when none
   Eigen::VectorXd upper;  // per parameter; +inf when none
   Eigen::VectorXd prior;  // p (used when prior_weight > 0 and prior_groups is empty)
