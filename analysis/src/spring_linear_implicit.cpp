@@ -30,8 +30,10 @@ LinearImplicitIntegrator::LinearImplicitIntegrator(const SpringNetwork& network,
 }
 
 void LinearImplicitIntegrator::step(SpringState& state, const Eigen::VectorXd& f_ext) {
-  force_ = spring_forces(network_, state.x) + f_ext;
-  force_ += damping_forces(network_, state.x, state.v);
+  // One pass for both forces; (f_spring + f_ext) + f_damping as before.
+  spring_and_damping_forces(network_, state.x, state.v, force_, damping_force_);
+  force_ += f_ext;
+  force_ += damping_force_;
   rhs_ = dofs_.restrict(force_);
   const Eigen::VectorXd v_free = dofs_.restrict(state.v);
   rhs_ = dt_ * (rhs_ - dt_ * (k0_ * v_free));

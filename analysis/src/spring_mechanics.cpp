@@ -134,6 +134,51 @@ Eigen::VectorXd damping_forces(const SpringNetwork& network, const Eigen::Vector
   return f;
 }
 
+namespace {
+
+// One pass over the springs for both forces, with the dimension a compile-time constant (the
+// component loops unroll) and the same operations, in the same order, as spring_forces and
+// damping_forces, so each sum is bit-for-bit theirs. Separate passes read the 40-byte springs
+// twice; at 10^4 particles (1.3e5 springs) the forces are the whole cost of a Verlet step.
+template <int Dim>
+void force_pass(const std::vector<Spring>& springs, const double* p, const double* w, double* out,
+                double* damp) {
+  for (const Spring& s : springs) {
+    const Eigen::Index i = static_cast<Eigen::Index>(s.i) * Dim;
+    const Eigen::Index j = static_cast<Eigen::Index>(s.j) * Dim;
+    const double l[3] = {p[i] - p[j], p[i + 1] - p[j + 1], Dim == 3 ? p[i + 2] - p[j + 2] : 0.0};
+    const double length_squared = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    if (length_squared == 0.0) continue;  // length == 0 exactly when its square is
+    const double length = std::sqrt(length_squared);
+    const double scale = -s.stiffness * (length - s.rest_length) / length;
+    for (int c = 0; c < Dim; ++c) {
+      out[i + c] += scale * l[c];
+      out[j + c] -= scale * l[c];
+    }
+    if (s.damping == 0.0) continue;
+    double rate = 0.0;
+    for (int c = 0; c < Dim; ++c) rate += l[c] * (w[i + c] - w[j + c]);
+    const double damping_scale = -s.damping * rate / length_squared;
+    for (int c = 0; c < Dim; ++c) {
+      damp[i + c] += damping_scale * l[c];
+      damp[j + c] -= damping_scale * l[c];
+    }
+  }
+}
+
+}  // namespace
+
+void spring_and_damping_forces(const SpringNetwork& network, const Eigen::VectorXd& x,
+                               const Eigen::VectorXd& v, Eigen::VectorXd& f_spring,
+                               Eigen::VectorXd& f_damping) {
+  f_spring.setZero(x.size());
+  f_damping.setZero(x.size());
+  if (network.dimension == 3)
+    force_pass<3>(network.springs, x.data(), v.data(), f_spring.data(), f_damping.data());
+  else
+    force_pass<2>(network.springs, x.data(), v.data(), f_spring.data(), f_damping.data());
+}
+
 Eigen::SparseMatrix<double> tangent_stiffness(const SpringNetwork& network,
                                               const Eigen::VectorXd& x) {
   const int dim = network.dimension;

@@ -41,7 +41,7 @@ class LinearImplicitIntegrator {
   FreeDofSet dofs_;
   Eigen::SparseMatrix<double> k0_;  // rest stiffness on the free DOFs (full storage)
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver_;
-  Eigen::VectorXd rhs_, dv_, force_;  // work vectors (no allocation per step)
+  Eigen::VectorXd rhs_, dv_, force_, damping_force_;  // work vectors (no allocation per step)
 };
 
 }  // namespace isospring::analysis

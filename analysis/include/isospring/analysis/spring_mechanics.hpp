@@ -25,6 +25,13 @@ Eigen::VectorXd spring_forces(const SpringNetwork& network, const Eigen::VectorX
 Eigen::VectorXd damping_forces(const SpringNetwork& network, const Eigen::VectorXd& x,
                                const Eigen::VectorXd& v);
 
+/// spring_forces and damping_forces in one pass over the springs, written into f_spring and
+/// f_damping (resized to x's size; no allocation when they already have it). The explicit
+/// integrator's inner loop: each result is bit-for-bit the separate function's.
+void spring_and_damping_forces(const SpringNetwork& network, const Eigen::VectorXd& x,
+                               const Eigen::VectorXd& v, Eigen::VectorXd& f_spring,
+                               Eigen::VectorXd& f_damping);
+
 /// Tangent stiffness d^2E/dx^2 at x: per spring k [n n^T + (1 - L0/|l|) (I - n n^T)] on the (i,i)
 /// and (j,j) blocks and its negative on (i,j), (j,i).
 Eigen::SparseMatrix<double> tangent_stiffness(const SpringNetwork& network,
