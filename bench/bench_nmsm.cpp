@@ -5,6 +5,30 @@
 // compare CPU times and the last_fit_cpu_s counter (process CPU of the fit alone), not wall time.
 // Direct solves at 10^5 particles (300k DOFs, 27-point 3D stencil) need minutes and GBs for the
 // factorisation, so the 10^5 rows cover the explicit step only.
+//
+// Measured 2026-11-23 (2 shared cores, load ~2-3; old = the code before, run alternately with
+// the new, CPU times):
+//   fit (last_fit_cpu_s)       old      new     notes
+//   cube 6^3 grouped           0.046 s  0.046 s  Ceres, 17 iterations, e_rms 2.775 %
+//   cube 6^3 per spring        2.95 s   2.08 s   dual LM, 47 iterations, e_rms 0.1542 % both
+//   cube 12^3 grouped          -        3.2 s    (unchanged code path; 14 iterations)
+//   cube 20^3 grouped          -        41 s     (unchanged code path; 23 iterations)
+//   steps / s (CPU)            old      new
+//   Verlet 10^3 / 10^4 / 10^5  9.0k / 540 / 19   10.1k / 630 / 22.4
+//   linear implicit 10^3/10^4  1.25k / 25.2      1.32k / 25.6  (the CHOLMOD solve dominates)
+//   backward Euler 10^3        8.2               8.6
+//   static solve 10^3 / 10^4   1650 / 30 (CHOLMOD), 1200 / 9 (Eigen LDL^T): unchanged
+// Per spring, where the time went (6^3, per LM iteration, before): the Jacobian's K^-1 (one
+// solve with 540 right-hand sides) ~19 ms, gram()'s K^-1 (G K^-1) (another) ~18 ms, the
+// 540 x 540 Cholesky ~7 ms (~13 ms with two OpenMP threads), 10 MB Jacobian copies and
+// reallocations ~6 ms. Now: the K form (fitting/src/dual_levenberg_marquardt.hpp) replaces
+// gram() by a K^2 + G assembled in O(springs) (~5 ms), one thread, no copies. What remains is
+// the Jacobian's K^-1 and the Cholesky; below 2 s would need the dual step without a dense J.
+// Verlet, before: two passes over the springs per force (spring, damping) and five 256 KB
+// temporaries per step at 10^4 (page faults); now one fused pass, no allocation. Each spring
+// costs ~16 cycles (a sqrt, a division and 6 scattered read-modify-writes); SSE2 blocks for the
+// sqrt/division and register accumulation of the first particle did not help (measured), so
+// 1000 steps/s at 10^4 needs AVX or threads (not bit-for-bit: the sums reorder).
 #include <benchmark/benchmark.h>
 
 #include <Eigen/CholmodSupport>
