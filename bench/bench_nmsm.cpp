@@ -9,12 +9,14 @@
 // Measured 2026-11-23 (2 shared cores, load ~2-3; old = the code before, run alternately with
 // the new, CPU times):
 //   fit (last_fit_cpu_s)       old      new     notes
-//   cube 6^3 grouped           0.046 s  0.046 s  Ceres, 17 iterations, e_rms 2.775 %
-//   cube 6^3 per spring        2.95 s   2.08 s   dual LM, 47 iterations, e_rms 0.1542 % both
+//   cube 6^3 grouped           0.046 s  0.046 s  Ceres, 17 iterations, e_rms 2.775 % (0.09-0.1
+//                                                 s for both under heavier load)
+//   cube 6^3 per spring        2.6-3.0  2.0-2.1  s; dual LM, 47 iterations, e_rms 0.1542 % both
 //   cube 12^3 grouped          -        3.2 s    (unchanged code path; 14 iterations)
 //   cube 20^3 grouped          -        41 s     (unchanged code path; 23 iterations)
 //   steps / s (CPU)            old      new
-//   Verlet 10^3 / 10^4 / 10^5  9.0k / 540 / 19   10.1k / 630 / 22.4
+//   Verlet 10^3 / 10^4         8.5-9.2k / 530-550  10.1k / 620-650
+//   Verlet 10^5                19-25            22-23  (run-to-run noise: no change claimed)
 //   linear implicit 10^3/10^4  1.25k / 25.2      1.32k / 25.6  (the CHOLMOD solve dominates)
 //   backward Euler 10^3        8.2               8.6
 //   static solve 10^3 / 10^4   1650 / 30 (CHOLMOD), 1200 / 9 (Eigen LDL^T): unchanged
