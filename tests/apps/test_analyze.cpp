@@ -10,15 +10,12 @@
 
 #include "run_program.hpp"
 
+using isospring::testing::example;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
 namespace {
-std::string example(const std::string& name) {
-  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
-}
-
 json read_json(const std::string& path) {
   std::ifstream in(path);
   return json::parse(in);

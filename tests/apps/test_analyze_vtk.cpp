@@ -18,16 +18,13 @@
 #include "run_program.hpp"
 #include "vtk_read.hpp"
 
+using isospring::testing::example;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 namespace its = isospring::testing;
 
 namespace {
-std::string example(const std::string& name) {
-  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
-}
-
 // Uniaxial tension T along x of a rectangle (2D, plane stress) or box (3D) held by symmetry
 // supports on x = 0, y = 0 (and z = 0): the exact solution is linear, so every degree reproduces
 // it up to the solver's round-off.

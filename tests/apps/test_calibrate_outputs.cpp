@@ -20,16 +20,13 @@
 #include "run_program.hpp"
 #include "vtk_read.hpp"
 
+using isospring::testing::example;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 namespace its = isospring::testing;
 
 namespace {
-std::string example(const std::string& name) {
-  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
-}
-
 bool is_png(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[8] = {};

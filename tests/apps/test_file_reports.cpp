@@ -13,21 +13,12 @@
 #include "isospring/io/patch_file.hpp"
 #include "run_program.hpp"
 
+using isospring::testing::example;
+using isospring::testing::file_contents;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 
 namespace {
-std::string example(const std::string& name) {
-  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
-}
-
-std::string contents(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
   EXPECT_TRUE(in.good()) << path;
@@ -52,7 +43,7 @@ TEST(FileReports, ImportReportsPatchesAndFacesOfTheBlock) {
               1e-12 * r["cad_volume"].get<double>());
   EXPECT_NEAR(r["cad_volume"].get<double>(), 0.1 * 0.02 * 0.02, 1e-15);
   EXPECT_EQ(isospring::io::read_patch_file(out / "block.json").size(), 1u);
-  EXPECT_NE(contents(out / "block.report.md").find("| 0 | 3 | 1, 1, 1 | 2 x 2 x 2"),
+  EXPECT_NE(file_contents(out / "block.report.md").find("| 0 | 3 | 1, 1, 1 | 2 x 2 x 2"),
             std::string::npos);
 }
 
@@ -77,7 +68,7 @@ TEST(FileReports, RefineReportsCountsAndAnExactGeometry) {
   EXPECT_LT(p["geometry_deviation_relative"].get<double>(), 1e-14);
   // Area of the quarter annulus is preserved: pi/4 (R^2 - r^2) for radii 1 and 2 = 3 pi / 4.
   EXPECT_NEAR(p["after"]["measure"].get<double>(), 3.0 * M_PI / 4.0, 1e-12);
-  EXPECT_NE(contents(out / "fine.report.md").find("6 -> 42"), std::string::npos);
+  EXPECT_NE(file_contents(out / "fine.report.md").find("6 -> 42"), std::string::npos);
 }
 
 // export: counts and total mass against the model file read back; export-calculix: node count
@@ -113,7 +104,7 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
                       (out / "box.inp") + " -q");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const nlohmann::json c = read_json(out / "box.report.json");
-  std::istringstream deck(contents(out / "box.inp"));
+  std::istringstream deck(file_contents(out / "box.inp"));
   std::string line;
   int nodes = 0;
   bool in_nodes = false;
@@ -133,7 +124,7 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
   EXPECT_EQ(c["node_sets"], nlohmann::json({"Nall"}));
   EXPECT_EQ(c["element_sets"], nlohmann::json({"Eall"}));
   EXPECT_EQ(c["load_cases"], nlohmann::json({"tip_down", "tip_side", "gravity"}));
-  EXPECT_NE(contents(out / "box.report.md").find("1865 nodes, 320 C3D20R elements"),
+  EXPECT_NE(file_contents(out / "box.report.md").find("1865 nodes, 320 C3D20R elements"),
             std::string::npos);
 
   for (const std::string name : {"annulus.step", "annulus.igs"}) {

@@ -7,13 +7,8 @@
 
 #include "run_program.hpp"
 
+using isospring::testing::example;
 using isospring::testing::run_isospring;
-
-namespace {
-std::string example(const std::string& name) {
-  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
-}
-}  // namespace
 
 // The block part is 0.1 x 0.02 x 0.02 m: one trilinear volume, 6 usable planar faces.
 TEST(JsonOutput, InfoOnACadPart) {

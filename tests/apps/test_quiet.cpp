@@ -8,21 +8,10 @@
 
 #include "run_program.hpp"
 
+using isospring::testing::example;
+using isospring::testing::file_contents;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
-
-namespace {
-std::string example(const std::string& name) {
-  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
-}
-
-std::string contents(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-}  // namespace
 
 // (export-step: FileReports.ExportsReportWhatTheyWrote.)
 TEST(Quiet, ImportAndRefineWriteSilently) {
@@ -37,8 +26,8 @@ TEST(Quiet, ImportAndRefineWriteSilently) {
     const auto quiet = run_isospring(command + " -o " + (out / file) + " --quiet");
     ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
     EXPECT_EQ(quiet.output, "") << command;
-    ASSERT_FALSE(contents(out / file).empty()) << command;
-    EXPECT_EQ(contents(out / file), contents(out / ("loud_" + file))) << command;
+    ASSERT_FALSE(file_contents(out / file).empty()) << command;
+    EXPECT_EQ(file_contents(out / file), file_contents(out / ("loud_" + file))) << command;
   }
 }
 

@@ -4,7 +4,9 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 
 namespace isospring::testing {
@@ -27,6 +29,19 @@ inline ProgramResult run_isospring(const std::string& args) {
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Path of a shipped example: ISOSPRING_SOURCE_DIR/examples/NAME.
+inline std::string example(const std::string& name) {
+  return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;
+}
+
+/// The whole text of a file ("" when it cannot be read).
+inline std::string file_contents(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 /// A fresh temporary folder for one test, removed when the object goes away.
