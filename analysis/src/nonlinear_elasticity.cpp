@@ -17,10 +17,10 @@
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/tangent_solver.hpp"
+#include "isospring/analysis/thread_scope.hpp"
 #include "isospring/analysis/validation.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "reduced_system.hpp"
-#include "thread_scope.hpp"
 
 namespace isospring::analysis {
 
@@ -263,7 +263,7 @@ StepOutcome newton(const SvkAssembler& assembler, const LameParameters& lame,
 std::vector<NonlinearLoadCaseResult> solve_static_nonlinear(const Problem& problem,
                                                             const NonlinearOptions& options) {
   validate_problem(problem);
-  const detail::ThreadScope threads(options.threads);
+  const ThreadScope threads(options.threads);
   const DofMap dofs(problem);
   const Constraints constraints = build_constraints(problem, dofs);
   check_rigid_body_modes(problem, dofs, constraints);

@@ -10,9 +10,9 @@
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/thread_scope.hpp"
 #include "isospring/analysis/validation.hpp"
 #include "reduced_system.hpp"
-#include "thread_scope.hpp"
 
 namespace isospring::analysis {
 
@@ -26,7 +26,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 StaticResult solve_static(const Problem& problem, const SolverOptions& options) {
   validate_problem(problem);
-  const detail::ThreadScope threads(options.threads);
+  const ThreadScope threads(options.threads);
   const DofMap dofs(problem);
   const Constraints constraints = build_constraints(problem, dofs);
   check_rigid_body_modes(problem, dofs, constraints);

@@ -3,7 +3,6 @@
 #include "isospring/fitting/displacement_fit.hpp"
 
 #include <ceres/ceres.h>
-#include <omp.h>
 
 #include <chrono>
 #include <cmath>
@@ -13,6 +12,7 @@
 
 #include "displacement_model.hpp"
 #include "dual_levenberg_marquardt.hpp"
+#include "isospring/analysis/thread_scope.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
@@ -206,11 +206,7 @@ void solve_dual(detail::DisplacementModel& model, const DisplacementFitOptions& 
   // the blocked Cholesky of the ~500 x 500 dual system, too small to pay for the threads. Two
   // threads cost ~0.25 s more CPU over a 6^3 per-spring fit (idle-spinning OpenMP workers) and
   // gained no wall time on 2 cores.
-  struct SingleThread {
-    int previous = omp_get_max_threads();
-    SingleThread() { omp_set_num_threads(1); }
-    ~SingleThread() { omp_set_num_threads(previous); }
-  } single_thread;
+  const analysis::ThreadScope single_thread(1);
   const detail::DualLmSummary summary = detail::solve_dual_levenberg_marquardt(problem, x, lm);
   for (int g = 0; g < groups; ++g) theta[g] = x[g];
   result.iterations = summary.iterations;

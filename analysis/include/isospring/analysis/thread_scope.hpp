@@ -3,7 +3,7 @@
 // `threads` option of one solve does not leak into the rest of the program.
 #include <omp.h>
 
-namespace isospring::analysis::detail {
+namespace isospring::analysis {
 
 class ThreadScope {
  public:
@@ -19,4 +19,4 @@ class ThreadScope {
   int previous_;
 };
 
-}  // namespace isospring::analysis::detail
+}  // namespace isospring::analysis
