@@ -83,6 +83,7 @@ struct SweepRow {
   int groups = 0;
   double e_rms = NAN, e_max = NAN;
   std::string failure;
+  std::vector<double> spring_stiffness;  // the fit, where a per-spring fit can start
 };
 
 struct Row {
@@ -136,6 +137,7 @@ Row run(fitting::ThesisObject object, int net, int degree, const std::string& fi
   // 2 and 3 rest lengths, so most of their sweep repeats one grouping).
   const fitting::SpringMesh mesh = fitting::build_spring_mesh(row.object.problem);
   std::vector<std::pair<std::vector<int>, SweepRow>> done;
+  settings.matrix_approach = what.matrix;  // beside every fit, so the kept one has it
   for (double gamma : *what.gammas) {
     settings.gamma = gamma;
     SweepRow entry;
@@ -155,6 +157,7 @@ Row run(fitting::ThesisObject object, int net, int degree, const std::string& fi
       entry.groups = result.parameters;
       entry.e_rms = result.fit[0].control.percent_e_rms;
       entry.e_max = result.fit[0].control.percent_e_max;
+      entry.spring_stiffness = result.fit_result.spring_stiffness;
       if (!found || entry.e_rms < row.grouped.fit[0].control.percent_e_rms) {
         row.grouped = std::move(result);
         found = true;
@@ -169,11 +172,7 @@ Row run(fitting::ThesisObject object, int net, int degree, const std::string& fi
     throw std::runtime_error("thesis: every gamma of the sweep failed for " + row.object.name +
                              " (" + row.sweep.back().failure + ")");
   settings.gamma = row.grouped.gamma;
-  if (what.matrix) {
-    settings.matrix_approach = true;
-    row.grouped = fitting::calibrate(row.object.problem, settings);  // same fit, plus the matrix
-    settings.matrix_approach = false;
-  }
+  settings.matrix_approach = false;
   row.fit_seconds = seconds_since(start);
   if (what.acceleration)
     row.acceleration = fitting::acceleration_baseline(row.object.problem, settings, row.grouped);
@@ -193,7 +192,8 @@ Row run(fitting::ThesisObject object, int net, int degree, const std::string& fi
       progress(row.object.name + ": per-spring fit (" +
                std::to_string(row.grouped.mesh.network.springs.size()) +
                " parameters) from the grouped optimum of gamma " + num(start_row.gamma));
-      settings.gamma = start_row.gamma;
+      settings.gamma = start_row.gamma;  // the groups of the regularisation
+      settings.per_spring_start = start_row.spring_stiffness;
       try {
         fitting::CalibrationResult result = fitting::calibrate(row.object.problem, settings);
         const double e_rms = result.fit[0].control.percent_e_rms;

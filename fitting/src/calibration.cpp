@@ -165,10 +165,18 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
       };
     if (settings.per_spring) {
       // Start from the grouped optimum: the per-spring problem is large and underdetermined.
-      options.grouping = groups;
-      const DisplacementFitResult grouped = fit_displacements(data, options);
+      if (settings.per_spring_start.empty()) {
+        options.grouping = groups;
+        options.initial = fit_displacements(data, options).spring_stiffness;
+      } else if (settings.per_spring_start.size() == mesh.network.springs.size()) {
+        options.initial = settings.per_spring_start;
+      } else {
+        throw nurbs::InputError("calibration: per_spring_start has " +
+                                std::to_string(settings.per_spring_start.size()) +
+                                " stiffnesses for " + std::to_string(mesh.network.springs.size()) +
+                                " springs");
+      }
       options.grouping = one_group_per_spring(mesh.network);
-      options.initial = grouped.spring_stiffness;
       options.regularization = settings.regularization;
       options.regularization_groups = groups;
     } else {

@@ -6,6 +6,7 @@
 
 #include "isospring/fitting/calibration.hpp"
 #include "isospring/fitting/thesis_experiments.hpp"
+#include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
 namespace {
@@ -29,6 +30,27 @@ TEST(CalibrationSweep, EntriesCarryPercentErmsAndEmaxOfTheirFit) {
   // calibrated network: same quantity, two code paths; agreement to solver round-off.
   EXPECT_NEAR(kept->percent_e_max / result.fit[0].control.percent_e_max, 1.0, 1e-9);
   EXPECT_NEAR(kept->percent_e_rms / result.fit[0].control.percent_e_rms, 1.0, 1e-9);
+}
+
+// A per-spring fit given the grouped optimum as its start (per_spring_start, how `isospring
+// thesis` reuses its sweep) is the fit that first computes that optimum itself: same start, same
+// deterministic iterations, so the same result to round-off. A start of the wrong size is bad
+// input.
+TEST(CalibrationSweep, PerSpringStartEqualsFittingTheGroupedOptimumFirst) {
+  const ThesisObject square = thesis_square(6, 2);
+  CalibrationSettings settings;
+  settings.fit_cases = {"fit_points"};
+  settings.gamma = 0.2;
+  const CalibrationResult grouped = calibrate(square.problem, settings);
+  settings.per_spring = true;
+  settings.regularization = 1e-7;
+  const CalibrationResult fitted_first = calibrate(square.problem, settings);
+  settings.per_spring_start = grouped.fit_result.spring_stiffness;
+  const CalibrationResult given = calibrate(square.problem, settings);
+  EXPECT_NEAR(given.fit[0].control.percent_e_rms, fitted_first.fit[0].control.percent_e_rms,
+              1e-12 * fitted_first.fit[0].control.percent_e_rms);
+  settings.per_spring_start.pop_back();
+  EXPECT_THROW(calibrate(square.problem, settings), nurbs::InputError);
 }
 
 }  // namespace

@@ -22,6 +22,9 @@ struct CalibrationSettings {
   /// One stiffness per spring, pulled towards its gamma group's value with this weight (0: free).
   bool per_spring = false;
   double regularization = 0.0;
+  /// Per-spring fits only: the stiffness per spring to start from (e.g. a grouped optimum the
+  /// caller already has); empty: the grouped optimum of `gamma`, fitted first.
+  std::vector<double> per_spring_start;
   bool upper_bounds = false;  // [S15 4.19] bounds per group
   MassModel mass_model = MassModel::kLumpedIga;
   SpringMeshOptions mesh;
