@@ -18,11 +18,13 @@
 #include "isospring/fitting/measure.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/case_refinement_ladder.hpp"
 #include "isospring/io/markers.hpp"
 #include "isospring/io/model_file.hpp"
 #include "isospring/io/plot.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
+#include "isospring/io/report_discretization.hpp"
 #include "isospring/io/vtk_markers.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -34,6 +36,8 @@ struct IdentifyCommandOptions {
   std::string output;
   bool drop_outside = false;
   bool quiet = false;
+  std::optional<long> max_dofs;  // overrides measurements.max_dofs
+  bool no_discretization_check = false;
 };
 
 nlohmann::json errors_json(const fitting::ErrorSummary& e) {
@@ -216,6 +220,9 @@ void run_identify(const IdentifyCommandOptions& options) {
 
   fitting::IdentifyOptions identify_options = settings.identify;
   identify_options.progress = [&progress](const std::string& s) { progress(s); };
+  identify_options.discretization.ladder = io::case_refinement_ladder(c);
+  if (options.max_dofs) identify_options.discretization.max_dofs = *options.max_dofs;
+  if (options.no_discretization_check) identify_options.discretization.enabled = false;
   const fitting::IdentifyResult r =
       fitting::identify(c.problem, kept, placements, identify_options);
 
@@ -241,6 +248,7 @@ void run_identify(const IdentifyCommandOptions& options) {
   report["markers"] = kept.size();
   report["markers_dropped"] = dropped;
   report["placement_tolerance"] = tolerance;
+  report["discretization"] = io::discretization_json(r.discretization, r.discretization_allowance);
   report["effects_added"] = r.effects_added;
   for (const auto& p : r.parameters)
     report["parameters"].push_back({{"effect", p.effect},
@@ -276,6 +284,7 @@ void run_identify(const IdentifyCommandOptions& options) {
                                  {"rss", t.rss},
                                  {"f", t.f_statistic},
                                  {"p_value", t.p_value},
+                                 {"seconds", t.seconds},
                                  {"note", t.note}});
     report["selection"].push_back(j);
   }
@@ -322,6 +331,7 @@ void run_identify(const IdentifyCommandOptions& options) {
                              io::format_number(tolerance, 3) + " m from the model).") +
       " Noise level " + io::format_number(r.noise_estimate, 3) + " m (" +
       (r.noise_given ? "given" : "estimated from neighbouring residual differences") + ").");
+  io::add_discretization(md, r.discretization, r.discretization_allowance);
   md.heading(2, "Effects");
   md.paragraph(r.effects_added.empty()
                    ? "None significant: the nominal model explains the data to the noise level."
@@ -460,7 +470,9 @@ void setup_identify(CLI::App& app) {
       "load_case,x,y,z,ux,uy,uz[,sigma] by default; columns and units can be mapped).\n"
       "Fits E (and nu with fit_poisson), then adds effects (gravity, support_compliance,\n"
       "stiffness_gradient, rigid_offset, load_scale, geometric_nonlinearity) while an F-test\n"
-      "finds them significant (docs/identify.md).\n"
+      "finds them significant (docs/identify.md). Before that, the reference is refined\n"
+      "(degree, then elements) until its error at the markers is below a third of the\n"
+      "noise, within --max-dofs; beyond the budget the F-tests are widened instead.\n"
       "Recalibrates the spring model against the corrected reference (identified material,\n"
       "gravity, load factors, stiffness gradient; the case's \"calibration\" object applies).\n"
       "Writes OUTDIR/report.json, report.md, model.json, residuals.svg/.csv,\n"
@@ -471,6 +483,13 @@ void setup_identify(CLI::App& app) {
   cmd->add_option("-o,--output", options->output, "Output folder (created if missing)")->required();
   cmd->add_flag("--drop-outside", options->drop_outside,
                 "Leave out markers off the model (listed in the report) instead of failing");
+  cmd->add_option("--max-dofs", options->max_dofs,
+                  "DOF budget of the discretisation check (default: measurements.max_dofs, "
+                  "else 200000)")
+      ->check(CLI::Range(1L, 1000000000L));
+  cmd->add_flag("--no-discretization-check", options->no_discretization_check,
+                "Run the loop on the case's discretisation without checking its error against "
+                "the noise");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines");
   cmd->callback([options] { run_identify(*options); });
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
@@ -64,6 +65,8 @@ struct Setup {
   std::vector<Eigen::VectorXd> sigma;          // per load case, per row (0: use the global one)
   std::vector<std::vector<int>> markers;       // per load case: marker indices, in row order
   std::map<std::string, int> case_index;       // load case id -> index
+  // The last K_ff factorisation, shared by every model of the loop (identify_model.hpp).
+  std::shared_ptr<FactorizationCache> factorizations = make_factorization_cache();
 };
 
 struct Fit {
@@ -144,7 +147,7 @@ Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
   model.initial.head(keep) = warm_start.head(keep);
   model.forward = std::make_unique<ForwardModel>(
       std::move(terms), setup.observations, setup.constraints.dofs, setup.constraints.values,
-      setup.dofs.num_dofs(), static_cast<int>(setup.observations.size()));
+      setup.dofs.num_dofs(), static_cast<int>(setup.observations.size()), setup.factorizations);
   return model;
 }
 
@@ -338,13 +341,10 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   auto say = [&](const std::string& message) {
     if (options.progress) options.progress(message);
   };
-  Setup setup;
-  make_setup(setup, problem, markers, placements, options.fit_poisson, say);
-  const int dim = setup.dim;
-  const size_t num_cases = problem.load_cases.size();
-  const std::map<std::string, int>& case_index = setup.case_index;
-  EffectContext& context = setup.context;
-
+  // The case's discretisation first: the nominal fit there gives the material and the noise
+  // level that the discretisation check compares the reference's own error with.
+  Setup case_setup;
+  make_setup(case_setup, problem, markers, placements, options.fit_poisson, say);
   IdentifyResult result;
   const std::vector<bool> all_markers(markers.size(), true);
   std::vector<int> all_rows(markers.size());
@@ -353,17 +353,67 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   // Baseline fit. A provisional noise level makes the residuals O(1) for the solver's tolerances;
   // uniform weights do not change the estimate.
   double rms_data = 0.0;
-  for (const auto& m : setup.measured) rms_data += m.squaredNorm();
+  for (const auto& m : case_setup.measured) rms_data += m.squaredNorm();
   int total_rows = 0;
-  for (const auto& m : setup.measured) total_rows += static_cast<int>(m.size());
+  for (const auto& m : case_setup.measured) total_rows += static_cast<int>(m.size());
   rms_data = std::sqrt(rms_data / std::max(1, total_rows));
   const double provisional =
       options.noise_sigma > 0.0 ? options.noise_sigma : std::max(1e-3 * rms_data, 1e-300);
+  auto nominal_fit = [&](const Setup& s) {
+    const Fit fit = run_fit(s, build_model(s, {}, Eigen::VectorXd()),
+                            make_weights(s, provisional, all_markers));
+    if (!fit.ok) throw std::runtime_error("the nominal model's fit failed: " + fit.message);
+    return fit;
+  };
   say("fitting the nominal model");
+  const Fit case_fit = nominal_fit(case_setup);
+
+  // Discretisation control before diagnosis.
+  std::optional<analysis::Problem> refined_problem;
+  std::unique_ptr<Setup> refined_setup;
+  if (options.discretization.enabled) {
+    double noise = options.noise_sigma;
+    if (!(noise > 0.0)) {  // per-marker sigmas, else the data's own estimate
+      double sum = 0.0;
+      int given = 0;
+      for (const Marker& marker : markers)
+        if (marker.sigma > 0.0) sum += marker.sigma * marker.sigma, ++given;
+      if (given > 0) noise = std::sqrt(sum / given);
+    }
+    if (!(noise > 0.0)) {
+      const auto predicted = marker_predictions(case_setup, build_model(case_setup, {}, {}),
+                                                case_fit.theta, markers.size());
+      std::vector<Eigen::Vector3d> residual(markers.size()), positions(markers.size());
+      std::vector<int> group(markers.size());
+      for (size_t m = 0; m < markers.size(); ++m) {
+        residual[m] = markers[m].displacement - predicted[m];
+        positions[m] = markers[m].position;
+        group[m] = case_setup.case_index.at(markers[m].load_case);
+      }
+      noise = estimate_noise(positions, residual, group, case_setup.dim);
+    }
+    if (!(noise > 0.0)) noise = provisional;
+    const double nu = options.fit_poisson ? case_fit.theta[1] : problem.material.poisson_ratio;
+    result.discretization = check_discretization(
+        problem, markers, placements, problem.material.youngs_modulus * case_fit.theta[0], nu,
+        noise, options.discretization, say);
+    if (result.discretization.chosen_problem) {
+      refined_problem = std::move(result.discretization.chosen_problem);
+      result.discretization.chosen_problem.reset();
+      refined_setup = std::make_unique<Setup>();
+      make_setup(*refined_setup, *refined_problem, markers, placements, options.fit_poisson, say);
+    }
+  } else {
+    result.discretization.note = "turned off";
+  }
+  Setup& setup = refined_setup ? *refined_setup : case_setup;
+  const int dim = setup.dim;
+  const size_t num_cases = problem.load_cases.size();
+  const std::map<std::string, int>& case_index = setup.case_index;
+  EffectContext& context = setup.context;
+
   Model baseline = build_model(setup, {}, Eigen::VectorXd());
-  const Fit first_fit = run_fit(setup, baseline, make_weights(setup, provisional, all_markers));
-  if (!first_fit.ok)
-    throw std::runtime_error("the nominal model's fit failed: " + first_fit.message);
+  const Fit first_fit = refined_setup ? nominal_fit(setup) : case_fit;
   result.model_before = marker_predictions(setup, baseline, first_fit.theta, markers.size());
   std::vector<Eigen::Vector3d> residual_before(markers.size()), positions(markers.size());
   std::vector<int> group(markers.size());
@@ -386,6 +436,27 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                               : estimate_noise(positions, residual_before, group, dim);
   if (!(result.noise_estimate > 0.0)) result.noise_estimate = provisional;
   std::vector<Eigen::VectorXd> weights = make_weights(setup, result.noise_estimate, all_markers);
+
+  // Widening when the reference could not be made accurate enough: the weighted squared
+  // discretisation error at the markers, less the part a refit of E absorbs (a common scale of
+  // the nominal predictions), is what an effect could explain without being physical.
+  const DiscretizationCheck& disc = result.discretization;
+  if (disc.done && !disc.within_target && disc.marker_error.size() == markers.size()) {
+    double ee = 0.0, eu = 0.0, uu = 0.0;
+    for (size_t l = 0; l < setup.markers.size(); ++l)
+      for (size_t k = 0; k < setup.markers[l].size(); ++k)
+        for (int c = 0; c < dim; ++c) {
+          const auto m = static_cast<size_t>(setup.markers[l][k]);
+          const double w = weights[l][static_cast<Eigen::Index>(k) * dim + c];
+          const double e = w * disc.marker_error[m][c], u = w * result.model_before[m][c];
+          ee += e * e, eu += e * u, uu += u * u;
+        }
+    result.discretization_allowance = std::max(0.0, uu > 0.0 ? ee - eu * eu / uu : ee);
+    say("the reference's discretisation error exceeds a third of the noise within the DOF "
+        "budget; every F-test is widened by it (weighted RSS " +
+        std::to_string(result.discretization_allowance) + ")");
+  }
+  const double allowance = result.discretization_allowance;
 
   // Candidates (matrices assembled once).
   std::vector<std::string> names = options.candidates.empty() ? effect_names() : options.candidates;
@@ -431,8 +502,11 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       trial.push_back(effect.get());
       const Model model = build_model(setup, trial, current_fit.theta);
       say("trying " + effect->name());
+      const auto fit_start = std::chrono::steady_clock::now();
       const Fit fit = run_fit(setup, model, weights);
       CandidateTest test;
+      test.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
       test.effect = effect->name();
       test.parameters = effect->num_parameters();
       ++tried;
@@ -444,7 +518,9 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       test.rss = fit.rss;
       const int d1 = test.parameters;
       const int d2 = fit.rows - static_cast<int>(fit.theta.size());
-      test.f_statistic = d2 > 0 ? ((current_fit.rss - fit.rss) / d1) / (fit.rss / d2) : 0.0;
+      test.f_statistic =
+          d2 > 0 ? std::max(0.0, (current_fit.rss - fit.rss - allowance) / d1) / (fit.rss / d2)
+                 : 0.0;
       test.p_value = f_test_p_value(test.f_statistic, d1, d2);
       round.candidates.push_back(test);
       // Strong effects have p-values that underflow to 0 in double; among equal p-values the
@@ -481,7 +557,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           if (!fit.ok) continue;
           const int d1 = chosen[e]->num_parameters();
           const int d2 = current_fit.rows - static_cast<int>(current_fit.theta.size());
-          const double f = ((fit.rss - current_fit.rss) / d1) / (current_fit.rss / d2);
+          const double f =
+              std::max(0.0, (fit.rss - current_fit.rss - allowance) / d1) / (current_fit.rss / d2);
           const double p = f_test_p_value(f, d1, d2);
           if (p > worst_p) {
             worst_p = p;
@@ -547,6 +624,24 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   }
   result.model_after = marker_predictions(setup, current, theta, markers.size());
   result.corrected_displacements = current.forward->evaluate(theta, false).displacements;
+  if (refined_setup) {
+    // The corrected reference on the case's own DOFs (the spring model's net): the same effects
+    // built on the case's discretisation, evaluated at the identified parameters.
+    std::vector<std::unique_ptr<Effect>> case_effects;
+    std::vector<const Effect*> on_case;
+    for (const Effect* effect : chosen) {
+      std::string why;
+      case_effects.push_back(make_effect(effect->name(), case_setup.context, &why));
+      if (!case_effects.back())
+        throw std::runtime_error("effect " + effect->name() +
+                                 " does not apply to the case's discretisation: " + why);
+      on_case.push_back(case_effects.back().get());
+    }
+    const Model case_model = build_model(case_setup, on_case, theta);
+    if (case_model.forward->num_parameters() != theta.size())
+      throw std::runtime_error("the effects have other parameters on the case's discretisation");
+    result.corrected_displacements = case_model.forward->evaluate(theta, false).displacements;
+  }
   std::vector<Eigen::Vector3d> residual_after(markers.size());
   for (size_t m = 0; m < markers.size(); ++m)
     residual_after[m] = markers[m].displacement - result.model_after[m];
@@ -596,6 +691,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       result.holdout_done = true;
     }
   }
+  // Last: the refined setup points into refined_problem until here.
+  if (refined_problem) result.discretization.chosen_problem = std::move(refined_problem);
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;

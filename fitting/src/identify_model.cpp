@@ -1,8 +1,12 @@
-// ForwardModel: one sparse Cholesky factorisation per theta, all load cases and all parameter
-// derivatives solved against it.
+// ForwardModel: at most one sparse Cholesky factorisation per theta (none when only E, loads or
+// offsets changed since the last one), all load cases and all parameter derivatives solved
+// against it.
 #include "isospring/fitting/identify_model.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <cmath>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 
 #include "free_block.hpp"
@@ -36,11 +40,41 @@ Coefficient product(Coefficient a, Coefficient b) {
   };
 }
 
+struct FactorizationCache {
+  std::mutex mutex;  // evaluate() is const and may be called from several threads
+  std::unique_ptr<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>> cholesky;
+  std::vector<double> fingerprint;   // of the factorised model's terms and free DOFs
+  std::vector<double> coefficients;  // of the factorised K_ff
+
+  // s with c = s * coefficients to round-off for the same terms, or 0 when there is no such s.
+  double scale_to(const std::vector<double>& model_fingerprint,
+                  const std::vector<double>& c) const {
+    if (!cholesky || model_fingerprint != fingerprint || c.size() != coefficients.size())
+      return 0.0;
+    double cc = 0.0, cr = 0.0, rr = 0.0;
+    for (size_t j = 0; j < c.size(); ++j) {
+      cc += c[j] * c[j];
+      cr += c[j] * coefficients[j];
+      rr += coefficients[j] * coefficients[j];
+    }
+    if (!(rr > 0.0) || !(cr > 0.0)) return 0.0;
+    const double s = cr / rr;
+    double off = 0.0;
+    for (size_t j = 0; j < c.size(); ++j) off += std::pow(c[j] - s * coefficients[j], 2);
+    return off <= 1e-26 * cc ? s : 0.0;
+  }
+};
+
+std::shared_ptr<FactorizationCache> make_factorization_cache() {
+  return std::make_shared<FactorizationCache>();
+}
+
 ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observations,
                            const std::vector<int>& constrained_dofs,
                            const std::vector<double>& constrained_values, int num_dofs,
-                           int num_load_cases)
-    : terms_(std::move(terms)),
+                           int num_load_cases, std::shared_ptr<FactorizationCache> cache)
+    : linear_cache_(cache ? std::move(cache) : make_factorization_cache()),
+      terms_(std::move(terms)),
       observations_(std::move(observations)),
       num_dofs_(num_dofs),
       num_load_cases_(num_load_cases) {
@@ -64,6 +98,21 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
     free_blocks_.push_back(
         detail::free_upper_block(term.matrix, free_index_, static_cast<int>(free_dofs_.size())));
   if (!terms_.nonlinear.empty()) nonlinear_cache_ = make_nonlinear_cache();
+  // Fingerprint: the free DOFs and each term's size and entries (sums of values and of their
+  // position-weighted values), so that two models share a factorisation only for the same K_j.
+  fingerprint_ = {static_cast<double>(num_dofs), static_cast<double>(free_dofs_.size())};
+  double free_sum = 0.0;
+  for (int d : free_dofs_) free_sum += static_cast<double>(d) * 1e-3;
+  fingerprint_.push_back(free_sum);
+  for (const auto& block : free_blocks_) {
+    double sum = 0.0, weighted = 0.0;
+    for (int k = 0; k < block.outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(block, k); it; ++it) {
+        sum += it.value();
+        weighted += it.value() * (1.0 + 1e-3 * it.row() + 1e-6 * it.col());
+      }
+    fingerprint_.insert(fingerprint_.end(), {static_cast<double>(block.nonZeros()), sum, weighted});
+  }
 }
 
 void ForwardModel::load_vector(int l, const Eigen::VectorXd& theta, bool with_jacobian,
@@ -95,18 +144,29 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
   const size_t nt = terms_.stiffness.size();
   std::vector<double> c(nt);
   std::vector<Eigen::VectorXd> dc(nt);
-  Eigen::SparseMatrix<double> kff(nf, nf);
-  for (size_t j = 0; j < nt; ++j) {
-    c[j] = terms_.stiffness[j].coefficient(theta, &dc[j]);
-    kff += c[j] * free_blocks_[j];
+  for (size_t j = 0; j < nt; ++j) c[j] = terms_.stiffness[j].coefficient(theta, &dc[j]);
+  FactorizationCache& cache = *linear_cache_;
+  std::lock_guard<std::mutex> lock(cache.mutex);
+  // K_ff = scale * (the factorised matrix): solutions are the cached factor's divided by scale.
+  double scale = cache.scale_to(fingerprint_, c);
+  if (scale == 0.0) {
+    Eigen::SparseMatrix<double> kff(nf, nf);
+    for (size_t j = 0; j < nt; ++j) kff += c[j] * free_blocks_[j];
+    cache.cholesky =
+        std::make_unique<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>();
+    cache.cholesky->cholmod().print = 0;  // a failed trial step is handled below, not printed
+    cache.cholesky->compute(kff);
+    if (cache.cholesky->info() != Eigen::Success) {
+      cache.cholesky.reset();
+      throw std::runtime_error(
+          "the stiffness at the current parameters is not positive definite (a parameter left "
+          "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
+    }
+    cache.fingerprint = fingerprint_;
+    cache.coefficients = c;
+    scale = 1.0;
   }
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
-  cholesky.cholmod().print = 0;  // a failed trial step is handled below, not printed
-  cholesky.compute(kff);
-  if (cholesky.info() != Eigen::Success)
-    throw std::runtime_error(
-        "the stiffness at the current parameters is not positive definite (a parameter left "
-        "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
+  auto solve = [&](const auto& rhs) { return (cache.cholesky->solve(rhs) / scale).eval(); };
 
   auto to_free = [&](const Eigen::VectorXd& global) {
     Eigen::VectorXd f(nf);
@@ -123,7 +183,7 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
     Eigen::VectorXd ku_c = Eigen::VectorXd::Zero(num_dofs_);
     if (prescribed_.squaredNorm() > 0.0)
       for (size_t j = 0; j < nt; ++j) ku_c += c[j] * (terms_.stiffness[j].matrix * prescribed_);
-    const Eigen::VectorXd free_solution = cholesky.solve(to_free(force - ku_c));
+    const Eigen::VectorXd free_solution = solve(to_free(force - ku_c));
     Eigen::VectorXd u = prescribed_;
     for (int k = 0; k < nf; ++k) u[free_dofs_[static_cast<size_t>(k)]] = free_solution[k];
 
@@ -139,7 +199,7 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
           rhs -= (terms_.stiffness[j].matrix * u) * dc[j].transpose();
       Eigen::MatrixXd rhs_free(nf, p);
       for (int k = 0; k < nf; ++k) rhs_free.row(k) = rhs.row(free_dofs_[static_cast<size_t>(k)]);
-      const Eigen::MatrixXd du_free = cholesky.solve(rhs_free);
+      const Eigen::MatrixXd du_free = solve(rhs_free);
       Eigen::MatrixXd du = Eigen::MatrixXd::Zero(num_dofs_, p);
       for (int k = 0; k < nf; ++k) du.row(free_dofs_[static_cast<size_t>(k)]) = du_free.row(k);
       jac = h * du;

@@ -143,9 +143,19 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
                                               const std::vector<std::string>& load_cases,
                                               const std::string& where) {
   if (!m.is_object()) throw nurbs::InputError(where + ": must be an object with at least \"file\"");
-  static const std::set<std::string> fields{
-      "file",        "units",        "columns", "load_case", "noise_sigma", "placement_tolerance",
-      "fit_poisson", "significance", "holdout", "effects"};
+  static const std::set<std::string> fields{"file",
+                                            "units",
+                                            "columns",
+                                            "load_case",
+                                            "noise_sigma",
+                                            "placement_tolerance",
+                                            "fit_poisson",
+                                            "significance",
+                                            "holdout",
+                                            "effects",
+                                            "discretization_check",
+                                            "max_dofs",
+                                            "discretization_target"};
   for (const auto& [key, value] : m.items())
     if (!fields.count(key)) {
       std::string list;
@@ -220,6 +230,16 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
   if (m.contains("fit_poisson")) s.identify.fit_poisson = bool_field("fit_poisson");
   if (m.contains("holdout")) s.identify.holdout = bool_field("holdout");
   if (m.contains("significance")) s.identify.significance = number_field("significance", 0, 0.5);
+  if (m.contains("discretization_check"))
+    s.identify.discretization.enabled = bool_field("discretization_check");
+  if (m.contains("max_dofs")) {
+    const double dofs = number_field("max_dofs", 0, 1e9);
+    if (dofs != std::floor(dofs))
+      throw nurbs::InputError(where + ".max_dofs: must be a whole number of DOFs");
+    s.identify.discretization.max_dofs = static_cast<long>(dofs);
+  }
+  if (m.contains("discretization_target"))
+    s.identify.discretization.target_fraction = number_field("discretization_target", 0, 1.0001);
   if (m.contains("effects")) {
     const auto& effects = m.at("effects");
     const auto names = fitting::effect_names();

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -54,6 +55,11 @@ class TemporaryFolder {
     std::filesystem::create_directories(path_);
   }
   ~TemporaryFolder() {
+    // ISOSPRING_KEEP_TEST_FOLDERS=1 keeps them for a look (the path goes to stderr).
+    if (std::getenv("ISOSPRING_KEEP_TEST_FOLDERS")) {
+      std::fprintf(stderr, "kept %s\n", path_.c_str());
+      return;
+    }
     std::error_code ec;
     std::filesystem::remove_all(path_, ec);
   }

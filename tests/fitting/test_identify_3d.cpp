@@ -104,6 +104,8 @@ TEST(Identify3D, RigidOffsetWithFiniteStandardErrors) {
     for (int c = 0; c < 3; ++c) markers[m].displacement[c] = clean[m][c] + noise(rng);
 
   IdentifyOptions options;
+  // Data simulated on this very discretisation: it has no discretisation error to control.
+  options.discretization.enabled = false;
   options.holdout = false;
   options.noise_sigma = kSigma;
   const IdentifyResult r = identify(prior, markers, placements, options);

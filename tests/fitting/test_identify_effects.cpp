@@ -48,6 +48,8 @@ void expect_identified(const Effects& hidden, unsigned seed = 1, double true_nu 
                        bool fit_poisson = false, const std::vector<std::string>& candidates = {}) {
   const Synthetic data = make_data(hidden, seed, true_nu);
   IdentifyOptions options;
+  // Data simulated on this very discretisation: it has no discretisation error to control.
+  options.discretization.enabled = false;
   options.holdout = false;
   options.fit_poisson = fit_poisson;
   options.candidates = candidates;
@@ -127,6 +129,8 @@ TEST(IdentifyEffects, StiffSupportComplianceLooksLikeARigidMotion) {
   const Effects hidden{{"support_compliance", kCompliance}, {"gravity", kGravity}};
   const Synthetic data = make_data(hidden, 1);
   IdentifyOptions options;
+  // Data simulated on this very discretisation: it has no discretisation error to control.
+  options.discretization.enabled = false;
   options.holdout = false;
   const IdentifyResult r = identify(data.prior, data.markers, data.placements, options);
   EXPECT_EQ(std::set<std::string>(r.effects_added.begin(), r.effects_added.end()),
@@ -151,6 +155,8 @@ TEST(IdentifyEffects, AddsNothingToPureNoiseIn19Of20Seeds) {
   for (unsigned seed = 100; seed < 120; ++seed) {
     const Synthetic data = make_data({}, seed);
     IdentifyOptions options;
+    // Data simulated on this very discretisation: it has no discretisation error to control.
+    options.discretization.enabled = false;
     options.holdout = false;
     const IdentifyResult r = identify(data.prior, data.markers, data.placements, options);
     if (r.effects_added.empty()) ++clean;
@@ -164,7 +170,9 @@ TEST(IdentifyEffects, AddsNothingToPureNoiseIn19Of20Seeds) {
 
 TEST(IdentifyEffects, HoldoutImprovesWhenTheEffectIsReal) {
   const Synthetic data = make_data({{"gravity", kGravity}}, 3);
-  const IdentifyResult r = identify(data.prior, data.markers, data.placements);
+  IdentifyOptions options;
+  options.discretization.enabled = false;  // data simulated on this very discretisation
+  const IdentifyResult r = identify(data.prior, data.markers, data.placements, options);
   ASSERT_TRUE(r.holdout_done);
   EXPECT_EQ(r.holdout.validation_markers + r.holdout.fit_markers,
             static_cast<int>(data.markers.size()));

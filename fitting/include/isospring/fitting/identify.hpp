@@ -12,6 +12,13 @@
 // (stepwise selection: an early effect may only have stood in for a later one). The F-test
 // uses the residual variance of the larger model, so it needs no noise level.
 //
+// Discretisation control (discretization_check.hpp): after the nominal fit and before any effect
+// is tried, the reference is solved on finer discretisations until its estimated error at the
+// markers is below a third of the noise (or the DOF budget ends the ladder); the loop then runs on
+// that level. When the budget ends it first, every F-test is widened: an effect must explain more
+// than the weighted squared discretisation error that the material fit cannot absorb
+// (discretization_allowance), so a model's own numerical error is never named as physics.
+//
 // Noise level: given, or estimated from the baseline residual as 1.4826 MAD(r_m - r_nn) / sqrt(2)
 // over markers m and their nearest neighbours nn (same load case): neighbouring differences
 // cancel the smooth part of the residual (what the model misses) and keep the noise.
@@ -21,6 +28,7 @@
 #include <vector>
 
 #include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/discretization_check.hpp"
 #include "isospring/fitting/identify_diagnosis.hpp"
 #include "isospring/fitting/measure.hpp"
 
@@ -33,6 +41,7 @@ struct IdentifyOptions {
   std::vector<std::string> candidates;  // empty: the whole library (effect_names())
   bool holdout = true;                  // fit on even markers, validate on odd ones
   int max_effects = 6;
+  DiscretizationOptions discretization;              // discretisation control before diagnosis
   std::function<void(const std::string&)> progress;  // progress lines (may be empty)
 };
 
@@ -62,7 +71,8 @@ struct CandidateTest {
   double rss = 0.0;  // weighted RSS of the refit with the candidate
   double f_statistic = 0.0;
   double p_value = 1.0;
-  std::string note;  // why it was not tried (unavailable, fit failed)
+  std::string note;      // why it was not tried (unavailable, fit failed)
+  double seconds = 0.0;  // the refit's wall time
 };
 
 struct SelectionRound {
@@ -91,6 +101,12 @@ struct IdentifyResult {
   int observations = 0;
   std::vector<LoadCaseErrors> load_cases;
   std::vector<SelectionRound> rounds;
+  /// The discretisation ladder (chosen_problem is the model the loop ran on when refined).
+  DiscretizationCheck discretization;
+  /// Weighted RSS subtracted from every candidate's RSS reduction in the F-tests: the estimated
+  /// discretisation error at the markers (weighted by 1 / sigma) beyond what E absorbs; 0 when the
+  /// reference met the target.
+  double discretization_allowance = 0.0;
   HoldoutCheck holdout;
   bool holdout_done = false;
   std::vector<Eigen::Vector3d> model_before, model_after;  // per marker, model displacement [m]
@@ -100,7 +116,8 @@ struct IdentifyResult {
   std::vector<std::pair<std::string, Eigen::VectorXd>> effect_values;
   /// The corrected reference: per load case, the final model's displacement at every DOF
   /// (analysis::DofMap numbering) with the identified material and physical effects; the
-  /// measurement-frame effect (rigid_offset) is not part of it.
+  /// measurement-frame effect (rigid_offset) is not part of it. Always on the DOFs of the problem
+  /// passed in (the case's discretisation), also when the loop ran on a refined level.
   std::vector<Eigen::VectorXd> corrected_displacements;
   double seconds = 0.0;
 };

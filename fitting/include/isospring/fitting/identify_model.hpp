@@ -77,12 +77,21 @@ struct ModelEvaluation {
   std::vector<Eigen::VectorXd> displacements;  // per load case, all DOFs
 };
 
+/// The last factorisation of a linear model's K_ff, shareable between forward models: the
+/// candidate models of one identification differ in loads and offsets far more often than in
+/// their stiffness, and a model whose stiffness terms, free DOFs and coefficients (up to a common
+/// scale) match the cached ones solves with it instead of factorising again.
+struct FactorizationCache;
+std::shared_ptr<FactorizationCache> make_factorization_cache();
+
 class ForwardModel {
  public:
   /// `constrained_dofs`/`constrained_values`: the supports (analysis::build_constraints).
+  /// `cache`: shared with other models (make_factorization_cache); null: a cache of its own.
   ForwardModel(ModelTerms terms, std::vector<Observation> observations,
                const std::vector<int>& constrained_dofs,
-               const std::vector<double>& constrained_values, int num_dofs, int num_load_cases);
+               const std::vector<double>& constrained_values, int num_dofs, int num_load_cases,
+               std::shared_ptr<FactorizationCache> cache = nullptr);
 
   int num_parameters() const { return terms_.num_parameters; }
   /// Predictions (and Jacobians when `with_jacobian`) at theta. Throws std::runtime_error when
@@ -106,6 +115,11 @@ class ForwardModel {
   struct NonlinearCache;
   static std::shared_ptr<NonlinearCache> make_nonlinear_cache();
   std::shared_ptr<NonlinearCache> nonlinear_cache_;
+  // The last factorisation of the linear K_ff: a least-squares solver evaluates many theta that
+  // only change E (every stiffness coefficient scaled alike, K = s K_cached) or only loads and
+  // offsets (gravity, load factors, rigid motions), which need no new factorisation.
+  std::shared_ptr<FactorizationCache> linear_cache_;
+  std::vector<double> fingerprint_;  // identifies the stiffness terms and free DOFs in the cache
 
   ModelTerms terms_;
   std::vector<Observation> observations_;

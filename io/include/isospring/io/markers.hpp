@@ -9,7 +9,10 @@
 //     "noise_sigma": 1e-6,             // optional; estimated from the data when absent
 //     "placement_tolerance": 1e-4,     // optional; farther markers are outside (default 1e-3 L)
 //     "fit_poisson": false, "significance": 0.01, "holdout": true,
-//     "effects": ["gravity", ...]      // optional; candidate effects (default: all)
+//     "effects": ["gravity", ...],     // optional; candidate effects (default: all)
+//     "discretization_check": true,    // refine the reference until its marker error < target
+//     "discretization_target": 0.333,  //   x noise (rms), within "max_dofs" DOFs (200000)
+//     "max_dofs": 200000
 //   }
 //
 // Default header: load_case,x,y,z,ux,uy,uz[,sigma]; 2D data may omit z and uz. Column names are

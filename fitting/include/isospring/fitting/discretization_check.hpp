@@ -1,0 +1,93 @@
+#pragma once
+// Discretisation control for the measured-data loop: before any effect is blamed for a misfit,
+// make sure the reference model's own numerical error at the markers is well below the noise.
+//
+// The model is solved on a ladder of discretisations of the same body and loads (level 0 is the
+// case's own; each further level is finer). The error of level k at the markers is estimated
+// from the next level, e_k ~ |u_{k+1} - u_k| (rms over marker components), divided by (1 - r)
+// where the ladder shows geometric convergence with ratio r = e_k / e_{k-1} < 1 (Richardson
+// extrapolation of the error: sum of the remaining differences). The first level with e_k below
+// `target_fraction` x noise is the model the identification uses. When the DOF budget stops the
+// ladder first, the finest level solved is used, the check says so, and the identification widens
+// its significance test by the estimated error (identify.cpp) instead of adding effects to absorb
+// it.
+//
+// Every level is solved with the material of the nominal fit (E, nu), so the estimate is in the
+// same units and scale as the measured displacements.
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/measure.hpp"
+
+namespace isospring::fitting {
+
+/// Level `level` >= 1 of a sequence of ever finer discretisations of the same body and loads, in
+/// the same parametrisation (markers keep their parametric positions), or nullopt when there is
+/// no finer level. `description` receives a short label, e.g. "degree 3, 20 x 4 x 4 elements".
+using DiscretizationLadder =
+    std::function<std::optional<analysis::Problem>(int level, std::string* description)>;
+
+/// The default ladder: level l splits every knot span of every patch of `problem` into 2^l
+/// (knot insertion: geometry and parametrisation unchanged). Supports and point loads on single
+/// control points follow their net corner; on other control points they have no counterpart on a
+/// refined net and check_discretization throws nurbs::InputError.
+DiscretizationLadder knot_insertion_ladder(const analysis::Problem& problem);
+
+struct DiscretizationOptions {
+  bool enabled = true;
+  /// The reference's marker error must stay below this fraction of the noise (rms).
+  double target_fraction = 1.0 / 3.0;
+  /// No level with more DOFs is solved (the finer level that estimates a level's error counts).
+  long max_dofs = 200000;
+  int max_levels = 5;  // levels beyond the case's own
+  /// Empty: knot_insertion_ladder(problem). Case files give a k-refinement ladder
+  /// (io::case_refinement_ladder).
+  DiscretizationLadder ladder;
+};
+
+struct DiscretizationLevel {
+  int level = 0;
+  std::string description;
+  int dofs = 0;
+  /// Estimated error at the markers [m]: rms and max over marker components; NaN when no finer
+  /// level was solved.
+  double error_rms = 0.0, error_max = 0.0;
+  /// Part of error_rms the material fit cannot absorb (the difference after the best scale of
+  /// the displacements, i.e. a refit of E): what could be mistaken for an effect.
+  double error_rms_after_material = 0.0;
+  std::string estimate;  // "next level", "next level, geometric extrapolation (ratio 0.21)", ...
+  double seconds = 0.0;  // assembly and solve
+};
+
+struct DiscretizationCheck {
+  bool done = false;    // false: disabled, or not possible (see note)
+  std::string note;     // why not done, or why the target was not reached
+  double noise = 0.0;   // [m] the noise level compared with
+  double target = 0.0;  // target_fraction x noise
+  std::vector<DiscretizationLevel> levels;
+  int chosen = 0;             // index into levels of the model used
+  bool within_target = true;  // levels[chosen] has an estimate below the target
+  bool budget_exhausted = false;
+  /// Per marker: the estimated discretisation error of the chosen level (model minus a finer
+  /// one), used to widen the significance test when within_target is false.
+  std::vector<Eigen::Vector3d> marker_error;
+  /// The problem of the chosen level (the input problem itself when chosen == 0).
+  std::optional<analysis::Problem> chosen_problem;
+};
+
+/// Runs the ladder. `youngs_modulus` / `poisson_ratio` replace the problem's material for the
+/// solves (the nominal fit's values); `noise` [m] is the rms noise per component. Markers must be
+/// placed on `problem` (place_markers); every level must share its parametrisation (checked: a
+/// level whose geometry at a marker moves by more than 1e-9 x the model size is an error) and its
+/// conditions on single control points (net corners at the same place; InputError otherwise).
+DiscretizationCheck check_discretization(
+    const analysis::Problem& problem, const std::vector<Marker>& markers,
+    const std::vector<MarkerPlacement>& placements, double youngs_modulus, double poisson_ratio,
+    double noise, const DiscretizationOptions& options,
+    const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace isospring::fitting

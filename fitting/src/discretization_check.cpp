@@ -1,0 +1,354 @@
+// The discretisation ladder of the measured-data loop (discretization_check.hpp).
+#include "isospring/fitting/discretization_check.hpp"
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/static_solver.hpp"
+#include "isospring/nurbs/error.hpp"
+#include "isospring/nurbs/refine.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string format(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g", value);
+  return buffer;
+}
+
+// Marker m's displacement from the solution of the load case it belongs to.
+std::vector<Eigen::Vector3d> at_markers(const analysis::Problem& problem,
+                                        const analysis::StaticResult& solution,
+                                        const std::vector<Marker>& markers,
+                                        const std::vector<MarkerPlacement>& placements,
+                                        const std::map<std::string, size_t>& case_index) {
+  std::vector<Eigen::Vector3d> out(markers.size(), Eigen::Vector3d::Zero());
+  for (size_t m = 0; m < markers.size(); ++m) {
+    const MarkerPlacement& place = placements[m];
+    const auto& control =
+        solution.load_cases[case_index.at(markers[m].load_case)].control_displacements;
+    const nurbs::RationalBasis basis =
+        problem.patches[static_cast<size_t>(place.patch)].basis(place.param, 0);
+    for (size_t a = 0; a < basis.indices.size(); ++a)
+      out[m] += basis.values[static_cast<Eigen::Index>(a)] *
+                control[static_cast<size_t>(place.patch)][static_cast<size_t>(basis.indices[a])];
+  }
+  return out;
+}
+
+struct Difference {
+  double rms = 0.0, max = 0.0, rms_after_material = 0.0;
+};
+
+// fine - coarse over the first `dim` components; "after material": fine - s coarse with the best
+// scale s (a refit of E scales every displacement by the same factor).
+Difference difference(const std::vector<Eigen::Vector3d>& fine,
+                      const std::vector<Eigen::Vector3d>& coarse, int dim) {
+  Difference d;
+  double sum = 0.0, fc = 0.0, cc = 0.0, ff = 0.0;
+  for (size_t m = 0; m < fine.size(); ++m)
+    for (int c = 0; c < dim; ++c) {
+      const double e = fine[m][c] - coarse[m][c];
+      sum += e * e;
+      d.max = std::max(d.max, std::abs(e));
+      fc += fine[m][c] * coarse[m][c];
+      cc += coarse[m][c] * coarse[m][c];
+      ff += fine[m][c] * fine[m][c];
+    }
+  const double n = std::max<double>(1.0, static_cast<double>(fine.size() * dim));
+  d.rms = std::sqrt(sum / n);
+  const double projected = cc > 0.0 ? std::max(0.0, ff - fc * fc / cc) : ff;
+  d.rms_after_material = std::sqrt(projected / n);
+  return d;
+}
+
+// A corner of the control net: the only control points that interpolate the geometry, so the
+// only ones whose support or point load means the same on every level.
+bool is_net_corner(const nurbs::Patch& patch, int index) {
+  const std::array<int, 3> ijk = patch.net_position(index);
+  for (int d = 0; d < patch.param_dim(); ++d)
+    if (ijk[static_cast<size_t>(d)] != 0 && ijk[static_cast<size_t>(d)] != patch.num_points(d) - 1)
+      return false;
+  return true;
+}
+
+// The same corner on a refined net.
+int same_corner(const nurbs::Patch& coarse, const nurbs::Patch& fine, int index) {
+  std::array<int, 3> ijk = coarse.net_position(index);
+  for (int d = 0; d < coarse.param_dim(); ++d)
+    if (ijk[static_cast<size_t>(d)] != 0) ijk[static_cast<size_t>(d)] = fine.num_points(d) - 1;
+  return fine.index(ijk[0], ijk[1], ijk[2]);
+}
+
+// Supports and point loads on single control points must be the same physical condition on
+// every level: net corners at the same place.
+void check_same_point_conditions(const analysis::Problem& base, const analysis::Problem& level,
+                                 const std::string& description) {
+  auto same = [&](int patch, int coarse_index, int fine_index, const std::string& what) {
+    const auto& c = base.patches[static_cast<size_t>(patch)];
+    const auto& f = level.patches[static_cast<size_t>(patch)];
+    if (!is_net_corner(c, coarse_index))
+      throw nurbs::InputError(
+          "discretisation check: " + what + " is on control point " + std::to_string(coarse_index) +
+          " of patch " + std::to_string(patch) +
+          ", not a corner of the net: it has no counterpart on a refined net. Support or load "
+          "whole sides, or turn the check off (\"discretization_check\": false)");
+    if (fine_index < 0 || fine_index >= f.num_points() ||
+        (f.control_points()[static_cast<size_t>(fine_index)] -
+         c.control_points()[static_cast<size_t>(coarse_index)])
+                .norm() >
+            1e-12 * (1.0 + c.control_points()[static_cast<size_t>(coarse_index)].norm()))
+      throw nurbs::InputError(
+          "discretisation check: level \"" + description + "\" puts the " + what +
+          " on another point; give corner control points as net positions counted from the "
+          "end, e.g. [0, -1] for the last point along v, so that refinement keeps them");
+  };
+  if (level.supports.size() != base.supports.size())
+    throw nurbs::InputError("discretisation ladder: level \"" + description +
+                            "\" has other supports than the model");
+  for (size_t s = 0; s < base.supports.size(); ++s)
+    if (base.supports[s].control_point)
+      same(base.supports[s].side.patch, *base.supports[s].control_point,
+           level.supports[s].control_point.value_or(-1), "support " + std::to_string(s + 1));
+  for (size_t l = 0; l < base.load_cases.size() && l < level.load_cases.size(); ++l) {
+    const auto& coarse = base.load_cases[l].point_loads;
+    const auto& fine = level.load_cases[l].point_loads;
+    for (size_t k = 0; k < coarse.size(); ++k)
+      same(coarse[k].patch, coarse[k].control_point, k < fine.size() ? fine[k].control_point : -1,
+           "point load " + std::to_string(k + 1) + " of load case " + base.load_cases[l].id);
+  }
+}
+
+void check_same_geometry(const analysis::Problem& base, const analysis::Problem& level,
+                         const std::vector<MarkerPlacement>& placements, double size,
+                         const std::string& description) {
+  if (level.patches.size() != base.patches.size())
+    throw nurbs::InputError("discretisation ladder: level \"" + description + "\" has " +
+                            std::to_string(level.patches.size()) + " patches, the model " +
+                            std::to_string(base.patches.size()));
+  for (const MarkerPlacement& place : placements) {
+    const auto p = static_cast<size_t>(place.patch);
+    const double moved =
+        (level.patches[p].point(place.param) - base.patches[p].point(place.param)).norm();
+    if (moved > 1e-9 * size)
+      throw nurbs::InputError("discretisation ladder: level \"" + description +
+                              "\" changes the geometry or its parametrisation (a marker point "
+                              "moves by " +
+                              format(moved) + " m); refinement must be geometry-exact");
+  }
+}
+
+}  // namespace
+
+DiscretizationLadder knot_insertion_ladder(const analysis::Problem& problem) {
+  return [problem](int level, std::string* description) -> std::optional<analysis::Problem> {
+    if (level < 1 || level > 10) return std::nullopt;
+    analysis::Problem refined = problem;
+    const int splits = 1 << level;
+    for (auto& patch : refined.patches) patch = nurbs::refine_uniform(patch, splits);
+    // Conditions on single control points follow their corner (check_same_point_conditions
+    // refuses the others).
+    auto follow = [&](int patch, int& index) {
+      const auto p = static_cast<size_t>(patch);
+      if (is_net_corner(problem.patches[p], index))
+        index = same_corner(problem.patches[p], refined.patches[p], index);
+    };
+    for (auto& support : refined.supports)
+      if (support.control_point) follow(support.side.patch, *support.control_point);
+    for (auto& load : refined.load_cases)
+      for (auto& point : load.point_loads) follow(point.patch, point.control_point);
+    if (description)
+      *description = "case's net with every knot span split in " + std::to_string(splits);
+    return refined;
+  };
+}
+
+DiscretizationCheck check_discretization(const analysis::Problem& problem,
+                                         const std::vector<Marker>& markers,
+                                         const std::vector<MarkerPlacement>& placements,
+                                         double youngs_modulus, double poisson_ratio, double noise,
+                                         const DiscretizationOptions& options,
+                                         const std::function<void(const std::string&)>& progress) {
+  DiscretizationCheck check;
+  check.noise = noise;
+  check.target = options.target_fraction * noise;
+  if (!options.enabled) {
+    check.note = "turned off";
+    return check;
+  }
+  if (markers.size() != placements.size())
+    throw std::invalid_argument("check_discretization: one placement per marker expected");
+  auto say = [&](const std::string& s) {
+    if (progress) progress(s);
+  };
+  const DiscretizationLadder ladder =
+      options.ladder ? options.ladder : knot_insertion_ladder(problem);
+
+  std::map<std::string, size_t> case_index;
+  for (size_t l = 0; l < problem.load_cases.size(); ++l) case_index[problem.load_cases[l].id] = l;
+  const int dim = problem.formulation == analysis::Formulation::kSolid ? 3 : 2;
+  double size = 0.0;
+  for (const auto& patch : problem.patches) {
+    const auto [lo, hi] = patch.control_bounds();
+    size = std::max(size, (hi - lo).norm());
+  }
+
+  std::vector<analysis::Problem> solved_problems;
+  std::vector<std::vector<Eigen::Vector3d>> predictions;
+  auto solve = [&](analysis::Problem level_problem, const std::string& description) {
+    const auto start = std::chrono::steady_clock::now();
+    level_problem.material.youngs_modulus = youngs_modulus;
+    level_problem.material.poisson_ratio = poisson_ratio;
+    const analysis::StaticResult solution = analysis::solve_static(level_problem);
+    level_problem.material = problem.material;  // the chosen problem keeps the case's prior
+    DiscretizationLevel row;
+    row.level = static_cast<int>(check.levels.size());
+    row.description = description;
+    row.dofs = solution.dofs;
+    row.error_rms = row.error_max = row.error_rms_after_material = kNaN;
+    predictions.push_back(at_markers(level_problem, solution, markers, placements, case_index));
+    row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    check.levels.push_back(row);
+    solved_problems.push_back(std::move(level_problem));
+  };
+
+  say("discretisation check: solving the case's own discretisation");
+  solve(problem, "the case's discretisation");
+  // Solves ladder level `level` unless there is none, it exceeds the budget or max_levels.
+  auto solve_next = [&](int level) {
+    if (level > options.max_levels) {
+      check.note = "max_levels (" + std::to_string(options.max_levels) + ") reached";
+      return false;
+    }
+    std::string description;
+    std::optional<analysis::Problem> next = ladder(level, &description);
+    if (!next) {
+      check.note = "no finer discretisation after level " + std::to_string(level - 1);
+      return false;
+    }
+    check_same_geometry(problem, *next, placements, size, description);
+    check_same_point_conditions(problem, *next, description);
+    const int dofs = analysis::DofMap(*next).num_dofs();
+    if (dofs > options.max_dofs) {
+      check.budget_exhausted = true;
+      check.note = "the next level (" + description + ", " + std::to_string(dofs) +
+                   " DOFs) exceeds the DOF budget of " + std::to_string(options.max_dofs);
+      return false;
+    }
+    say("discretisation check: level " + std::to_string(level) + " (" + description + ", " +
+        std::to_string(dofs) + " DOFs)");
+    solve(std::move(*next), description);
+    return true;
+  };
+
+  // Errors against the finest level K solved so far: e_k = |u_K - u_k| + e_K (triangle
+  // inequality), with e_K, the "tail", from the last two differences D = u_{j+1} - u_j as a
+  // geometric series, r |D_{K-1}| / (1 - r) with r = |D_{K-1}| / |D_{K-2}|, or |D_{K-1}| itself
+  // when there is no such ratio (r = 1/2 assumed). While the ladder goes on, a level is only
+  // chosen with a convergence ratio behind its estimate (at least two finer levels, or one finer
+  // level whose own error is extrapolated from a ratio < 1): a ladder's first steps can be
+  // pre-asymptotic (degree elevation on one element through a thickness stalls), and one
+  // difference alone then underestimates the error.
+  struct Tail {
+    std::vector<Eigen::Vector3d>
+        vector;  // per marker: estimated u_K - u_exact (sign: model - truth)
+    double ratio = kNaN;
+    std::string how;
+  };
+  auto tail_of = [&](size_t finest) {
+    Tail t;
+    t.vector.assign(markers.size(), Eigen::Vector3d::Zero());
+    if (finest == 0) return t;
+    const Difference last = difference(predictions[finest], predictions[finest - 1], dim);
+    double scale = 1.0;
+    t.how = "no convergence ratio: its error taken as the last difference";
+    if (finest >= 2) {
+      const Difference before = difference(predictions[finest - 1], predictions[finest - 2], dim);
+      t.ratio = before.rms > 0.0 ? last.rms / before.rms : kNaN;
+      if (t.ratio > 0.0 && t.ratio < 1.0) {
+        scale = t.ratio / (1.0 - t.ratio);
+        t.how = "its error extrapolated with ratio " + format(t.ratio);
+      } else if (t.ratio >= 1.0) {
+        t.how = "not converging (ratio " + format(t.ratio) +
+                "): its error taken as the last difference";
+      }
+    }
+    for (size_t m = 0; m < markers.size(); ++m)
+      t.vector[m] = scale * (predictions[finest][m] - predictions[finest - 1][m]);
+    return t;
+  };
+  // u_k - u_exact ~ (u_k - u_K) + tail, as a per-marker vector; its size by the triangle
+  // inequality (rms and max of |u_k - u_K| plus those of the tail), an upper-bound estimate.
+  auto estimate = [&](size_t k, size_t finest, const Tail& tail, DiscretizationLevel& row) {
+    const Difference to_finest = difference(predictions[finest], predictions[k], dim);
+    std::vector<Eigen::Vector3d> zero(markers.size(), Eigen::Vector3d::Zero());
+    const Difference tail_size = difference(tail.vector, zero, dim);
+    row.error_rms = to_finest.rms + tail_size.rms;
+    row.error_max = to_finest.max + tail_size.max;
+    row.error_rms_after_material = to_finest.rms_after_material + tail_size.rms;
+    row.estimate = k == finest
+                       ? "finest level solved, " + tail.how
+                       : "difference to level " + std::to_string(finest) + " (" + tail.how + ")";
+    std::vector<Eigen::Vector3d> error(markers.size());
+    for (size_t m = 0; m < markers.size(); ++m)
+      error[m] = predictions[k][m] - predictions[finest][m] + tail.vector[m];
+    return error;
+  };
+
+  size_t finest = 0;
+  int chosen = -1;
+  while (chosen < 0 && solve_next(static_cast<int>(finest) + 1)) {
+    ++finest;
+    const Tail tail = tail_of(finest);
+    // Candidates: every level with two finer ones; level finest - 1 too when the finest level's
+    // own error comes from a convergence ratio.
+    const bool ratio_known = tail.ratio > 0.0 && tail.ratio < 1.0;
+    const size_t candidates = ratio_known ? finest : finest - 1;  // levels 0 .. candidates - 1
+    for (size_t k = 0; k < candidates && chosen < 0; ++k) {
+      DiscretizationLevel row;
+      estimate(k, finest, tail, row);
+      if (row.error_rms <= check.target) chosen = static_cast<int>(k);
+    }
+    say("discretisation check: level 0 off by " +
+        format(difference(predictions[finest], predictions[0], dim).rms) + " m rms against level " +
+        std::to_string(finest) + " (noise " + format(noise) + " m)");
+  }
+  // Final estimates against the finest level; when the ladder ended before a level met the
+  // target with two finer levels behind it, one finer level has to do.
+  const Tail tail = tail_of(finest);
+  for (size_t k = 0; k <= finest; ++k) {
+    std::vector<Eigen::Vector3d> error = estimate(k, finest, tail, check.levels[k]);
+    if (finest == 0) {
+      check.levels[k].error_rms = check.levels[k].error_max =
+          check.levels[k].error_rms_after_material = kNaN;
+      check.levels[k].estimate = "none: no finer level could be solved";
+      continue;
+    }
+    if (chosen < 0 && k < finest && check.levels[k].error_rms <= check.target)
+      chosen = static_cast<int>(k);
+    if (static_cast<int>(k) == chosen || (chosen < 0 && k == finest))
+      check.marker_error = std::move(error);
+  }
+  check.done = true;
+  check.within_target = chosen >= 0;
+  check.chosen = chosen >= 0 ? chosen : static_cast<int>(finest);
+  if (chosen < 0 && finest > 0 &&
+      check.levels[finest].error_rms <= check.target) {  // only the extrapolated tail is in target
+    check.within_target = true;
+    check.note += "; the finest level's extrapolated error is in target";
+  }
+  if (finest == 0) check.marker_error.clear();
+  if (check.within_target) check.budget_exhausted = false;  // the budget did not matter
+  if (check.chosen > 0) check.chosen_problem = std::move(solved_problems[check.chosen]);
+  return check;
+}
+
+}  // namespace isospring::fitting

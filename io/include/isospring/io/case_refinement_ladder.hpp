@@ -1,0 +1,23 @@
+#pragma once
+// The discretisation ladder of a case file for identify's discretisation check
+// (fitting/discretization_check.hpp): k-refinement from the case's exact geometry, so every level
+// is geometry-exact, keeps the parametrisation and has maximal continuity.
+//
+// Level l raises the degree of every parametric direction by l, up to degree 3 for solids and 4
+// for plane problems (a direction already above keeps its degree); once no direction can be
+// raised, each further level doubles the elements of every direction. Degree elevation first:
+// for the same DOFs it removes far more of the error of smooth fields than splitting does, and
+// the next levels' splitting catches what elevation alone misses on very coarse nets (one
+// element through a thickness).
+#include "isospring/fitting/discretization_check.hpp"
+#include "isospring/io/case_file.hpp"
+
+namespace isospring::io {
+
+/// Level l >= 1 as described above; level 0 is problem_at(c, c.discretization).
+CaseDiscretization ladder_discretization(const Case& c, int level);
+
+/// The ladder as identify takes it; its descriptions read "degree 3, 20 x 4 x 4 elements".
+fitting::DiscretizationLadder case_refinement_ladder(const Case& c);
+
+}  // namespace isospring::io

@@ -1,0 +1,106 @@
+#pragma once
+// Measured-data sets from an independent solver for the identification tests: CalculiX (C3D20R
+// hexahedra, Debian package calculix-ccx) solves the TRUE problem (true material, undeclared
+// effects, a converged mesh of its own), markers are ccx nodes on chosen faces, and measuring-frame
+// effects and Gaussian noise are added to the printed displacements. Nothing of the model the
+// identification fits (its degree, its mesh, its code path) enters the data.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/measure.hpp"
+#include "isospring/io/calculix.hpp"
+
+namespace isospring::testing {
+
+struct CalculixDatasetSpec {
+  analysis::Problem truth;  // at ccx's mesh: every knot span becomes one C3D20R element
+  std::function<bool(const Eigen::Vector3d&)> is_marker;  // which ccx nodes are markers
+  int stride = 1;                                         // every stride-th qualifying node
+  double noise_fraction = 0.0;  // noise sigma / largest displacement of the data
+  unsigned seed = 1;
+  bool nonlinear = false;  // ccx NLGEOM: large deformation (undeclared geometric nonlinearity)
+  /// Measuring-frame motion added to every marker of a load case (all load cases alike):
+  /// translation [m] and small rotation [rad] about `rotation_centre`.
+  Eigen::Vector3d frame_translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d frame_rotation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_centre = Eigen::Vector3d::Zero();
+};
+
+struct CalculixDataset {
+  std::vector<fitting::Marker> markers;
+  double noise_sigma = 0.0;  // [m]
+  double max_displacement = 0.0;
+  std::string error;  // non-empty when ccx failed (the log's path)
+};
+
+inline bool calculix_available() {
+  return std::system("command -v ccx > /dev/null 2>&1") == 0;
+}
+
+/// Runs ccx in `folder` (created) and returns the markers.
+inline CalculixDataset make_calculix_dataset(const CalculixDatasetSpec& spec,
+                                             const std::filesystem::path& folder) {
+  CalculixDataset out;
+  std::filesystem::create_directories(folder);
+  const io::CalculixDeck deck = io::make_calculix_deck(spec.truth);
+  std::string text = deck.text;
+  if (spec.nonlinear)
+    for (size_t at = text.find("*STEP\n"); at != std::string::npos;
+         at = text.find("*STEP\n", at + 1))
+      text.replace(at, 6, "*STEP, NLGEOM\n");
+  std::ofstream(folder / "deck.inp") << text;
+  const std::string command = "cd '" + folder.string() + "' && ccx -i deck > ccx.log 2>&1";
+  if (std::system(command.c_str()) != 0) {
+    out.error = "ccx failed; see " + (folder / "ccx.log").string();
+    return out;
+  }
+  const auto blocks = io::read_calculix_dat(folder / "deck.dat");
+  if (blocks.size() != deck.load_case_ids.size()) {
+    out.error = "ccx printed " + std::to_string(blocks.size()) + " displacement blocks";
+    return out;
+  }
+  int row = 2;
+  for (size_t s = 0; s < blocks.size(); ++s) {
+    int seen = 0;
+    for (size_t n = 0; n < deck.nodes.size(); ++n) {
+      if (!spec.is_marker(deck.nodes[n]) || seen++ % spec.stride != 0) continue;
+      fitting::Marker m;
+      m.load_case = deck.load_case_ids[s];
+      m.position = deck.nodes[n];
+      m.displacement = blocks[s].nodes.at(static_cast<int>(n) + 1) + spec.frame_translation +
+                       spec.frame_rotation.cross(deck.nodes[n] - spec.rotation_centre);
+      m.row = row++;
+      out.markers.push_back(m);
+    }
+  }
+  for (const auto& m : out.markers)
+    out.max_displacement = std::max(out.max_displacement, m.displacement.cwiseAbs().maxCoeff());
+  out.noise_sigma = spec.noise_fraction * out.max_displacement;
+  std::mt19937 rng(spec.seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (auto& m : out.markers)
+    for (int c = 0; c < 3; ++c) m.displacement[c] += out.noise_sigma * noise(rng);
+  return out;
+}
+
+/// The markers as the default CSV of `isospring identify` (load_case,x,y,z,ux,uy,uz), in metres.
+inline void write_markers_csv(const std::filesystem::path& path,
+                              const std::vector<fitting::Marker>& markers) {
+  std::ofstream out(path);
+  out.precision(17);
+  out << "load_case,x,y,z,ux,uy,uz\n";
+  for (const auto& m : markers)
+    out << m.load_case << ',' << m.position.x() << ',' << m.position.y() << ',' << m.position.z()
+        << ',' << m.displacement.x() << ',' << m.displacement.y() << ',' << m.displacement.z()
+        << '\n';
+}
+
+}  // namespace isospring::testing
