@@ -22,6 +22,11 @@ struct CalibrationSettings {
   /// One stiffness per spring, pulled towards its gamma group's value with this weight (0: free).
   bool per_spring = false;
   double regularization = 0.0;
+  /// Per-spring fits only: > 0 fits by L-BFGS with the penalty (w / S) sum (log k_s - log
+  /// prior_s)^2 towards the start (prior_spring_fit.hpp) instead of Levenberg-Marquardt with
+  /// `regularization`; cheap with many load cases. Chosen by validation error
+  /// (generalising_calibration.hpp), not by the fitted error.
+  double prior_weight = 0.0;
   /// Per-spring fits only: the stiffness per spring to start from (e.g. a grouped optimum the
   /// caller already has); empty: the grouped optimum of `gamma`, fitted first.
   std::vector<double> per_spring_start;
@@ -34,6 +39,8 @@ struct CalibrationSettings {
   double damping_ratio = 0.0;              // > 0: c = 2 zeta sqrt(k m_reduced) instead (not both)
   int max_iterations = 200;
   int field_samples = 11;  // per direction for the field metrics
+  /// false: only the control-point metrics (cross-validation folds need no more).
+  bool field_metrics = true;
   /// Also fit ||K_IGA - K_NMSM||_F (matrix approach) with the same grouping, and per element when
   /// every patch has degree 1, and evaluate those models on the same load cases.
   bool matrix_approach = false;
