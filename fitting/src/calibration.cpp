@@ -90,7 +90,7 @@ DisplacementFitResult fit_with_prior(const DisplacementFitData& data,
   PriorSpringFitOptions options;
   options.prior = prior;
   options.weight = settings.prior_weight;
-  options.max_iterations = std::max(settings.max_iterations, 400);
+  options.max_iterations = settings.prior_max_iterations;
   const PriorSpringFitResult fit = fit_springs_with_prior(data, options);
   DisplacementFitResult result;
   result.group_stiffness = fit.spring_stiffness;
@@ -181,6 +181,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     const Grouping groups = group_by_rest_length(mesh.network, gamma);
     DisplacementFitOptions options;
     options.max_iterations = settings.max_iterations;
+    options.min_stiffness_ratio = settings.min_stiffness_ratio;
     options.youngs_modulus = problem.material.youngs_modulus;
     if (settings.progress)
       options.on_iteration = [&settings, gamma](int iteration, double cost) {

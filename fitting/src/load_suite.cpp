@@ -36,13 +36,23 @@ analysis::LoadCase traction_case(std::string id, const analysis::Side& side,
 // Torsion about the side's own normal through the centre of its control points: t = tau n x
 // (x - c) on a face of a solid (a swirl on curved faces), t = tau e_z x (x - c) on an edge of a
 // membrane (an in-plane moment).
-analysis::LoadCase twist_case(std::string id, const analysis::Problem& problem,
-                              const analysis::Side& side, double tau) {
+Eigen::Vector3d side_centre(const analysis::Problem& problem, const analysis::Side& side,
+                            double* radius = nullptr) {
   const nurbs::Patch& patch = problem.patches[static_cast<size_t>(side.patch)];
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   const std::vector<int> points = analysis::side_control_points(patch, side.dir, side.end);
   for (int cp : points) centre += patch.control_point(cp);
   centre /= static_cast<double>(points.size());
+  if (radius) {
+    *radius = 0.0;
+    for (int cp : points) *radius = std::max(*radius, (patch.control_point(cp) - centre).norm());
+  }
+  return centre;
+}
+
+analysis::LoadCase twist_case(std::string id, const analysis::Problem& problem,
+                              const analysis::Side& side, double tau) {
+  const Eigen::Vector3d centre = side_centre(problem, side);
   const bool membrane = problem.formulation != analysis::Formulation::kSolid;
   analysis::LoadCase lc;
   lc.id = std::move(id);
@@ -51,6 +61,27 @@ analysis::LoadCase twist_case(std::string id, const analysis::Problem& problem,
   t.function = [centre, tau, membrane](const Eigen::Vector3d& x, const Eigen::Vector3d& n) {
     const Eigen::Vector3d axis = membrane ? Eigen::Vector3d::UnitZ() : n;
     return Eigen::Vector3d(tau * axis.cross(x - centre));
+  };
+  lc.tractions.push_back(t);
+  return lc;
+}
+
+// t = tau (|x - c| / R) d along the oblique direction d (R: the largest distance of a control
+// point of the side from their centre c): a smooth load that no sum of uniform tractions,
+// twists and self-weights produces.
+analysis::LoadCase ramp_case(std::string id, const analysis::Problem& problem,
+                             const analysis::Side& side, double tau) {
+  double radius = 0.0;
+  const Eigen::Vector3d centre = side_centre(problem, side, &radius);
+  const bool membrane = problem.formulation != analysis::Formulation::kSolid;
+  const Eigen::Vector3d d =
+      (membrane ? Eigen::Vector3d(1, 1, 0) : Eigen::Vector3d(1, 1, 1)).normalized();
+  analysis::LoadCase lc;
+  lc.id = std::move(id);
+  analysis::Traction t;
+  t.side = side;
+  t.function = [centre, radius, tau, d](const Eigen::Vector3d& x, const Eigen::Vector3d&) {
+    return Eigen::Vector3d(tau * (x - centre).norm() / radius * d);
   };
   lc.tractions.push_back(t);
   return lc;
@@ -108,8 +139,6 @@ LoadSuite generate_load_suite(const analysis::Problem& problem, const LoadSuiteO
     (validation ? suite.validation : suite.training).push_back(lc.id);
     suite.cases.push_back(std::move(lc));
   };
-  const int kinds = (options.axis_tractions ? dim : 0) + (options.twists ? 1 : 0);
-  int free_side = 0;
   const analysis::DofMap dofs(problem);
   const std::vector<std::array<bool, 6>> inner = sides_not_to_load(problem, dofs);
   for (int p = 0; p < static_cast<int>(problem.patches.size()); ++p)
@@ -120,25 +149,30 @@ LoadSuite generate_load_suite(const analysis::Problem& problem, const LoadSuiteO
             supported(problem, side))
           continue;
         const std::string prefix = "p" + std::to_string(p) + "_" + analysis::side_name(side);
-        const int held = kinds > 0 ? free_side % kinds : -1;
-        int kind = 0;
         if (options.axis_tractions)
           for (int a = 0; a < dim; ++a)
             add(traction_case(prefix + "_" + kAxis[static_cast<size_t>(a)], side,
                               options.traction * Eigen::Vector3d::Unit(a)),
-                options.validation && kind++ == held);
+                false);
         if (options.twists)
-          add(twist_case(prefix + "_twist", problem, side, options.traction),
-              options.validation && kind == held);
-        ++free_side;
+          add(twist_case(prefix + "_twist", problem, side, options.traction), false);
+        if (options.validation)
+          add(ramp_case(prefix + "_ramp", problem, side, options.traction), true);
       }
   if (options.self_weight)
     for (int a = 0; a < dim; ++a) {
       analysis::LoadCase lc;
       lc.id = std::string("gravity_") + kAxis[static_cast<size_t>(a)];
       lc.gravity = -options.gravity * Eigen::Vector3d::Unit(a);
-      add(lc, options.validation && a == 0);
+      add(lc, false);
     }
+  if (options.validation && options.self_weight) {
+    analysis::LoadCase lc;
+    lc.id = "gravity_oblique";
+    lc.gravity = -options.gravity * (solid ? Eigen::Vector3d(1, 1, 1) : Eigen::Vector3d(1, 1, 0))
+                                        .normalized();
+    add(lc, true);
+  }
   if (suite.cases.empty())
     throw nurbs::InputError(
         "load suite: the model has no free side to load and self-weight is off; give the load "

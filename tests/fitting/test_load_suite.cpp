@@ -17,16 +17,16 @@ bool has(const std::vector<std::string>& ids, const std::string& id) {
   return std::find(ids.begin(), ids.end(), id) != ids.end();
 }
 
-TEST(LoadSuite, MembraneLoadsEveryFreeSideAndHoldsOutOneKindPerSide) {
+TEST(LoadSuite, MembraneLoadsEveryFreeSideAndValidatesOnOtherDistributions) {
   const analysis::Problem square = testing::grid_problem({5, 5}, {2, 2});  // u0 fixed
   const LoadSuite suite = generate_load_suite(square, {});
-  // 3 free sides x (x, y, twist) + self-weight along x and y; the fixed side u0 is not loaded.
-  ASSERT_EQ(suite.cases.size(), 11u);
+  // Training: 3 free sides x (x, y, twist) + self-weight along x and y; the fixed side u0 is not
+  // loaded. Validation: a ramp per free side and oblique self-weight.
+  ASSERT_EQ(suite.cases.size(), 15u);
   for (const auto& lc : suite.cases) EXPECT_EQ(lc.id.find("u0"), std::string::npos) << lc.id;
-  // Rotating hold-out: u1 (1st side) x, v0 (2nd) y, v1 (3rd) twist, and self-weight along x.
-  EXPECT_EQ(suite.validation,
-            (std::vector<std::string>{"p0_u1_x", "p0_v0_y", "p0_v1_twist", "gravity_x"}));
-  EXPECT_EQ(suite.training.size(), 7u);
+  EXPECT_EQ(suite.validation, (std::vector<std::string>{"p0_u1_ramp", "p0_v0_ramp", "p0_v1_ramp",
+                                                        "gravity_oblique"}));
+  EXPECT_EQ(suite.training.size(), 11u);
   for (const auto& id : suite.validation) EXPECT_FALSE(has(suite.training, id));
 
   analysis::Problem loaded = square;
@@ -40,18 +40,19 @@ TEST(LoadSuite, MembraneLoadsEveryFreeSideAndHoldsOutOneKindPerSide) {
 TEST(LoadSuite, SolidSkipsSupportedAndCollapsedSides) {
   const ThesisObject spheroid = thesis_coupled_spheroid();
   const LoadSuite suite = generate_load_suite(spheroid.problem, {});
-  EXPECT_EQ(suite.cases.size(), 4u * 4u + 3u);
-  for (const std::string side : {"p0_u1", "p0_w1", "p1_u1", "p1_w1"})
+  EXPECT_EQ(suite.cases.size(), 4u * 5u + 4u);
+  for (const std::string side : {"p0_u1", "p0_w1", "p1_u1", "p1_w1"}) {
     for (const std::string kind : {"_x", "_y", "_z", "_twist"})
-      EXPECT_TRUE(has(suite.training, side + kind) || has(suite.validation, side + kind))
-          << side + kind;
+      EXPECT_TRUE(has(suite.training, side + kind)) << side + kind;
+    EXPECT_TRUE(has(suite.validation, side + "_ramp")) << side;
+  }
   EXPECT_EQ(suite.validation.size(), 5u);
 }
 
 TEST(LoadSuite, RejectsNothingToLoad) {
   analysis::Problem square = testing::grid_problem({4, 4}, {1, 1});
   LoadSuiteOptions options;
-  options.axis_tractions = options.twists = options.self_weight = false;
+  options.axis_tractions = options.twists = options.self_weight = options.validation = false;
   EXPECT_THROW(generate_load_suite(square, options), nurbs::InputError);
 }
 

@@ -27,10 +27,14 @@ struct CalibrationSettings {
   /// `regularization`; cheap with many load cases. Chosen by validation error
   /// (generalising_calibration.hpp), not by the fitted error.
   double prior_weight = 0.0;
+  int prior_max_iterations = 300;  // L-BFGS iterations of that fit
   /// Per-spring fits only: the stiffness per spring to start from (e.g. a grouped optimum the
   /// caller already has); empty: the grouped optimum of `gamma`, fitted first.
   std::vector<double> per_spring_start;
   bool upper_bounds = false;  // [S15 4.19] bounds per group
+  /// Lower bound of every stiffness as a fraction of the stiffest initial group
+  /// (DisplacementFitOptions::min_stiffness_ratio).
+  double min_stiffness_ratio = 1e-6;
   MassModel mass_model = MassModel::kLumpedIga;
   SpringMeshOptions mesh;
   std::vector<std::string> fit_cases;      // ids; empty: every case not in holdout_cases

@@ -22,7 +22,10 @@ struct GeneralisationOptions {
   /// Per-spring candidates: penalty weights w of prior_spring_fit.hpp, the prior being the
   /// cross-validated grouping's optimum on the same training cases; empty: grouped only.
   std::vector<double> prior_weights = {1e-2, 1e-3, 1e-4};
-  /// Training cases are dealt round-robin into this many folds (at least 2, at most the number
+  /// Spring topologies (SpringMeshOptions::reach): 1, [S15]'s net cells; 2, also springs two
+  /// net steps apart. Every gamma and weight is tried with each.
+  std::vector<int> reaches = {1};
+  /// Training cases are dealt diagonally (case c to fold (c + c / folds) mod folds) into this many folds (at least 2, at most the number
   /// of training cases).
   int folds = 3;
   /// > 0: a warning when the worst %e_rms over fitted and validation cases exceeds it.
@@ -30,6 +33,7 @@ struct GeneralisationOptions {
 };
 
 struct CandidateScore {
+  int reach = 1;
   double gamma = 0.0;
   double prior_weight = 0.0;  // 0: the grouped model
   int parameters = 0;

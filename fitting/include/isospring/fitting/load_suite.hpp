@@ -11,11 +11,12 @@
 // along every axis. Loads of opposite sign give the mirrored response of a linear model, so one
 // sign per direction suffices.
 //
-// Training and validation: of the loads of the i-th free side (sides in patch, dir, end order;
-// kinds x, y, (z), twist) the kind i mod kinds is validation, rotating through the kinds, and so
-// is the self-weight along the first axis; the rest is training. So every side and every kind of
-// load appears in both sets (a fixed stride would hold out the same kind on every side), and
-// validation cases are never fitted.
+// Training: all of the above. Validation: loads of a different distribution, so that no
+// validation case is a combination of training cases: on every free side a traction along the
+// oblique direction (1, 1, 1) (membranes (1, 1)) that grows linearly with the distance from the
+// side's centre ("ramp"), and self-weight along the oblique direction. Every mode stays in
+// training (holding out, say, the axial pull of the loaded end would test a mode the model never
+// saw, not its calibration), and validation cases are never fitted.
 #include <string>
 #include <vector>
 
@@ -33,12 +34,13 @@ struct LoadSuiteOptions {
   bool axis_tractions = true;
   bool twists = true;
   bool self_weight = true;
-  /// false: every case is training.
+  /// false: no validation cases.
   bool validation = true;
 };
 
 struct LoadSuite {
-  std::vector<analysis::LoadCase> cases;  // ids: "p0_u1_x", "p0_u1_twist", "gravity_y", ...
+  // ids: "p0_u1_x", "p0_u1_twist", "gravity_y", ...; validation "p0_u1_ramp", "gravity_oblique"
+  std::vector<analysis::LoadCase> cases;
   std::vector<std::string> training, validation;  // ids of `cases`
 };
 
