@@ -190,10 +190,11 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   request.target_percent_e_rms = f.number("target_percent_e_rms", 0.0, 0.0, false);
   if (f.has("generalisation")) {
     if (s.per_spring || !s.gamma_sweep.empty())
-      f.fail("generalisation", "chooses the grouping itself; remove grouping.per_spring and "
-                               "grouping.gamma_sweep");
-    parse_generalisation(f.at("generalisation"), where + ".generalisation",
-                         !s.fit_cases.empty(), request);
+      f.fail("generalisation",
+             "chooses the grouping itself; remove grouping.per_spring and "
+             "grouping.gamma_sweep");
+    parse_generalisation(f.at("generalisation"), where + ".generalisation", !s.fit_cases.empty(),
+                         request);
     request.generalisation->target_percent_e_rms = request.target_percent_e_rms;
   }
   return request;

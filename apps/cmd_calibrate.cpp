@@ -71,10 +71,10 @@ std::string protocol_text(const fitting::CalibrationSettings& s,
                     io::format_number(r.gamma) + " grouped optimum with weight " +
                     io::format_number(s.prior_weight) + ")"
           : s.per_spring ? "one stiffness per spring (" + std::to_string(r.parameters) +
-                             " parameters, regularisation weight " +
-                             io::format_number(s.regularization) + ")"
-                       : "springs grouped by rest length, gamma " + io::format_number(r.gamma) +
-                             " (" + std::to_string(r.parameters) + " groups)";
+                               " parameters, regularisation weight " +
+                               io::format_number(s.regularization) + ")"
+                         : "springs grouped by rest length, gamma " + io::format_number(r.gamma) +
+                               " (" + std::to_string(r.parameters) + " groups)";
   if (!s.gamma_sweep.empty())
     text += ", best of a sweep over " + std::to_string(s.gamma_sweep.size()) + " gamma values";
   if (s.mesh.reach == 2) text += "; springs also two net steps apart (reach 2)";
@@ -139,8 +139,8 @@ void run_calibrate(const CalibrateOptions& options) {
     settings.prior_weight = chosen.prior_weight;
     settings.mesh.reach = chosen.reach;
   }
-  fitting::CalibrationResult computed =
-      generalisation ? std::move(generalisation->calibration) : fitting::calibrate(c.problem, settings);
+  fitting::CalibrationResult computed = generalisation ? std::move(generalisation->calibration)
+                                                       : fitting::calibrate(c.problem, settings);
   const fitting::CalibrationResult& result = computed;
   // The worst load case decides whether the model can be used: fitted and held out alike.
   double worst_fitted = 0.0, worst_holdout = 0.0;
@@ -149,10 +149,10 @@ void run_calibrate(const CalibrateOptions& options) {
     worst_holdout = std::max(worst_holdout, e.control.percent_e_rms);
   const double worst = std::max(worst_fitted, worst_holdout);
   if (request.target_percent_e_rms > 0.0 && worst > request.target_percent_e_rms && !generalisation)
-    computed.warnings.push_back(
-        "the worst %e_rms over fitted and held-out load cases (" + io::format_number(worst, 3) +
-        ") exceeds target_percent_e_rms " + io::format_number(request.target_percent_e_rms, 3) +
-        ": the spring model does not reach the reference on every load");
+    computed.warnings.push_back("the worst %e_rms over fitted and held-out load cases (" +
+                                io::format_number(worst, 3) + ") exceeds target_percent_e_rms " +
+                                io::format_number(request.target_percent_e_rms, 3) +
+                                ": the spring model does not reach the reference on every load");
   // Baseline beside the matrix approach: the acceleration objective on the same springs.
   std::optional<fitting::MatrixComparison> acceleration;
   if (request.acceleration_objective) {
@@ -185,7 +185,8 @@ void run_calibrate(const CalibrateOptions& options) {
   report["fit"] = fitted;
   report["holdout"] = summary_json(result.holdout);
   report["worst_fitted_percent_e_rms"] = worst_fitted;
-  report["worst_holdout_percent_e_rms"] = result.holdout.empty() ? nlohmann::json() : nlohmann::json(worst_holdout);
+  report["worst_holdout_percent_e_rms"] =
+      result.holdout.empty() ? nlohmann::json() : nlohmann::json(worst_holdout);
   report["worst_percent_e_rms"] = worst;
   report["target_percent_e_rms"] =
       request.target_percent_e_rms > 0.0 ? nlohmann::json(request.target_percent_e_rms) : nullptr;
@@ -296,9 +297,9 @@ void run_calibrate(const CalibrateOptions& options) {
   md.paragraph(report["protocol"].get<std::string>());
   md.heading(2, "Errors");
   md.paragraph("Worst %e_rms: " + io::format_number(worst_fitted, 4) + " over the fitted cases, " +
-               (result.holdout.empty() ? std::string("no held-out cases")
-                                       : io::format_number(worst_holdout, 4) +
-                                             " over the held-out cases") +
+               (result.holdout.empty()
+                    ? std::string("no held-out cases")
+                    : io::format_number(worst_holdout, 4) + " over the held-out cases") +
                (request.target_percent_e_rms > 0.0
                     ? "; target " + io::format_number(request.target_percent_e_rms, 4) +
                           (worst <= request.target_percent_e_rms ? " (met)." : " (**not met**).")

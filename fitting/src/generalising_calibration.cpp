@@ -41,8 +41,10 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
           settings.holdout_cases.end())
         training.push_back(lc.id);
   if (options.folds < 2 || options.folds > static_cast<int>(training.size()))
-    throw nurbs::InputError("generalisation: folds must be between 2 and the number of training "
-                            "cases (" + std::to_string(training.size()) + ")");
+    throw nurbs::InputError(
+        "generalisation: folds must be between 2 and the number of training "
+        "cases (" +
+        std::to_string(training.size()) + ")");
 
   // One IGA reference for every fit below.
   CalibrationSettings base = settings;
@@ -88,26 +90,24 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
         const CalibrationResult r = calibrate(problem, s);
         candidate.parameters = r.parameters;
         for (const auto& h : r.holdout) {
-          const size_t c = static_cast<size_t>(
-              std::find(training.begin(), training.end(), h.id) - training.begin());
+          const size_t c = static_cast<size_t>(std::find(training.begin(), training.end(), h.id) -
+                                               training.begin());
           candidate.percent_e_rms[c] = h.control.percent_e_rms;
         }
       } catch (const std::runtime_error& e) {
         candidate.failure = e.what();
       }
     }
-    candidate.worst = candidate.failure.empty()
-                          ? *std::max_element(candidate.percent_e_rms.begin(),
-                                              candidate.percent_e_rms.end())
-                          : INFINITY;
+    candidate.worst = candidate.failure.empty() ? *std::max_element(candidate.percent_e_rms.begin(),
+                                                                    candidate.percent_e_rms.end())
+                                                : INFINITY;
     if (settings.progress)
-      settings.progress("cross-validation: reach " + std::to_string(candidate.reach) +
-                        format(", gamma %g, prior weight %g", candidate.gamma,
-                               candidate.prior_weight) +
-                        (candidate.failure.empty()
-                             ? format(": worst held-out %%e_rms %.3g over %g cases", candidate.worst,
-                                      static_cast<double>(training.size()))
-                             : ": failed"));
+      settings.progress(
+          "cross-validation: reach " + std::to_string(candidate.reach) +
+          format(", gamma %g, prior weight %g", candidate.gamma, candidate.prior_weight) +
+          (candidate.failure.empty() ? format(": worst held-out %%e_rms %.3g over %g cases",
+                                              candidate.worst, static_cast<double>(training.size()))
+                                     : ": failed"));
   };
 
   GeneralisationResult result;
@@ -193,7 +193,8 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
                                 " (" + failure + "); the next best candidate is used");
     }
   }
-  if (!done) throw std::runtime_error("generalisation: no candidate could be refitted (" + failure + ")");
+  if (!done)
+    throw std::runtime_error("generalisation: no candidate could be refitted (" + failure + ")");
   result.worst_fitted = worst_of(result.calibration.fit);
   result.worst_validation = worst_of(result.calibration.holdout);
   result.worst = std::max(result.worst_fitted, result.worst_validation);

@@ -92,7 +92,7 @@ analysis::LoadCase ramp_case(std::string id, const analysis::Problem& problem,
 // a surface: a side is inner when its points coincide (a pole) or its node set is another
 // side's (an interface).
 std::vector<std::array<bool, 6>> sides_not_to_load(const analysis::Problem& problem,
-                                                  const analysis::DofMap& dofs) {
+                                                   const analysis::DofMap& dofs) {
   if (problem.formulation == analysis::Formulation::kSolid)
     return analysis::inner_sides(problem.patches, dofs);
   std::vector<std::array<bool, 6>> inner(problem.patches.size(), std::array<bool, 6>{});
@@ -169,8 +169,8 @@ LoadSuite generate_load_suite(const analysis::Problem& problem, const LoadSuiteO
   if (options.validation && options.self_weight) {
     analysis::LoadCase lc;
     lc.id = "gravity_oblique";
-    lc.gravity = -options.gravity * (solid ? Eigen::Vector3d(1, 1, 1) : Eigen::Vector3d(1, 1, 0))
-                                        .normalized();
+    lc.gravity = -options.gravity *
+                 (solid ? Eigen::Vector3d(1, 1, 1) : Eigen::Vector3d(1, 1, 0)).normalized();
     add(lc, true);
   }
   if (suite.cases.empty())

@@ -76,8 +76,7 @@ class PriorObjective final : public ceres::FirstOrderFunction {
       double sum = 0.0;
       for (size_t a = 0; a < data_.particle_of_node.size(); ++a) {
         const Eigen::Index node = static_cast<Eigen::Index>(a) * dim_;
-        const Eigen::Index particle =
-            static_cast<Eigen::Index>(data_.particle_of_node[a]) * dim_;
+        const Eigen::Index particle = static_cast<Eigen::Index>(data_.particle_of_node[a]) * dim_;
         const Eigen::VectorXd r =
             scale_[c] * (u.segment(particle, dim_) - data_.references[c].segment(node, dim_));
         sum += r.squaredNorm();
@@ -194,26 +193,29 @@ PriorSpringFitResult fit_springs_with_prior(const DisplacementFitData& data,
     final_data.network.springs[s].stiffness = result.spring_stiffness[s];
   const Grouping one = one_group_per_spring(data.network);
   Eigen::VectorXd residuals;
-  if (!displacement_residuals(final_data, one, Eigen::Map<Eigen::VectorXd>(theta.data(),
-                                                                          static_cast<Eigen::Index>(theta.size())),
-                              residuals, nullptr))
+  if (!displacement_residuals(
+          final_data, one,
+          Eigen::Map<Eigen::VectorXd>(theta.data(), static_cast<Eigen::Index>(theta.size())),
+          residuals, nullptr))
     throw std::runtime_error("prior spring fit: the fitted network is singular");
-  const int rows = static_cast<int>(residuals.size() / static_cast<Eigen::Index>(data.loads.size()));
+  const int rows =
+      static_cast<int>(residuals.size() / static_cast<Eigen::Index>(data.loads.size()));
   const int dim = data.network.dimension;
   for (size_t c = 0; c < data.loads.size(); ++c) {
     const Eigen::VectorXd r = residuals.segment(static_cast<Eigen::Index>(c) * rows, rows);
     result.percent_e_rms.push_back(100.0 * r.norm());
-    // r_a = (u_a - u_ref,a) / (o_max sqrt(n)): the largest node error over o_max is sqrt(n) max|r_a|.
+    // r_a = (u_a - u_ref,a) / (o_max sqrt(n)): the largest node error over o_max is sqrt(n)
+    // max|r_a|.
     double largest = 0.0;
-    for (int a = 0; a < rows / dim; ++a) largest = std::max(largest, r.segment(a * dim, dim).norm());
+    for (int a = 0; a < rows / dim; ++a)
+      largest = std::max(largest, r.segment(a * dim, dim).norm());
     result.percent_e_max.push_back(100.0 * largest * std::sqrt(static_cast<double>(rows / dim)));
   }
   result.cost = summary.final_cost;
   result.iterations = static_cast<int>(summary.iterations.size());
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.message;
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -15,7 +15,7 @@ namespace isospring::fitting {
 namespace {
 
 struct Hidden {
-  DisplacementFitData data;              // training cases
+  DisplacementFitData data;               // training cases
   Eigen::VectorXd holdout_load, holdout;  // a load never fitted and the hidden model's response
   std::vector<double> truth, prior;
 };
@@ -38,11 +38,11 @@ Hidden hidden_model() {
     Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs);
     for (size_t p = 0; p < network.positions.size(); ++p) {
       const Eigen::Vector3d& x = network.positions[p];
-      if (kind == 0 && x.x() > 1.99) f[2 * p] = 1.0;                  // tension
-      if (kind == 1 && x.x() > 1.99) f[2 * p + 1] = 1.0;              // bending
-      if (kind == 2 && x.y() > 1.99) f[2 * p] = 1.0;                  // shear on the top edge
-      if (kind == 3) f[2 * p + 1] = -1.0;                             // self-weight
-      if (kind == 4 && x.x() > 1.99) f[2 * p] = x.y() - 1.0;          // in-plane moment
+      if (kind == 0 && x.x() > 1.99) f[2 * p] = 1.0;          // tension
+      if (kind == 1 && x.x() > 1.99) f[2 * p + 1] = 1.0;      // bending
+      if (kind == 2 && x.y() > 1.99) f[2 * p] = 1.0;          // shear on the top edge
+      if (kind == 3) f[2 * p + 1] = -1.0;                     // self-weight
+      if (kind == 4 && x.x() > 1.99) f[2 * p] = x.y() - 1.0;  // in-plane moment
     }
     return f;
   };
@@ -78,7 +78,8 @@ TEST(PriorSpringFit, PredictsAnUnfittedLoadOfAHiddenSpringModel) {
   options.weight = 1e-8;
   options.max_iterations = 2000;
   const PriorSpringFitResult fit = fit_springs_with_prior(h.data, options);
-  const double before = holdout_percent(h, h.prior), after = holdout_percent(h, fit.spring_stiffness);
+  const double before = holdout_percent(h, h.prior),
+               after = holdout_percent(h, fit.spring_stiffness);
   ASSERT_EQ(fit.percent_e_rms.size(), 4u);
   for (double e : fit.percent_e_rms) EXPECT_LT(e, 0.05);
   // The in-plane moment was never fitted: the prior misses it by several percent, the fit by

@@ -25,8 +25,8 @@ struct GeneralisationOptions {
   /// Spring topologies (SpringMeshOptions::reach): 1, [S15]'s net cells; 2, also springs two
   /// net steps apart. Every gamma and weight is tried with each.
   std::vector<int> reaches = {1};
-  /// Training cases are dealt diagonally (case c to fold (c + c / folds) mod folds) into this many folds (at least 2, at most the number
-  /// of training cases).
+  /// Training cases are dealt diagonally (case c to fold (c + c / folds) mod folds) into this many
+  /// folds (at least 2, at most the number of training cases).
   int folds = 3;
   /// > 0: a warning when the worst %e_rms over fitted and validation cases exceeds it.
   double target_percent_e_rms = 0.0;
@@ -47,7 +47,7 @@ struct GeneralisationResult {
   /// validation cases (holdout).
   CalibrationResult calibration;
   std::vector<CandidateScore> candidates;
-  int chosen = 0;  // index into candidates
+  int chosen = 0;                                                  // index into candidates
   double worst_fitted = 0.0, worst_validation = 0.0, worst = 0.0;  // %e_rms, control points
   std::vector<std::string> warnings;  // also appended to calibration.warnings
 };
