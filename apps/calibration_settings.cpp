@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 
+#include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::apps {
@@ -104,6 +105,44 @@ void parse_grouping(const nlohmann::json& grouping, const std::string& where,
   settings.per_spring = f.boolean("per_spring", false);
 }
 
+std::vector<double> numbers(const Fields& f, const std::string& field, double lo, double hi) {
+  const auto& v = f.at(field);
+  if (!v.is_array() || v.empty()) f.fail(field, "must be a non-empty list of numbers");
+  std::vector<double> out;
+  for (const auto& x : v) {
+    if (!x.is_number() || !(x.get<double>() >= lo && x.get<double>() <= hi))
+      f.fail(field, "every entry must be a number in [" + io::format_number(lo) + ", " +
+                        io::format_number(hi) + "] (got " + x.dump() + ")");
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+
+void parse_generalisation(const nlohmann::json& g, const std::string& where, bool fit_given,
+                          CalibrationRequest& request) {
+  if (!g.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
+  const Fields f(g, where);
+  f.expect_only({"load_suite", "gammas", "prior_weights", "reaches", "folds", "prior_iterations"});
+  fitting::GeneralisationOptions o;
+  request.load_suite = f.boolean("load_suite", !fit_given);
+  if (f.has("gammas")) o.gammas = numbers(f, "gammas", 0.0, 0.999);
+  if (f.has("prior_weights")) {
+    o.prior_weights.clear();
+    if (!f.at("prior_weights").empty()) o.prior_weights = numbers(f, "prior_weights", 1e-12, 1e6);
+  }
+  if (f.has("reaches")) {
+    o.reaches.clear();
+    for (double r : numbers(f, "reaches", 1, 2)) {
+      if (r != 1.0 && r != 2.0) f.fail("reaches", "entries must be 1 or 2");
+      o.reaches.push_back(static_cast<int>(r));
+    }
+  }
+  o.folds = f.integer("folds", o.folds, 2);
+  request.settings.prior_max_iterations =
+      f.integer("prior_iterations", request.settings.prior_max_iterations, 1);
+  request.generalisation = o;
+}
+
 }  // namespace
 
 CalibrationRequest parse_calibration(const nlohmann::json& calibration, const std::string& file) {
@@ -115,7 +154,8 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   const Fields f(calibration, where);
   f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
                  "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
-                 "max_iterations", "field_samples", "matrix_approach", "acceleration_objective"});
+                 "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
+                 "target_percent_e_rms", "generalisation"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)
@@ -147,6 +187,16 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   s.field_samples = f.integer("field_samples", s.field_samples, 2);
   request.matrix_approach = f.boolean("matrix_approach", true);
   request.acceleration_objective = f.boolean("acceleration_objective", true);
+  request.target_percent_e_rms = f.number("target_percent_e_rms", 0.0, 0.0, false);
+  if (f.has("generalisation")) {
+    if (s.per_spring || !s.gamma_sweep.empty())
+      f.fail("generalisation",
+             "chooses the grouping itself; remove grouping.per_spring and "
+             "grouping.gamma_sweep");
+    parse_generalisation(f.at("generalisation"), where + ".generalisation", !s.fit_cases.empty(),
+                         request);
+    request.generalisation->target_percent_e_rms = request.target_percent_e_rms;
+  }
   return request;
 }
 

@@ -16,7 +16,15 @@
 //     "max_iterations": 200,
 //     "field_samples": 11,                  // per direction, for the field error metrics
 //     "matrix_approach": true,              // also fit ||K_IGA - K_NMSM||_F and report it
-//     "acceleration_objective": true        // also fit the [S15 4.1-4.5] objective, report it
+//     "acceleration_objective": true,       // also fit the [S15 4.1-4.5] objective, report it
+//     "target_percent_e_rms": 2.0,          // > 0: warn when the worst fitted or held-out
+//                                           // %e_rms exceeds it
+//     "generalisation": {                   // choose the freedom by cross-validation
+//       "load_suite": true,                 // add the load suite (default: when no
+//                                           // fit_load_cases are given)
+//       "gammas": [0.8, 0.5, 0.2, 0.1, 0.01], "prior_weights": [1e-2, 1e-3, 1e-4],
+//       "reaches": [1], "folds": 3, "prior_iterations": 300
+//     }
 //   }
 //
 // Every field is optional; an absent object means the defaults. Unknown fields and wrong types
@@ -24,7 +32,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include <optional>
+
 #include "isospring/fitting/calibration.hpp"
+#include "isospring/fitting/generalising_calibration.hpp"
 
 namespace isospring::apps {
 
@@ -33,6 +44,10 @@ struct CalibrationRequest {
   bool matrix_approach = true;
   /// Also fit the acceleration objective [S15 4.1-4.5] with the same grouping and report it.
   bool acceleration_objective = true;
+  double target_percent_e_rms = 0.0;
+  /// Set: calibrate with fitting::calibrate_for_generalisation.
+  std::optional<fitting::GeneralisationOptions> generalisation;
+  bool load_suite = false;  // append fitting::generate_load_suite's cases (train / validate)
 };
 
 /// Validates and converts `calibration` (null: defaults); `file` names the case in messages.

@@ -2,6 +2,7 @@
 // reference with the displacement objective (settings: the case's "calibration" object,
 // docs/calibration.md). Writes report.json, report.md, model.json, springs.vtp,
 // <load-case>_errors.csv, result.vtm (ParaView) and the error figures (calibration_outputs.hpp).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -16,6 +17,8 @@
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/fitting/acceleration_fit.hpp"
 #include "isospring/fitting/calibration.hpp"
+#include "isospring/fitting/generalising_calibration.hpp"
+#include "isospring/fitting/load_suite.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/model_file.hpp"
@@ -62,13 +65,19 @@ nlohmann::json summary_json(const std::vector<fitting::CaseErrors>& cases) {
 std::string protocol_text(const fitting::CalibrationSettings& s,
                           const fitting::CalibrationResult& r) {
   std::string text = "Displacement objective [S15 5.7] summed over the fitted load cases; ";
-  text += s.per_spring ? "one stiffness per spring (" + std::to_string(r.parameters) +
-                             " parameters, regularisation weight " +
-                             io::format_number(s.regularization) + ")"
-                       : "springs grouped by rest length, gamma " + io::format_number(r.gamma) +
-                             " (" + std::to_string(r.parameters) + " groups)";
+  text += s.per_spring && s.prior_weight > 0.0
+              ? "one stiffness per spring (" + std::to_string(r.parameters) +
+                    " parameters, L-BFGS, log k pulled towards the gamma " +
+                    io::format_number(r.gamma) + " grouped optimum with weight " +
+                    io::format_number(s.prior_weight) + ")"
+          : s.per_spring ? "one stiffness per spring (" + std::to_string(r.parameters) +
+                               " parameters, regularisation weight " +
+                               io::format_number(s.regularization) + ")"
+                         : "springs grouped by rest length, gamma " + io::format_number(r.gamma) +
+                               " (" + std::to_string(r.parameters) + " groups)";
   if (!s.gamma_sweep.empty())
     text += ", best of a sweep over " + std::to_string(s.gamma_sweep.size()) + " gamma values";
+  if (s.mesh.reach == 2) text += "; springs also two net steps apart (reach 2)";
   text +=
       "; Levenberg-Marquardt on log-stiffnesses with the analytic Jacobian. Errors are on the "
       "control points (o_max: largest reference control-point displacement).";
@@ -95,13 +104,55 @@ void run_calibrate(const CalibrateOptions& options) {
   const std::filesystem::path out_dir = output_folder(options.output);
 
   progress("reading " + options.case_file);
-  const io::Case c = io::read_case_file(options.case_file);
+  io::Case c = io::read_case_file(options.case_file);
   CalibrationRequest request = parse_calibration(c.calibration, options.case_file);
   fitting::CalibrationSettings& settings = request.settings;
   settings.matrix_approach = request.matrix_approach;
   if (!options.quiet) settings.progress = [&progress](const std::string& line) { progress(line); };
 
-  const fitting::CalibrationResult result = fitting::calibrate(c.problem, settings);
+  // The load suite (issue 14): its training cases are fitted beside the case's own, its
+  // validation cases and the case's unfitted ones measured.
+  if (request.load_suite) {
+    const fitting::LoadSuite suite = fitting::generate_load_suite(c.problem, {});
+    const bool fit_given = !settings.fit_cases.empty();
+    for (const auto& lc : c.problem.load_cases)
+      if (std::find(settings.fit_cases.begin(), settings.fit_cases.end(), lc.id) ==
+              settings.fit_cases.end() &&
+          std::find(settings.holdout_cases.begin(), settings.holdout_cases.end(), lc.id) ==
+              settings.holdout_cases.end() &&
+          !fit_given)
+        settings.holdout_cases.push_back(lc.id);
+    for (const auto& lc : suite.cases) c.problem.load_cases.push_back(lc);
+    for (const auto& id : suite.training) settings.fit_cases.push_back(id);
+    for (const auto& id : suite.validation) settings.holdout_cases.push_back(id);
+    progress("load suite: " + std::to_string(suite.training.size()) + " training and " +
+             std::to_string(suite.validation.size()) + " validation cases from the supports");
+  }
+  std::optional<fitting::GeneralisationResult> generalisation;
+  if (request.generalisation) {
+    settings.field_metrics = true;
+    generalisation =
+        fitting::calibrate_for_generalisation(c.problem, settings, *request.generalisation);
+    const auto& chosen = generalisation->candidates[static_cast<size_t>(generalisation->chosen)];
+    settings.gamma = chosen.gamma;
+    settings.per_spring = chosen.prior_weight > 0.0;
+    settings.prior_weight = chosen.prior_weight;
+    settings.mesh.reach = chosen.reach;
+  }
+  fitting::CalibrationResult computed = generalisation ? std::move(generalisation->calibration)
+                                                       : fitting::calibrate(c.problem, settings);
+  const fitting::CalibrationResult& result = computed;
+  // The worst load case decides whether the model can be used: fitted and held out alike.
+  double worst_fitted = 0.0, worst_holdout = 0.0;
+  for (const auto& e : result.fit) worst_fitted = std::max(worst_fitted, e.control.percent_e_rms);
+  for (const auto& e : result.holdout)
+    worst_holdout = std::max(worst_holdout, e.control.percent_e_rms);
+  const double worst = std::max(worst_fitted, worst_holdout);
+  if (request.target_percent_e_rms > 0.0 && worst > request.target_percent_e_rms && !generalisation)
+    computed.warnings.push_back("the worst %e_rms over fitted and held-out load cases (" +
+                                io::format_number(worst, 3) + ") exceeds target_percent_e_rms " +
+                                io::format_number(request.target_percent_e_rms, 3) +
+                                ": the spring model does not reach the reference on every load");
   // Baseline beside the matrix approach: the acceleration objective on the same springs.
   std::optional<fitting::MatrixComparison> acceleration;
   if (request.acceleration_objective) {
@@ -133,6 +184,33 @@ void run_calibrate(const CalibrateOptions& options) {
   report["percent_e_max"] = fitted["percent_e_max"];
   report["fit"] = fitted;
   report["holdout"] = summary_json(result.holdout);
+  report["worst_fitted_percent_e_rms"] = worst_fitted;
+  report["worst_holdout_percent_e_rms"] =
+      result.holdout.empty() ? nlohmann::json() : nlohmann::json(worst_holdout);
+  report["worst_percent_e_rms"] = worst;
+  report["target_percent_e_rms"] =
+      request.target_percent_e_rms > 0.0 ? nlohmann::json(request.target_percent_e_rms) : nullptr;
+  report["meets_target"] = request.target_percent_e_rms > 0.0
+                               ? nlohmann::json(worst <= request.target_percent_e_rms)
+                               : nullptr;
+  report["generalisation"] = nullptr;
+  if (generalisation) {
+    const auto& chosen = generalisation->candidates[static_cast<size_t>(generalisation->chosen)];
+    nlohmann::json g = {{"reach", chosen.reach},
+                        {"gamma", chosen.gamma},
+                        {"prior_weight", chosen.prior_weight},
+                        {"cross_validation_worst", chosen.worst},
+                        {"folds", request.generalisation->folds},
+                        {"candidates", nlohmann::json::array()}};
+    for (const auto& cand : generalisation->candidates)
+      g["candidates"].push_back({{"reach", cand.reach},
+                                 {"gamma", cand.gamma},
+                                 {"prior_weight", cand.prior_weight},
+                                 {"parameters", cand.parameters},
+                                 {"cross_validation_worst", cand.worst},
+                                 {"failure", cand.failure}});
+    report["generalisation"] = g;
+  }
   report["sweep"] = nlohmann::json::array();
   for (const auto& entry : result.sweep)
     report["sweep"].push_back(
@@ -218,6 +296,19 @@ void run_calibrate(const CalibrateOptions& options) {
   md.heading(2, "Protocol");
   md.paragraph(report["protocol"].get<std::string>());
   md.heading(2, "Errors");
+  md.paragraph("Worst %e_rms: " + io::format_number(worst_fitted, 4) + " over the fitted cases, " +
+               (result.holdout.empty()
+                    ? std::string("no held-out cases")
+                    : io::format_number(worst_holdout, 4) + " over the held-out cases") +
+               (request.target_percent_e_rms > 0.0
+                    ? "; target " + io::format_number(request.target_percent_e_rms, 4) +
+                          (worst <= request.target_percent_e_rms ? " (met)." : " (**not met**).")
+                    : "."));
+  if (!report["warnings"].empty()) {
+    std::vector<std::string> items;
+    for (const auto& w : report["warnings"]) items.push_back("Warning: " + w.get<std::string>());
+    md.bullets(items);
+  }
   std::vector<std::vector<std::string>> rows;
   for (const auto* cases : {&result.fit, &result.holdout})
     for (const auto& e : *cases)

@@ -119,20 +119,29 @@ SpringMesh build_spring_mesh(const analysis::Problem& problem, const SpringMeshO
     for (int node : dofs.patch_nodes(p)) mesh.particle[p].push_back(particle_of[node]);
 
   // Every pair of corners of a net cell is a spring (2D: 4 edges + 2 diagonals; 3D: 12 edges +
-  // 12 face diagonals + 4 body diagonals). The ordered set gives a deterministic spring order.
+  // 12 face diagonals + 4 body diagonals); with reach r, every pair of points of every block of
+  // (r + 1) points per direction (smaller where the net is). The ordered set gives a
+  // deterministic spring order.
+  if (options.reach < 1 || options.reach > 2)
+    throw nurbs::InputError("spring mesh: reach must be 1 (net cells) or 2");
   std::set<std::pair<int, int>> pairs;
   int collapsed = 0;
   for (size_t p = 0; p < problem.patches.size(); ++p) {
     const nurbs::Patch& patch = problem.patches[p];
-    const int n0 = patch.num_points(0), n1 = patch.num_points(1), n2 = patch.num_points(2);
-    const int c2 = patch.param_dim() == 3 ? n2 - 1 : 1;
-    for (int k = 0; k < c2; ++k)
-      for (int j = 0; j + 1 < n1; ++j)
-        for (int i = 0; i + 1 < n0; ++i) {
+    const int n[3] = {patch.num_points(0), patch.num_points(1),
+                      patch.param_dim() == 3 ? patch.num_points(2) : 1};
+    int block[3], starts[3];
+    for (int d = 0; d < 3; ++d) {
+      block[d] = std::min(options.reach + 1, n[d]);
+      starts[d] = n[d] - block[d] + 1;
+    }
+    for (int k = 0; k < starts[2]; ++k)
+      for (int j = 0; j < starts[1]; ++j)
+        for (int i = 0; i < starts[0]; ++i) {
           std::vector<int> corners;
-          for (int dk = 0; dk < (patch.param_dim() == 3 ? 2 : 1); ++dk)
-            for (int dj = 0; dj < 2; ++dj)
-              for (int di = 0; di < 2; ++di)
+          for (int dk = 0; dk < block[2]; ++dk)
+            for (int dj = 0; dj < block[1]; ++dj)
+              for (int di = 0; di < block[0]; ++di)
                 corners.push_back(mesh.particle[p][patch.index(i + di, j + dj, k + dk)]);
           for (size_t a = 0; a < corners.size(); ++a)
             for (size_t b = a + 1; b < corners.size(); ++b) {

@@ -7,6 +7,7 @@
 
 #include "isospring/analysis/sides.hpp"
 #include "isospring/analysis/static_solver.hpp"
+#include "isospring/fitting/load_suite.hpp"
 #include "isospring/fitting/spring_mesh.hpp"
 #include "isospring/geometry/primitives.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -197,6 +198,17 @@ std::vector<double> deformation_percent(const analysis::Problem& problem) {
   std::vector<double> result;
   for (size_t c = 0; c < stretch.change.size(); ++c) result.push_back(percent_at(stretch, c, 1.0));
   return result;
+}
+
+ThesisSuite thesis_load_suite(const ThesisObject& object) {
+  ThesisSuite suite;
+  suite.problem = object.problem;
+  const LoadSuite generated = generate_load_suite(object.problem, {});
+  for (const auto& lc : generated.cases) suite.problem.load_cases.push_back(lc);
+  suite.training = generated.training;
+  suite.validation = generated.validation;
+  for (const auto& lc : object.problem.load_cases) suite.validation.push_back(lc.id);
+  return suite;
 }
 
 ThesisObject thesis_square(int n, int degree) {

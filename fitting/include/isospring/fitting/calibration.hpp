@@ -22,10 +22,19 @@ struct CalibrationSettings {
   /// One stiffness per spring, pulled towards its gamma group's value with this weight (0: free).
   bool per_spring = false;
   double regularization = 0.0;
+  /// Per-spring fits only: > 0 fits by L-BFGS with the penalty (w / S) sum (log k_s - log
+  /// prior_s)^2 towards the start (prior_spring_fit.hpp) instead of Levenberg-Marquardt with
+  /// `regularization`; cheap with many load cases. Chosen by validation error
+  /// (generalising_calibration.hpp), not by the fitted error.
+  double prior_weight = 0.0;
+  int prior_max_iterations = 300;  // L-BFGS iterations of that fit
   /// Per-spring fits only: the stiffness per spring to start from (e.g. a grouped optimum the
   /// caller already has); empty: the grouped optimum of `gamma`, fitted first.
   std::vector<double> per_spring_start;
   bool upper_bounds = false;  // [S15 4.19] bounds per group
+  /// Lower bound of every stiffness as a fraction of the stiffest initial group
+  /// (DisplacementFitOptions::min_stiffness_ratio).
+  double min_stiffness_ratio = 1e-6;
   MassModel mass_model = MassModel::kLumpedIga;
   SpringMeshOptions mesh;
   std::vector<std::string> fit_cases;      // ids; empty: every case not in holdout_cases
@@ -34,6 +43,8 @@ struct CalibrationSettings {
   double damping_ratio = 0.0;              // > 0: c = 2 zeta sqrt(k m_reduced) instead (not both)
   int max_iterations = 200;
   int field_samples = 11;  // per direction for the field metrics
+  /// false: only the control-point metrics (cross-validation folds need no more).
+  bool field_metrics = true;
   /// Also fit ||K_IGA - K_NMSM||_F (matrix approach) with the same grouping, and per element when
   /// every patch has degree 1, and evaluate those models on the same load cases.
   bool matrix_approach = false;

@@ -1,0 +1,143 @@
+// Generalisation table of `isospring thesis` (header).
+#include "thesis_generalisation.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "isospring/analysis/problem.hpp"
+#include "isospring/fitting/generalising_calibration.hpp"
+#include "isospring/fitting/thesis_experiments.hpp"
+
+namespace isospring::apps {
+namespace {
+
+std::string num(double x) {
+  return std::isfinite(x) ? io::format_number(x, 3) : "-";
+}
+
+// Candidates per object. Membranes (110 springs; 350 with reach 2) are cheap: both topologies,
+// three weights, long L-BFGS runs. The solids (1600 to 2000 springs, 19 to 23 training cases)
+// cost seconds per fit: reach 1, two weights, the gammas around [S15]'s and our best.
+fitting::GeneralisationOptions candidates(const fitting::ThesisObject& object, bool quick,
+                                          int& prior_iterations) {
+  fitting::GeneralisationOptions options;
+  const bool solid = object.problem.formulation == analysis::Formulation::kSolid;
+  if (solid) {
+    // The torus's gamma 0.1 (19 groups) costs ~20 s over 23 cases and lost to 0.2 when run.
+    options.gammas = object.name == "cube"    ? std::vector<double>{0.8, 0.5}
+                     : object.name == "torus" ? std::vector<double>{0.5, 0.2}
+                                              : std::vector<double>{0.5, 0.2, 0.1};
+    if (quick) options.gammas.resize(2);
+    options.prior_weights = {1e-2, 1e-4};
+    options.reaches = {1};
+    prior_iterations = quick ? 100 : 200;
+  } else {
+    options.gammas = {0.8, 0.5, 0.2, 0.1, 0.01};
+    options.prior_weights = {1e-2, 1e-3, 1e-4};
+    options.reaches = {1, 2};
+    prior_iterations = quick ? 300 : 1500;
+  }
+  options.folds = 3;
+  options.target_percent_e_rms = object.published_e_rms;
+  return options;
+}
+
+}  // namespace
+
+void thesis_generalisation(bool quick, nlohmann::json& report, io::MarkdownReport& md,
+                           const io::Progress& progress) {
+  std::vector<std::vector<std::string>> rows;
+  for (const std::string name :
+       {"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}) {
+    const auto start = std::chrono::steady_clock::now();
+    const fitting::ThesisObject object = fitting::thesis_object(name);
+    const fitting::ThesisSuite suite = fitting::thesis_load_suite(object);
+    fitting::CalibrationSettings settings;
+    settings.fit_cases = suite.training;
+    settings.holdout_cases = suite.validation;
+    settings.max_iterations = 3000;
+    settings.field_metrics = false;
+    const fitting::GeneralisationOptions options =
+        candidates(object, quick, settings.prior_max_iterations);
+    settings.progress = [&progress, &name](const std::string& line) {
+      progress(name + ": " + line);
+    };
+    progress(name + ": generalisation, " + std::to_string(suite.training.size()) +
+             " training and " + std::to_string(suite.validation.size()) + " validation cases");
+    const fitting::GeneralisationResult g =
+        fitting::calibrate_for_generalisation(suite.problem, settings, options);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const fitting::CandidateScore& chosen = g.candidates[static_cast<size_t>(g.chosen)];
+    const fitting::CalibrationResult& r = g.calibration;
+
+    nlohmann::json j = {{"object", name},
+                        {"training_cases", suite.training},
+                        {"validation_cases", suite.validation},
+                        {"reach", chosen.reach},
+                        {"springs", r.mesh.network.springs.size()},
+                        {"gamma", chosen.gamma},
+                        {"prior_weight", chosen.prior_weight},
+                        {"parameters", r.parameters},
+                        {"cross_validation_worst", chosen.worst},
+                        {"worst_fitted", g.worst_fitted},
+                        {"worst_validation", g.worst_validation},
+                        {"worst", g.worst},
+                        {"published_percent_e_rms", object.published_e_rms},
+                        {"meets_published", g.worst <= object.published_e_rms},
+                        {"warnings", g.warnings},
+                        {"seconds", seconds}};
+    for (const auto* cases : {&r.fit, &r.holdout})
+      for (const auto& e : *cases)
+        j[cases == &r.fit ? "fitted" : "validation"].push_back(
+            {{"id", e.id},
+             {"percent_e_rms", e.control.percent_e_rms},
+             {"percent_e_max", e.control.percent_e_max}});
+    for (const auto& c : g.candidates)
+      j["candidates"].push_back({{"reach", c.reach},
+                                 {"gamma", c.gamma},
+                                 {"prior_weight", c.prior_weight},
+                                 {"parameters", c.parameters},
+                                 {"cross_validation_worst", c.worst},
+                                 {"failure", c.failure}});
+    report["generalisation"].push_back(j);
+    for (const auto& w : g.warnings) progress.warn(name + ": " + w);
+
+    std::string s15_cases, suite_cases;
+    for (const auto& e : r.holdout) {
+      const bool own =
+          std::any_of(object.problem.load_cases.begin(), object.problem.load_cases.end(),
+                      [&](const auto& lc) { return lc.id == e.id; });
+      std::string& cell = own ? s15_cases : suite_cases;
+      cell += (cell.empty() ? "" : ", ") + e.id + " " + num(e.control.percent_e_rms);
+    }
+    rows.push_back(
+        {name,
+         std::to_string(r.mesh.network.springs.size()) + " springs (reach " +
+             std::to_string(chosen.reach) + "), " +
+             (chosen.prior_weight > 0.0
+                  ? "per spring, w " + num(chosen.prior_weight) + " (gamma " + num(chosen.gamma) +
+                        ")"
+                  : std::to_string(r.parameters) + " groups (gamma " + num(chosen.gamma) + ")"),
+         num(g.worst_fitted) + " (" + std::to_string(r.fit.size()) + ")", s15_cases, suite_cases,
+         num(g.worst), num(object.published_e_rms),
+         g.worst <= object.published_e_rms ? "yes" : "**no**", num(seconds)});
+  }
+  md.heading(2, "Generalisation (issue 14): worst error over fitted and held-out load cases");
+  md.paragraph(
+      "Training: the load suite of fitting/load_suite.hpp (uniform traction along every axis and "
+      "a twist on every free side, self-weight along every axis). Validation, never fitted: a "
+      "ramp traction along the oblique direction on every free side, oblique self-weight, and "
+      "all of [S15]'s load cases of the object (its fitted case fit_points included). The "
+      "model's freedom (spring reach 1 or 2 for the membranes; gamma; per spring with the "
+      "penalty weight w pulling log k towards the grouped optimum) is chosen by 3-fold "
+      "cross-validation over the training cases: lowest worst held-out %e_rms. %e_rms on the "
+      "control points; fitted: worst over the training cases (their number in brackets); worst: "
+      "over fitted and validation cases. Loads are not scaled to %eps_G = 10 (linear: the errors "
+      "do not depend on the scale).");
+  md.table({"object", "model", "fitted (worst)", "[S15] cases (held out)", "suite validation",
+            "worst", "published (fitted)", "meets", "time [s]"},
+           rows);
+}
+
+}  // namespace isospring::apps

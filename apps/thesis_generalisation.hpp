@@ -1,0 +1,16 @@
+#pragma once
+// The generalisation table of `isospring thesis` (issue 14): per [S15] object, a spring model
+// calibrated on the load suite (fitting/load_suite.hpp) with its freedom chosen by
+// cross-validation (fitting/generalising_calibration.hpp), measured on validation cases and on
+// [S15]'s own load cases, none of them fitted, beside [S15]'s fitted-case error.
+#include <nlohmann/json.hpp>
+
+#include "isospring/io/report.hpp"
+
+namespace isospring::apps {
+
+/// Runs the six objects, appends report["generalisation"] and a section of `md`.
+void thesis_generalisation(bool quick, nlohmann::json& report, io::MarkdownReport& md,
+                           const io::Progress& progress);
+
+}  // namespace isospring::apps
