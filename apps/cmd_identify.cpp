@@ -485,7 +485,7 @@ void setup_identify(CLI::App& app) {
                 "Leave out markers off the model (listed in the report) instead of failing");
   cmd->add_option("--max-dofs", options->max_dofs,
                   "DOF budget of the discretisation check (default: measurements.max_dofs, "
-                  "else 200000)")
+                  "else 25000)")
       ->check(CLI::Range(1L, 1000000000L));
   cmd->add_flag("--no-discretization-check", options->no_discretization_check,
                 "Run the loop on the case's discretisation without checking its error against "

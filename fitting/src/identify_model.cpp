@@ -51,17 +51,19 @@ struct FactorizationCache {
                   const std::vector<double>& c) const {
     if (!cholesky || model_fingerprint != fingerprint || c.size() != coefficients.size())
       return 0.0;
-    double cc = 0.0, cr = 0.0, rr = 0.0;
-    for (size_t j = 0; j < c.size(); ++j) {
-      cc += c[j] * c[j];
-      cr += c[j] * coefficients[j];
-      rr += coefficients[j] * coefficients[j];
-    }
-    if (!(rr > 0.0) || !(cr > 0.0)) return 0.0;
-    const double s = cr / rr;
-    double off = 0.0;
-    for (size_t j = 0; j < c.size(); ++j) off += std::pow(c[j] - s * coefficients[j], 2);
-    return off <= 1e-26 * cc ? s : 0.0;
+    // One scale for every term, each to 1e-13 of itself: a term far stiffer than the others
+    // (a support spring of 1e12 against E = 1e9) must not hide a change in the others, which a
+    // badly conditioned K would amplify.
+    double s = 0.0;
+    for (size_t j = 0; j < c.size(); ++j)
+      if (coefficients[j] != 0.0) {
+        s = c[j] / coefficients[j];
+        break;
+      }
+    if (!(s > 0.0)) return 0.0;
+    for (size_t j = 0; j < c.size(); ++j)
+      if (std::abs(c[j] - s * coefficients[j]) > 1e-13 * std::abs(c[j])) return 0.0;
+    return s;
   }
 };
 

@@ -11,8 +11,8 @@
 //     "fit_poisson": false, "significance": 0.01, "holdout": true,
 //     "effects": ["gravity", ...],     // optional; candidate effects (default: all)
 //     "discretization_check": true,    // refine the reference until its marker error < target
-//     "discretization_target": 0.333,  //   x noise (rms), within "max_dofs" DOFs (200000)
-//     "max_dofs": 200000
+//     "discretization_target": 0.333,  //   x noise (rms), within "max_dofs" DOFs (25000)
+//     "max_dofs": 25000
 //   }
 //
 // Default header: load_case,x,y,z,ux,uy,uz[,sigma]; 2D data may omit z and uz. Column names are
