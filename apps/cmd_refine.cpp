@@ -138,6 +138,7 @@ void setup_refine(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "Do not print the \"wrote ...\" line");
   cmd->footer("Order: --elevate, then --insert, then --h (k-refinement keeps C^(p-1)).");
   cmd->callback([options] {
+    check_output_file(options->output, {options->input});
     const auto original = io::read_patch_file(options->input);
     auto patches = original;
     for (size_t i = 0; i < patches.size(); ++i)

@@ -21,6 +21,7 @@
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -145,10 +146,15 @@ void plot(const std::filesystem::path& out_dir, const std::vector<StudyRow>& row
 
 void run_study(const StudyOptions& options) {
   const io::Progress progress("study", options.quiet);
-  const std::filesystem::path out_dir(options.output);
   if (options.levels < 1 || options.levels > 8)
     throw nurbs::InputError("--levels " + std::to_string(options.levels) + ": give 1 to 8 levels");
-  const io::Case c = io::read_case_file(options.case_file);
+  const std::filesystem::path out_dir =
+      output_folder(options.output, {options.case_file},
+                    {"report.json", "report.md", "study.csv", "convergence.png"});
+  const io::Case c = io::read_case_file(options.case_file, solve_limits(0));
+  io::check_outputs_spare_inputs(
+      case_inputs(c),
+      in_folder(out_dir, {"report.json", "report.md", "study.csv", "convergence.png"}));
   std::vector<int> degrees;
   if (options.degrees.empty()) {
     degrees.push_back(c.discretization.degree[0]);

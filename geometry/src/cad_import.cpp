@@ -37,6 +37,7 @@
 #include "cad_hexahedron.hpp"
 #include "cad_reader.hpp"
 #include "cad_revolution.hpp"
+#include "crash_guard.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
@@ -85,7 +86,7 @@ std::string surface_type_name(GeomAbs_SurfaceType type) {
 }
 
 // Reads the file into one shape, in metres; returns the unit the file declares.
-TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_unit) {
+TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string& file_unit) {
   const std::string name = file.string();
   if (!std::filesystem::exists(file))
     throw InputError(name + ": file not found; give the path of a .step/.stp/.iges/.igs file");
@@ -151,6 +152,17 @@ TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_uni
                      ": the file holds no geometry OpenCascade can transfer (no solids, "
                      "shells or faces)");
   return shape;
+}
+
+// read_shape_unguarded, first in a child process: a corrupted file that crashes OpenCascade
+// becomes an input error naming the file (crash_guard.hpp). Reading twice costs the read time
+// of the file again, small beside the conversion of its faces.
+TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_unit) {
+  detail::fail_if_it_crashes(file, [&] {
+    std::string unit;
+    read_shape_unguarded(file, unit);
+  });
+  return read_shape_unguarded(file, file_unit);
 }
 
 // The face as a patch when it covers its whole UV rectangle; otherwise an explanation.

@@ -2,6 +2,8 @@
 
 #include <limits>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "isospring/analysis/post_processing.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -52,6 +54,21 @@ Eigen::VectorXd scalar(double value) {
   out(0) = value;
   return out;
 }
+// The fields are evaluated while the VTK files are written; a value that overflows (stresses
+// of a solution near the limits of a double) must stop the run (exit status 3) rather than be
+// written as inf or NaN. The solver has already checked the displacements themselves.
+PatchField finite_only(PatchField field) {
+  auto evaluate = std::move(field.evaluate);
+  const std::string name = field.name;
+  field.evaluate = [evaluate, name](int p, const nurbs::Param& u) {
+    Eigen::VectorXd value = evaluate(p, u);
+    if (!value.allFinite())
+      throw std::runtime_error(name + " overflowed (not finite) in patch " + std::to_string(p) +
+                               "; check the material and the loads and their units (SI)");
+    return value;
+  };
+  return field;
+}
 }  // namespace
 
 PatchFields solution_fields(const analysis::Problem& problem,
@@ -63,15 +80,16 @@ PatchFields solution_fields(const analysis::Problem& problem,
         control_vector_field("displacement_" + lc.id, lc.control_displacements));
     auto cache = std::make_shared<CachedField>(shared, lc.control_displacements);
     auto stress = [cache](int p, const nurbs::Param& u) { return cache->at(p, u).stress; };
-    fields.evaluated.push_back(stress_tensor_field("stress_" + lc.id, stress));
-    fields.evaluated.push_back(PatchField{
-        "von_mises_" + lc.id, 1,
-        [cache](int p, const nurbs::Param& u) { return scalar(cache->at(p, u).von_mises); }});
+    fields.evaluated.push_back(finite_only(stress_tensor_field("stress_" + lc.id, stress)));
     fields.evaluated.push_back(
+        finite_only(PatchField{"von_mises_" + lc.id, 1, [cache](int p, const nurbs::Param& u) {
+                                 return scalar(cache->at(p, u).von_mises);
+                               }}));
+    fields.evaluated.push_back(finite_only(
         PatchField{"strain_energy_density_" + lc.id, 1, [cache](int p, const nurbs::Param& u) {
                      const analysis::FieldPoint& f = cache->at(p, u);
                      return scalar(0.5 * f.stress.cwiseProduct(f.strain).sum());
-                   }});
+                   }}));
   }
   return fields;
 }
