@@ -44,6 +44,7 @@
 #include "isospring/nurbs/error.hpp"
 #include "occt_conversion.hpp"
 #include "occt_silence.hpp"
+#include "step_entities.hpp"
 
 namespace isospring::geometry {
 
@@ -119,6 +120,11 @@ TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string
       throw InputError(name +
                        ": OpenCascade cannot parse this STEP file (truncated or invalid); "
                        "export it again");
+    const std::string unreadable = detail::unreadable_step_entities(reader.Model());
+    if (!unreadable.empty())
+      throw InputError(name + ": " + unreadable +
+                       ": the file is corrupted (e.g. a misspelled entity name) or uses entities "
+                       "OpenCascade does not support; export it again as STEP AP203/AP214");
     TColStd_SequenceOfAsciiString length, angle, solid_angle;
     reader.FileUnits(length, angle, solid_angle);
     file_unit = length.IsEmpty() ? "unknown" : length.First().ToCString();
@@ -228,7 +234,8 @@ TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::stri
   return read_shape(file, file_unit);
 }
 
-CadModel read_cad(const std::filesystem::path& file) {
+namespace {
+CadModel read_cad_unguarded(const std::filesystem::path& file) {
   CadModel model;
   model.file = file;
   TopoDS_Shape shape;
@@ -318,6 +325,18 @@ CadModel read_cad(const std::filesystem::path& file) {
     model.solid_notes.push_back(why);
   }
   return model;
+}
+}  // namespace
+
+CadModel read_cad(const std::filesystem::path& file) {
+  // A corrupted file can make OpenCascade throw (Standard_Failure is no std::exception, so it
+  // would end the program) anywhere in the conversion, not only while reading.
+  try {
+    return read_cad_unguarded(file);
+  } catch (const Standard_Failure& e) {
+    throw InputError(file.string() + ": OpenCascade failed on it (" + e.GetMessageString() +
+                     "); the file is probably corrupted: export it again");
+  }
 }
 
 namespace {

@@ -33,10 +33,11 @@ void fail_if_it_crashes(const std::filesystem::path& file, const std::function<v
       throw std::runtime_error("cannot wait for the process reading '" + file.string() +
                                "': " + std::strerror(errno));
   if (WIFSIGNALED(status))
-    throw nurbs::InputError(file.string() + ": OpenCascade crashed reading this file (" +
-                            ::strsignal(WTERMSIG(status)) +
-                            "): it is corrupted or not valid STEP/IGES (e.g. a misspelled entity "
-                            "name); export it again from the CAD program");
+    throw nurbs::InputError(
+        file.string() + ": OpenCascade crashed reading this file (" +
+        ::strsignal(WTERMSIG(status)) +
+        "): it is corrupted or not valid STEP/IGES; export it again from the CAD "
+        "program");
 }
 
 }  // namespace isospring::geometry::detail

@@ -52,14 +52,14 @@ TEST(JsonNumbers, EveryInputFileReportsTheOverflowingField) {
   overflowing.replace(at, 12, "\"E\": 1e999");
   std::ofstream(dir / "case.json") << overflowing;
   std::ofstream(dir / "patches.json") << R"({"patches": [{"degrees": [1], "knots": [[0, 0, 1, 1]],
-                         "points": [[0, 0, 0], [-1e400, 0, 0]]}]})";
+                         "control_points": [[0, 0, 0], [-1e400, 0, 0]]}]})";
   std::ofstream(dir / "model.json") << R"({"format": "isospring-spring-model", "particles": [
       {"position": [0, 0, 0], "mass": 1e999}]})";
   EXPECT_NE(input_error([&] { read_case_file(dir / "case.json"); }).find("material.E = 1e999"),
             std::string::npos);
   EXPECT_NE(input_error([&] {
               read_patch_file(dir / "patches.json");
-            }).find("patches[0].points[1][0] = -1e400"),
+            }).find("patches[0].control_points[1][0] = -1e400"),
             std::string::npos);
   EXPECT_NE(
       input_error([&] { read_model_json(dir / "model.json"); }).find("particles[0].mass = 1e999"),
