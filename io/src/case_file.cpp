@@ -243,16 +243,16 @@ void check_geometry_fits(const std::vector<nurbs::Patch>& exact, const CaseDiscr
         analysis::format_bytes(available) + " are available (MemAvailable); use fewer elements");
 }
 
-// With a memory limit for the solve (analyze's --max-memory or the available memory), refuses
-// a discretisation whose static solve cannot fit, before refining.
-void check_solve_fits(const Case& c, const CaseLimits& limits) {
+}  // namespace
+
+void check_solve_fits(const Case& c, const CaseDiscretization& disc, const CaseLimits& limits) {
   if (limits.solve_memory_bytes <= 0) return;
-  const auto sizes = discretized_sizes(c.geometry, c.discretization);
+  const auto sizes = discretized_sizes(c.geometry, disc);
   const analysis::SolveEstimate e = analysis::estimate_static_solve(sizes, c.dimension);
   if (e.bytes > limits.solve_memory_bytes)
     throw nurbs::InputError(
         file_label(c.file) + ": discretization: " +
-        elements_text(c.discretization, c.geometry.front().param_dim()) + " elements give " +
+        elements_text(disc, c.geometry.front().param_dim()) + " elements give " +
         io::format_number(e.dofs, 3) + " DOFs and " + io::format_number(e.nonzeros, 3) +
         " stiffness nonzeros (each basis function couples with (2p+1)^d others); the solve "
         "needs at least " +
@@ -260,8 +260,6 @@ void check_solve_fits(const Case& c, const CaseLimits& limits) {
         analysis::format_bytes(limits.solve_memory_bytes) + " (" + limits.solve_memory_source +
         "); use fewer elements or a lower degree");
 }
-}  // namespace
-
 std::vector<nurbs::Patch> discretize_patches(const std::vector<nurbs::Patch>& exact,
                                              const CaseDiscretization& disc,
                                              const std::string& where) {
@@ -350,7 +348,7 @@ Case build_case_from_json(const json& document, const fs::path& case_file,
   root.at("load_cases");
 
   c.discretization = read_discretization(root, c.geometry);
-  check_solve_fits(c, limits);
+  check_solve_fits(c, c.discretization, limits);
   c.problem.patches = discretize_patches(c.geometry, c.discretization, file_label(case_file));
   add_conditions(c, c.problem.patches, c.problem);
   return c;

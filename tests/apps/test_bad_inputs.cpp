@@ -267,6 +267,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "100000 x 1000 x 1000 elements"},
         BadInput{"AnalyzeBeyondMaxMemory", "analyze {d}/big_mesh.json -o {d}/out --max-memory 0.01",
                  "(--max-memory 0.01 GB)"},
+        BadInput{"StudyFinestLevelTooLarge", "study {d}/big_mesh.json -o {d}/out --levels 8",
+                 "2560 x 512 x 512 elements"},
         BadInput{"RefineHugeH", "refine {d}/p.json -o {d}/r.json --h 1000000", "control points"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
 

@@ -86,6 +86,12 @@ Case build_case_from_json(const nlohmann::json& document, const std::filesystem:
 /// geometry's, elements not a multiple of the existing spans, a control point index out of range).
 analysis::Problem problem_at(const Case& c, const CaseDiscretization& discretization);
 
+/// With limits.solve_memory_bytes > 0: throws InputError with the estimate (DOFs, stiffness
+/// nonzeros, bytes) when the static solve of `c` at `discretization` needs more, checked from
+/// the sizes alone, before refining (analysis::estimate_static_solve).
+void check_solve_fits(const Case& c, const CaseDiscretization& discretization,
+                      const CaseLimits& limits);
+
 /// Elevates and splits exact patches as described at CaseDiscretization; `where` prefixes errors.
 std::vector<nurbs::Patch> discretize_patches(const std::vector<nurbs::Patch>& exact,
                                              const CaseDiscretization& discretization,
