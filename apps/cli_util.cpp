@@ -100,6 +100,7 @@ void check_output_file(const std::filesystem::path& output,
   outputs.push_back(file_report_path(output, ".md"));
   io::check_outputs_spare_inputs(inputs, outputs);
   io::check_writable_folder(output.parent_path());
+  for (const std::filesystem::path& other : extra) io::check_writable_folder(other.parent_path());
 }
 
 io::CaseLimits solve_limits(double max_memory_gb) {

@@ -221,6 +221,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "{d}/afile/out"},
         BadInput{"ThesisIntoAFile", "thesis -o {d}/afile/out", "{d}/afile/out"},
         BadInput{"ImportIntoAFile", "import {d}/block.step -o {d}/afile/b.json", "{d}/afile"},
+        BadInput{"ImportDisplayIntoAFile",
+                 "import {d}/block.step -o {d}/b.json --display {d}/afile/b.vtp", "{d}/afile"},
         BadInput{"ExportStepIntoSys", "export-step {d}/p.json -o /sys/isospring.step",
                  "Permission denied"},
         BadInput{"RefineIntoSys", "refine {d}/p.json -o /sys/isospring.json", "/sys"},
