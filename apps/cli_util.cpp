@@ -103,15 +103,19 @@ void check_output_file(const std::filesystem::path& output,
   for (const std::filesystem::path& other : extra) io::check_writable_folder(other.parent_path());
 }
 
+MemoryLimit memory_limit(double max_memory_gb) {
+  MemoryLimit limit{analysis::available_memory_bytes(),
+                    "available memory, MemAvailable in /proc/meminfo"};
+  if (max_memory_gb > 0 && (limit.bytes <= 0 || max_memory_gb * 1e9 < limit.bytes))
+    limit = {max_memory_gb * 1e9, "--max-memory " + io::format_number(max_memory_gb) + " GB"};
+  return limit;
+}
+
 io::CaseLimits solve_limits(double max_memory_gb) {
+  const MemoryLimit limit = memory_limit(max_memory_gb);
   io::CaseLimits limits;
-  const double available = analysis::available_memory_bytes();
-  limits.solve_memory_bytes = available;
-  limits.solve_memory_source = "available memory, MemAvailable in /proc/meminfo";
-  if (max_memory_gb > 0 && (available <= 0 || max_memory_gb * 1e9 < available)) {
-    limits.solve_memory_bytes = max_memory_gb * 1e9;
-    limits.solve_memory_source = "--max-memory " + io::format_number(max_memory_gb) + " GB";
-  }
+  limits.solve_memory_bytes = limit.bytes;
+  limits.solve_memory_source = limit.source;
   return limits;
 }
 

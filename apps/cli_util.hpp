@@ -32,8 +32,15 @@ void check_output_file(const std::filesystem::path& output,
                        const std::vector<std::filesystem::path>& inputs,
                        const std::vector<std::filesystem::path>& extra = {});
 
-/// Memory limit of a static solve for io::read_case_file: `max_memory_gb` (the --max-memory
-/// option; 0 when not given) or the available memory, whichever is smaller.
+/// The memory a run may use: `max_memory_gb` (the --max-memory option; 0 when not given) or the
+/// available memory, whichever is smaller; `source` says which, for messages.
+struct MemoryLimit {
+  double bytes = 0;  // 0: unknown (no limit)
+  std::string source;
+};
+MemoryLimit memory_limit(double max_memory_gb);
+
+/// The same as the limit of a static solve for io::read_case_file.
 io::CaseLimits solve_limits(double max_memory_gb);
 
 /// Every file a case reads: the case file, its geometry file (CAD or patch file) and its

@@ -74,10 +74,9 @@ void check_refined_size(const std::vector<nurbs::Patch>& patches, const RefineOp
     std::array<double, 3> inserted{0, 0, 0}, splits{1, 1, 1};
     for (int d = 0; d < patch.param_dim(); ++d) {
       const auto i = static_cast<size_t>(d);
+      // (A wrong count of --elevate amounts is reported by refine_patch.)
       if (!options.elevate.empty())
-        elevate[i] = options.elevate.size() == 1
-                         ? options.elevate[0]
-                         : options.elevate[std::min(i, options.elevate.size() - 1)];
+        elevate[i] = options.elevate[std::min(i, options.elevate.size() - 1)];
       splits[i] = options.h;
     }
     for (const std::string& spec : options.insert) {
@@ -97,22 +96,17 @@ void check_refined_size(const std::vector<nurbs::Patch>& patches, const RefineOp
           " control points, more than isospring supports in one patch (" +
           std::to_string(std::numeric_limits<int>::max()) + "); use a smaller --h or --elevate");
   }
-  double limit = analysis::available_memory_bytes();
-  std::string source = "available memory, MemAvailable in /proc/meminfo";
-  if (options.max_memory_gb > 0 && (limit <= 0 || options.max_memory_gb * 1e9 < limit)) {
-    limit = options.max_memory_gb * 1e9;
-    source = "--max-memory " + io::format_number(options.max_memory_gb) + " GB";
-  }
+  const MemoryLimit limit = memory_limit(options.max_memory_gb);
   // The input and the refined patches are held together, and each step (elevation, insertion,
   // splitting) builds a new patch from the previous one: at least twice the refined size.
   const double needed = 2.0 * analysis::geometry_bytes(sizes);
   double points = 0;
   for (const auto& s : sizes) points += s.total_points();
-  if (limit > 0 && needed > limit)
+  if (limit.bytes > 0 && needed > limit.bytes)
     throw nurbs::InputError(options.input + ": the refinement gives " +
                             io::format_number(points, 3) + " control points, which need at least " +
                             analysis::format_bytes(needed) + " but the limit is " +
-                            analysis::format_bytes(limit) + " (" + source +
+                            analysis::format_bytes(limit.bytes) + " (" + limit.source +
                             "); use a smaller --h or --elevate");
 }
 
