@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "isospring/io/case_file.hpp"
 #include "isospring/nurbs/patch.hpp"
 
 namespace isospring::apps {
@@ -18,8 +19,42 @@ enum class InputKind { kPatchFile, kCaseFile, kCad };
 InputKind input_kind(const std::filesystem::path& path);
 
 /// The output folder given with -o, checked before any work: throws nurbs::InputError when the
-/// path exists and is not a folder. The folder itself is created when the outputs are written.
-std::filesystem::path output_folder(const std::string& option_value);
+/// path exists and is not a folder, when files cannot be created there, or when one of the files
+/// `names` the command writes into it is one of `inputs` (io/output_guard.hpp). The folder itself
+/// is created when the outputs are written.
+std::filesystem::path output_folder(const std::string& option_value,
+                                    const std::vector<std::filesystem::path>& inputs,
+                                    const std::vector<std::string>& names);
+
+/// The same for the single-file commands: `output`, its two reports (file_report.hpp) and
+/// `extra` outputs must spare the inputs, and its folder must be writable.
+void check_output_file(const std::filesystem::path& output,
+                       const std::vector<std::filesystem::path>& inputs,
+                       const std::vector<std::filesystem::path>& extra = {});
+
+/// The memory a run may use: `max_memory_gb` (the --max-memory option; 0 when not given) or the
+/// available memory, whichever is smaller; `source` says which, for messages.
+struct MemoryLimit {
+  double bytes = 0;  // 0: unknown (no limit)
+  std::string source;
+};
+MemoryLimit memory_limit(double max_memory_gb);
+
+/// The same as the limit of a static solve for io::read_case_file.
+io::CaseLimits solve_limits(double max_memory_gb);
+
+/// Every file a case reads: the case file, its geometry file (CAD or patch file) and its
+/// measurements file.
+std::vector<std::filesystem::path> case_inputs(const io::Case& c);
+
+/// Every file reading `path` reads: the file itself and, for a case file, its geometry and
+/// measurements files (from the document, before the case is built).
+std::vector<std::filesystem::path> input_files(const std::filesystem::path& path);
+
+/// `folder / name` for each name, for the output checks after the case is read (file names
+/// that depend on load-case ids).
+std::vector<std::filesystem::path> in_folder(const std::filesystem::path& folder,
+                                             const std::vector<std::string>& names);
 
 /// Patches of a patch file, a case file (its discretised geometry) or a CAD file, by content.
 std::vector<nurbs::Patch> read_patches_any(const std::filesystem::path& path);

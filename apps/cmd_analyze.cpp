@@ -9,6 +9,7 @@
 #include "command.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/io/vtk_multiblock.hpp"
@@ -23,6 +24,7 @@ struct AnalyzeOptions {
   std::string output;
   std::string solver = "cholesky";
   int threads = 0;
+  double max_memory_gb = 0;  // 0: the available memory
   bool quiet = false;
 };
 
@@ -35,10 +37,15 @@ nlohmann::json vector_json(const Eigen::Vector3d& v, int dimension) {
 void run_analyze(const AnalyzeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("analyze", options.quiet);
-  const std::filesystem::path out_dir = output_folder(options.output);
+  const std::filesystem::path out_dir = output_folder(options.output, {options.case_file},
+                                                      {"report.json", "report.md", "result.vtm"});
 
   progress("reading " + options.case_file);
-  const io::Case c = io::read_case_file(options.case_file);
+  const io::Case c = io::read_case_file(options.case_file, solve_limits(options.max_memory_gb));
+  std::vector<std::string> csv_names;
+  for (const auto& load : c.problem.load_cases)
+    csv_names.push_back(load.id + "_control_displacements.csv");
+  io::check_outputs_spare_inputs(case_inputs(c), in_folder(out_dir, csv_names));
   analysis::SolverOptions solver;
   solver.method = options.solver == "cg" ? analysis::SolverOptions::Method::kConjugateGradient
                                          : analysis::SolverOptions::Method::kCholesky;
@@ -134,6 +141,10 @@ void setup_analyze(CLI::App& app) {
       ->check(CLI::IsMember({"cholesky", "cg"}));
   cmd->add_option("--threads", options->threads, "Threads for assembly (0 = all)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-memory", options->max_memory_gb,
+                  "Refuse (exit 1) a case whose solve needs more than this many GB (default: the "
+                  "available memory)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_analyze(*options); });
 }

@@ -22,6 +22,7 @@
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/model_file.hpp"
+#include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/io/vtk_spring_network.hpp"
@@ -101,10 +102,16 @@ void write_errors_csv(const std::filesystem::path& path, const analysis::DofMap&
 void run_calibrate(const CalibrateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("calibrate", options.quiet);
-  const std::filesystem::path out_dir = output_folder(options.output);
+  const std::filesystem::path out_dir =
+      output_folder(options.output, {options.case_file},
+                    {"report.json", "report.md", "model.json", "springs.vtp", "result.vtm",
+                     "errors_histogram.png", "errors_vs_position.png"});
 
   progress("reading " + options.case_file);
-  io::Case c = io::read_case_file(options.case_file);
+  io::Case c = io::read_case_file(options.case_file, solve_limits(0));
+  std::vector<std::string> csv_names;
+  for (const auto& load : c.problem.load_cases) csv_names.push_back(load.id + "_errors.csv");
+  io::check_outputs_spare_inputs(case_inputs(c), in_folder(out_dir, csv_names));
   CalibrationRequest request = parse_calibration(c.calibration, options.case_file);
   fitting::CalibrationSettings& settings = request.settings;
   settings.matrix_approach = request.matrix_approach;

@@ -14,6 +14,7 @@
 
 #include "calibration_outputs.hpp"
 #include "calibration_settings.hpp"
+#include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/analysis/post_processing.hpp"
 #include "isospring/analysis/static_solver.hpp"
@@ -70,7 +71,10 @@ void run_demo(const DemoOptions& options) {
   const io::Progress progress("demo", options.quiet);
   const fs::path case_path =
       options.case_file.empty() ? default_case() : fs::path(options.case_file);
-  const fs::path out = options.output;
+  const fs::path out =
+      output_folder(options.output, input_files(case_path),
+                    {"result.vtm", "model.json", "model_mujoco.xml", "model_sofa.scn",
+                     "report.json", "report.md", "errors_histogram.png", "errors_vs_position.png"});
   nlohmann::json report = io::report_header("demo", ISOSPRING_VERSION, case_path);
   nlohmann::json steps = nlohmann::json::array();
   auto step_done = [&](const std::string& name, double seconds, nlohmann::json details) {

@@ -2,6 +2,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 #include "cli_util.hpp"
@@ -60,6 +61,15 @@ void setup_eval(CLI::App& app) {
     for (const std::string& text : options->at) {
       const nurbs::Param u = parse_param(text, patch);
       const nurbs::PatchDerivatives der = patch.derivatives(u, 1);
+      // Control points or weights near the limits of a double (e.g. 1e308) overflow in the
+      // rational sums; a failure beats printing inf or -nan as if it were a point.
+      const bool finite = der.point.allFinite() &&
+                          (!options->derivs || der.first.leftCols(patch.param_dim()).allFinite());
+      if (!finite)
+        throw std::runtime_error(options->input + ": patch " + std::to_string(options->patch) +
+                                 " at " + text +
+                                 ": the point or its derivatives overflow a double (not finite); "
+                                 "check the control points and weights of the patch");
       if (options->json) {
         nlohmann::json entry = {
             {"at", std::vector<double>(u.begin(), u.begin() + patch.param_dim())},

@@ -91,6 +91,7 @@ void write_export_report(const ExportOptions& options, const std::string& format
 }
 
 void run_export(const ExportOptions& options) {
+  check_output_file(options.output, {options.input});
   const io::SpringModel model = io::read_model_json(options.input);
   const std::string format = format_of(options);
   const fs::path output = options.output;

@@ -4,6 +4,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
 #include "isospring/io/atomic_file.hpp"
@@ -53,6 +54,7 @@ void run_export_calculix(const ExportCalculixOptions& options) {
   if (output.extension() != ".inp")
     throw nurbs::InputError("-o " + options.output +
                             ": CalculiX reads decks named *.inp; give a name ending in .inp");
+  check_output_file(output, input_files(options.case_file));
   const io::Case c = io::read_case_file(options.case_file);
   io::CalculixOptions deck_options;
   deck_options.element_type = options.element;

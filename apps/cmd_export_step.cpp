@@ -28,6 +28,7 @@ void setup_export_step(CLI::App& app) {
       "Volumes are written as their six boundary faces (outward normals); units: m. Also writes "
       "<stem>.report.json and <stem>.report.md beside the output.");
   cmd->callback([options] {
+    check_output_file(options->output, input_files(options->input));
     const auto patches = read_patches_any(options->input);
     geometry::write_cad(options->output, patches);
     const std::filesystem::path output(options->output);

@@ -21,6 +21,7 @@
 #include "isospring/io/case_refinement_ladder.hpp"
 #include "isospring/io/markers.hpp"
 #include "isospring/io/model_file.hpp"
+#include "isospring/io/output_guard.hpp"
 #include "isospring/io/plot.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
@@ -163,9 +164,19 @@ void write_markers(const std::filesystem::path& out_dir, const analysis::Problem
 
 void run_identify(const IdentifyCommandOptions& options) {
   const io::Progress progress("identify", options.quiet);
-  const std::filesystem::path out_dir = output_folder(options.output);
+  const std::vector<std::string> fixed_outputs{"report.json",   "report.md",
+                                               "residuals.svg", "residuals.csv",
+                                               "residuals.gp",  "errors_before_after.png",
+                                               "model.json"};
+  const std::filesystem::path out_dir =
+      output_folder(options.output, {options.case_file}, fixed_outputs);
   progress("reading " + options.case_file);
-  const io::Case c = io::read_case_file(options.case_file);
+  const io::Case c = io::read_case_file(options.case_file, solve_limits(0));
+  std::vector<std::string> outputs = fixed_outputs;
+  for (const auto& load : c.problem.load_cases)
+    for (const char* stage : {"before", "after"})
+      outputs.push_back("markers_" + load.id + "_" + stage + ".vtp");
+  io::check_outputs_spare_inputs(case_inputs(c), in_folder(out_dir, outputs));
   if (!c.measurements)
     throw nurbs::InputError(options.case_file +
                             ": no \"measurements\" object; add {\"file\": \"markers.csv\"} "

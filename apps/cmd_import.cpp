@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 
+#include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
 #include "isospring/geometry/cad.hpp"
@@ -126,6 +127,9 @@ void setup_import(CLI::App& app) {
       "patch of its edges when that lies on the face's surface. Other trimmed faces (holes, "
       "non-quadrilateral outlines) are reported with what to do.");
   cmd->callback([options] {
+    std::vector<std::filesystem::path> extra;
+    if (!options->display.empty()) extra.emplace_back(options->display);
+    check_output_file(options->output, {options->input}, extra);
     const geometry::CadModel model = geometry::read_cad(options->input);
     if (options->report) std::cout << geometry::describe(model);
     size_t display_triangles = 0;

@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
+#include "isospring/analysis/resource_estimate.hpp"
 #include "isospring/io/patch_file.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/refine.hpp"
@@ -21,6 +23,7 @@ struct RefineOptions {
   int h = 1;
   std::vector<int> elevate;
   std::vector<std::string> insert;
+  double max_memory_gb = 0;  // 0: the available memory
   bool quiet = false;
 };
 
@@ -59,6 +62,52 @@ nurbs::Patch refine_patch(nurbs::Patch patch, const RefineOptions& options, int 
     throw nurbs::InputError(where + e.what());
   }
   return patch;
+}
+
+// Refuses, before inserting any knot, a refinement whose control nets cannot fit: `--h 1000000`
+// on a surface asks for 10^12 control points and would otherwise run until killed.
+void check_refined_size(const std::vector<nurbs::Patch>& patches, const RefineOptions& options) {
+  std::vector<analysis::PatchSize> sizes;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    const nurbs::Patch& patch = patches[p];
+    std::array<int, 3> elevate{0, 0, 0};
+    std::array<double, 3> inserted{0, 0, 0}, splits{1, 1, 1};
+    for (int d = 0; d < patch.param_dim(); ++d) {
+      const auto i = static_cast<size_t>(d);
+      // (A wrong count of --elevate amounts is reported by refine_patch.)
+      if (!options.elevate.empty())
+        elevate[i] = options.elevate[std::min(i, options.elevate.size() - 1)];
+      splits[i] = options.h;
+    }
+    for (const std::string& spec : options.insert) {
+      const size_t eq = spec.find('=');
+      if (eq == std::string::npos) continue;  // refine_patch reports the malformed option
+      const std::string name = spec.substr(0, eq);
+      const int d = name == "u" ? 0 : name == "v" ? 1 : name == "w" ? 2 : -1;
+      if (d >= 0)
+        inserted[static_cast<size_t>(d)] +=
+            static_cast<double>(std::count(spec.begin(), spec.end(), ',') + 1);
+    }
+    sizes.push_back(analysis::refined_size(patch, elevate, inserted, splits));
+    if (sizes.back().total_points() > std::numeric_limits<int>::max())
+      throw nurbs::InputError(
+          options.input + ": patch " + std::to_string(p) + ": the refinement gives " +
+          io::format_number(sizes.back().total_points(), 3) +
+          " control points, more than isospring supports in one patch (" +
+          std::to_string(std::numeric_limits<int>::max()) + "); use a smaller --h or --elevate");
+  }
+  const MemoryLimit limit = memory_limit(options.max_memory_gb);
+  // The input and the refined patches are held together, and each step (elevation, insertion,
+  // splitting) builds a new patch from the previous one: at least twice the refined size.
+  const double needed = 2.0 * analysis::geometry_bytes(sizes);
+  double points = 0;
+  for (const auto& s : sizes) points += s.total_points();
+  if (limit.bytes > 0 && needed > limit.bytes)
+    throw nurbs::InputError(options.input + ": the refinement gives " +
+                            io::format_number(points, 3) + " control points, which need at least " +
+                            analysis::format_bytes(needed) + " but the limit is " +
+                            analysis::format_bytes(limit.bytes) + " (" + limit.source +
+                            "); use a smaller --h or --elevate");
 }
 
 // Refinement is exact, so the refined patch must trace the same geometry: the largest distance
@@ -135,10 +184,16 @@ void setup_refine(CLI::App& app) {
   cmd->add_option("--insert", options->insert,
                   "Insert knots: DIRECTION=KNOTS, e.g. --insert u=0.3,0.3 --insert v=0.5 "
                   "(repeat a value to raise its multiplicity)");
+  cmd->add_option("--max-memory", options->max_memory_gb,
+                  "Refuse (exit 1) a refinement needing more than this many GB (default: the "
+                  "available memory)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("-q,--quiet", options->quiet, "Do not print the \"wrote ...\" line");
   cmd->footer("Order: --elevate, then --insert, then --h (k-refinement keeps C^(p-1)).");
   cmd->callback([options] {
+    check_output_file(options->output, {options->input});
     const auto original = io::read_patch_file(options->input);
+    check_refined_size(original, *options);
     auto patches = original;
     for (size_t i = 0; i < patches.size(); ++i)
       patches[i] = refine_patch(patches[i], *options, static_cast<int>(i));

@@ -74,7 +74,8 @@ double max_norm(const Eigen::VectorXd& flat, int dim) {
 void run_simulate(const SimulateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("simulate", options.quiet);
-  const std::filesystem::path out_dir = output_folder(options.output);
+  const std::filesystem::path out_dir =
+      output_folder(options.output, {options.model}, {"series.pvd", "report.json"});
   if (!(options.dt > 0.0) || !std::isfinite(options.dt))
     throw nurbs::InputError("--dt: must be a positive time step in s");
   io::SpringModel model = io::read_model_json(options.model);

@@ -21,6 +21,7 @@
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -145,10 +146,14 @@ void plot(const std::filesystem::path& out_dir, const std::vector<StudyRow>& row
 
 void run_study(const StudyOptions& options) {
   const io::Progress progress("study", options.quiet);
-  const std::filesystem::path out_dir(options.output);
   if (options.levels < 1 || options.levels > 8)
     throw nurbs::InputError("--levels " + std::to_string(options.levels) + ": give 1 to 8 levels");
-  const io::Case c = io::read_case_file(options.case_file);
+  const std::vector<std::string> outputs{"report.json", "report.md", "study.csv",
+                                         "convergence.png"};
+  const std::filesystem::path out_dir = output_folder(options.output, {options.case_file}, outputs);
+  const io::CaseLimits limits = solve_limits(0);
+  const io::Case c = io::read_case_file(options.case_file, limits);
+  io::check_outputs_spare_inputs(case_inputs(c), in_folder(out_dir, outputs));
   std::vector<int> degrees;
   if (options.degrees.empty()) {
     degrees.push_back(c.discretization.degree[0]);
@@ -174,14 +179,21 @@ void run_study(const StudyOptions& options) {
   const bool analytic = c.analytic.has_value();
   std::vector<StudyRow> rows;
   std::vector<std::optional<analysis::Richardson>> extrapolations;
+  // Level l splits every element of the case 2^l times along each direction.
+  const auto discretization_at = [&c](int degree, int level) {
+    io::CaseDiscretization disc = c.discretization;
+    for (int d = 0; d < 3; ++d) {
+      disc.degree[d] = degree;
+      disc.elements[d] = c.discretization.elements[d] << level;
+    }
+    return disc;
+  };
+  // The finest level of each degree must fit before the first solve, not after hours.
+  for (int p : degrees) io::check_solve_fits(c, discretization_at(p, options.levels - 1), limits);
   for (int p : degrees) {
     const size_t first = rows.size();
     for (int level = 0; level < options.levels; ++level) {
-      io::CaseDiscretization disc = c.discretization;
-      for (int d = 0; d < 3; ++d) {
-        disc.degree[d] = p;
-        disc.elements[d] = c.discretization.elements[d] << level;
-      }
+      const io::CaseDiscretization disc = discretization_at(p, level);
       const analysis::Problem problem = io::problem_at(c, disc);
       progress("degree " + std::to_string(p) + ", level " + std::to_string(level) + ": " +
                std::to_string(disc.elements[0]) + " elements along u");

@@ -292,7 +292,9 @@ std::string holdout_cell(const std::vector<fitting::CaseErrors>& cases) {
 
 void run_thesis(const ThesisOptions& options) {
   const io::Progress progress("thesis", options.quiet);
-  const std::filesystem::path out_dir = output_folder(options.output);
+  // Checked first: the tables take minutes, a folder that cannot be written must fail at once.
+  const std::filesystem::path out_dir =
+      output_folder(options.output, {}, {"report.json", "report.md"});
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json report = io::report_header("thesis", ISOSPRING_VERSION, "");
   io::MarkdownReport md;

@@ -2,9 +2,11 @@
 //
 // Exit codes (stable, for scripts):
 //   0  success
-//   1  bad input: a file, field or value is wrong (the message names it and the fix)
+//   1  bad input: a file, field or value is wrong (the message names it and the fix), an output
+//      that cannot be written or would overwrite an input, a case too large for the memory
 //   2  usage error: unknown subcommand or option, missing argument
-//   3  the computation failed (e.g. a fit did not converge); nothing wrong was written
+//   3  the computation failed (e.g. a fit did not converge, a solve overflowed); nothing wrong
+//      was written
 //   4  internal error (a bug: please report it with the command line)
 #include <CLI/CLI.hpp>
 #include <algorithm>

@@ -6,7 +6,11 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/IterativeLinearSolvers>
 #include <chrono>
+#include <cmath>
 #include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
@@ -20,6 +24,16 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A load or material value near the limits of a double (a traction of 1e308 Pa, E = 1e-300)
+// makes the loads or the solution overflow; reporting the overflow is better than writing
+// inf/NaN (or JSON null) into the results. std::runtime_error: exit status 3.
+void check_finite(const std::string& load_case, const std::string& what, bool finite,
+                  const std::string& hint) {
+  if (!finite)
+    throw std::runtime_error("load case '" + load_case + "': " + what +
+                             " overflowed (not finite); " + hint);
 }
 
 }  // namespace
@@ -67,6 +81,9 @@ StaticResult solve_static(const Problem& problem, const SolverOptions& options) 
     LoadCaseResult out;
     out.id = load.id;
     const Eigen::VectorXd force = assemble_load(problem, dofs, load);
+    check_finite(load.id, "the load vector", force.allFinite(),
+                 "a traction, pressure, point load, body force or density x gravity is too large "
+                 "for a double; check the values and their units (SI)");
     const Eigen::VectorXd rhs = reduced.free_rhs(force);
     Eigen::VectorXd free_solution;
     if (cholesky) {
@@ -93,6 +110,14 @@ StaticResult solve_static(const Problem& problem, const SolverOptions& options) 
         out.max_displacement = std::max(out.max_displacement, u[i].norm());
       }
     }
+    std::ostringstream modulus;
+    modulus << problem.material.youngs_modulus;
+    const std::string hint = "the loads are too large for the stiffness (E = " + modulus.str() +
+                             " Pa); check E and the loads and their units (SI)";
+    check_finite(load.id, "the displacements", out.displacement.allFinite(), hint);
+    check_finite(load.id, "the largest displacement", std::isfinite(out.max_displacement), hint);
+    check_finite(load.id, "the strain energy", std::isfinite(out.strain_energy), hint);
+    check_finite(load.id, "the reaction sum", out.reaction_sum.allFinite(), hint);
     out.solve_seconds = seconds_since(start);
     result.load_cases.push_back(std::move(out));
   }

@@ -37,12 +37,14 @@
 #include "cad_hexahedron.hpp"
 #include "cad_reader.hpp"
 #include "cad_revolution.hpp"
+#include "crash_guard.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "occt_conversion.hpp"
 #include "occt_silence.hpp"
+#include "step_entities.hpp"
 
 namespace isospring::geometry {
 
@@ -85,7 +87,7 @@ std::string surface_type_name(GeomAbs_SurfaceType type) {
 }
 
 // Reads the file into one shape, in metres; returns the unit the file declares.
-TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_unit) {
+TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string& file_unit) {
   const std::string name = file.string();
   if (!std::filesystem::exists(file))
     throw InputError(name + ": file not found; give the path of a .step/.stp/.iges/.igs file");
@@ -118,6 +120,11 @@ TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_uni
       throw InputError(name +
                        ": OpenCascade cannot parse this STEP file (truncated or invalid); "
                        "export it again");
+    const std::string unreadable = detail::unreadable_step_entities(reader.Model());
+    if (!unreadable.empty())
+      throw InputError(name + ": " + unreadable +
+                       ": the file is corrupted (e.g. a misspelled entity name) or uses entities "
+                       "OpenCascade does not support; export it again as STEP AP203/AP214");
     TColStd_SequenceOfAsciiString length, angle, solid_angle;
     reader.FileUnits(length, angle, solid_angle);
     file_unit = length.IsEmpty() ? "unknown" : length.First().ToCString();
@@ -151,6 +158,17 @@ TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_uni
                      ": the file holds no geometry OpenCascade can transfer (no solids, "
                      "shells or faces)");
   return shape;
+}
+
+// read_shape_unguarded, first in a child process: a corrupted file that crashes OpenCascade
+// becomes an input error naming the file (crash_guard.hpp). Reading twice costs the read time
+// of the file again, small beside the conversion of its faces.
+TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_unit) {
+  detail::fail_if_it_crashes(file, [&] {
+    std::string unit;
+    read_shape_unguarded(file, unit);
+  });
+  return read_shape_unguarded(file, file_unit);
 }
 
 // The face as a patch when it covers its whole UV rectangle; otherwise an explanation.
@@ -216,7 +234,8 @@ TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::stri
   return read_shape(file, file_unit);
 }
 
-CadModel read_cad(const std::filesystem::path& file) {
+namespace {
+CadModel read_cad_unguarded(const std::filesystem::path& file) {
   CadModel model;
   model.file = file;
   TopoDS_Shape shape;
@@ -306,6 +325,18 @@ CadModel read_cad(const std::filesystem::path& file) {
     model.solid_notes.push_back(why);
   }
   return model;
+}
+}  // namespace
+
+CadModel read_cad(const std::filesystem::path& file) {
+  // A corrupted file can make OpenCascade throw (Standard_Failure is no std::exception, so it
+  // would end the program) anywhere in the conversion, not only while reading.
+  try {
+    return read_cad_unguarded(file);
+  } catch (const Standard_Failure& e) {
+    throw InputError(file.string() + ": OpenCascade failed on it (" + e.GetMessageString() +
+                     "); the file is probably corrupted: export it again");
+  }
 }
 
 namespace {

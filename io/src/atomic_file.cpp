@@ -1,6 +1,9 @@
 #include "isospring/io/atomic_file.hpp"
 
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -35,8 +38,13 @@ void commit(const fs::path& temporary, const fs::path& path) {
   std::error_code ec;
   fs::rename(temporary, path, ec);
   if (ec) {
-    fs::remove(temporary, ec);
-    throw InputError("cannot write '" + path.string() + "': " + ec.message());
+    // Read the reason before the cleanup: removing the temporary with the same error code used
+    // to reset it, and the message said "cannot write X: Success".
+    const std::string reason = ec.message();
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw InputError("cannot write '" + path.string() + "': " + reason +
+                     "; choose an output location you can write to");
   }
 }
 }  // namespace
@@ -47,9 +55,12 @@ void write_file_atomically(const fs::path& path, const std::string& content) {
 
 void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& writer) {
   write_via_temporary(path, [&](const fs::path& temporary) {
+    errno = 0;
     std::ofstream out(temporary, std::ios::binary);
     if (!out)
-      throw InputError("cannot write '" + path.string() + "': permission denied or no such folder");
+      throw InputError("cannot write '" + path.string() +
+                       "': " + (errno ? std::strerror(errno) : "the file cannot be created") +
+                       "; choose an output location you can write to");
     writer(out);
     out.flush();
     if (!out) throw InputError("cannot write '" + path.string() + "': write failed (disk full?)");

@@ -4,8 +4,11 @@
 
 #include "case_file_conditions.hpp"
 #include "case_file_json.hpp"
+#include "isospring/analysis/resource_estimate.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_geometry.hpp"
+#include "isospring/io/json_text.hpp"
+#include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/refine.hpp"
 
@@ -194,9 +197,73 @@ void add_conditions(const Case& c, const std::vector<nurbs::Patch>& patches,
 
 }  // namespace
 
+namespace {
+// The discretised patches' sizes, computed without refining.
+std::vector<analysis::PatchSize> discretized_sizes(const std::vector<nurbs::Patch>& exact,
+                                                   const CaseDiscretization& disc) {
+  std::vector<analysis::PatchSize> sizes;
+  for (const nurbs::Patch& patch : exact) {
+    std::array<int, 3> elevate{0, 0, 0};
+    std::array<double, 3> splits{1, 1, 1};
+    for (int d = 0; d < patch.param_dim(); ++d) {
+      const auto i = static_cast<size_t>(d);
+      elevate[i] = std::max(0, disc.degree[i] - patch.degree(d));
+      splits[i] = std::max(1, disc.elements[i] / patch.knots(d).num_elements());
+    }
+    sizes.push_back(analysis::refined_size(patch, elevate, {0, 0, 0}, splits));
+  }
+  return sizes;
+}
+
+double total_points(const std::vector<analysis::PatchSize>& sizes) {
+  double points = 0;
+  for (const auto& s : sizes) points += s.total_points();
+  return points;
+}
+
+std::string elements_text(const CaseDiscretization& disc, int param_dim) {
+  std::string text;
+  for (int d = 0; d < param_dim; ++d)
+    text += (d ? " x " : "") + std::to_string(disc.elements[static_cast<size_t>(d)]);
+  return text;
+}
+
+// Refuses a discretisation whose refined control nets alone exceed the available memory
+// (refining would run until the machine gives up).
+void check_geometry_fits(const std::vector<nurbs::Patch>& exact, const CaseDiscretization& disc,
+                         const std::string& where) {
+  const auto sizes = discretized_sizes(exact, disc);
+  const double needed = analysis::geometry_bytes(sizes),
+               available = analysis::available_memory_bytes();
+  if (available > 0 && needed > available)
+    throw nurbs::InputError(
+        where + ": discretization: " + elements_text(disc, exact.front().param_dim()) +
+        " elements give " + io::format_number(total_points(sizes), 3) +
+        " control points, which alone need " + analysis::format_bytes(needed) + " but " +
+        analysis::format_bytes(available) + " are available (MemAvailable); use fewer elements");
+}
+
+}  // namespace
+
+void check_solve_fits(const Case& c, const CaseDiscretization& disc, const CaseLimits& limits) {
+  if (limits.solve_memory_bytes <= 0) return;
+  const auto sizes = discretized_sizes(c.geometry, disc);
+  const analysis::SolveEstimate e = analysis::estimate_static_solve(sizes, c.dimension);
+  if (e.bytes > limits.solve_memory_bytes)
+    throw nurbs::InputError(
+        file_label(c.file) + ": discretization: " +
+        elements_text(disc, c.geometry.front().param_dim()) + " elements give " +
+        io::format_number(e.dofs, 3) + " DOFs and " + io::format_number(e.nonzeros, 3) +
+        " stiffness nonzeros (each basis function couples with (2p+1)^d others); the solve "
+        "needs at least " +
+        analysis::format_bytes(e.bytes) + " but the limit is " +
+        analysis::format_bytes(limits.solve_memory_bytes) + " (" + limits.solve_memory_source +
+        "); use fewer elements or a lower degree");
+}
 std::vector<nurbs::Patch> discretize_patches(const std::vector<nurbs::Patch>& exact,
                                              const CaseDiscretization& disc,
                                              const std::string& where) {
+  check_geometry_fits(exact, disc, where);
   std::vector<nurbs::Patch> out;
   out.reserve(exact.size());
   for (size_t p = 0; p < exact.size(); ++p) {
@@ -235,7 +302,8 @@ analysis::Problem problem_at(const Case& c, const CaseDiscretization& discretiza
   return problem;
 }
 
-Case build_case_from_json(const json& document, const fs::path& case_file) {
+Case build_case_from_json(const json& document, const fs::path& case_file,
+                          const CaseLimits& limits) {
   const Field root = root_field(document, case_file);
   Case c;
   c.file = case_file;
@@ -280,21 +348,15 @@ Case build_case_from_json(const json& document, const fs::path& case_file) {
   root.at("load_cases");
 
   c.discretization = read_discretization(root, c.geometry);
+  check_solve_fits(c, c.discretization, limits);
   c.problem.patches = discretize_patches(c.geometry, c.discretization, file_label(case_file));
   add_conditions(c, c.problem.patches, c.problem);
   return c;
 }
 
-Case read_case_file(const fs::path& path) {
+Case read_case_file(const fs::path& path, const CaseLimits& limits) {
   const std::string text = read_text_file(path, "case file");
-  json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw nurbs::InputError(path.string() + ": not valid JSON (" + e.what() +
-                            "); check commas, quotes and brackets near that byte");
-  }
-  return build_case_from_json(document, path);
+  return build_case_from_json(parse_json_text(text, path.string(), "case file"), path, limits);
 }
 
 }  // namespace isospring::io

@@ -236,12 +236,19 @@ analysis::LoadCase read_load_case(const Field& item, const std::vector<analysis:
     if (context.density <= 0 && load_case.gravity.norm() > 0)
       item.at("gravity").fail(": gravity needs material.density > 0 (it loads density * g)");
   }
-  const bool empty = load_case.tractions.empty() && load_case.pressures.empty() &&
-                     load_case.point_loads.empty() && load_case.body_force.norm() == 0 &&
-                     load_case.gravity.norm() == 0;
-  if (empty)
+  // A load case whose every entry is zero solves to u = 0, which is almost always a mistake
+  // (a forgotten value or a unit slip), so it is rejected like a load case without entries.
+  // Tractions given by the analytic solution count as loads.
+  // (A component test, not norm() != 0: the norm of [1e-200, 0, 0] underflows to zero.)
+  const auto nonzero = [](const Eigen::Vector3d& v) { return (v.array() != 0.0).any(); };
+  bool loaded = nonzero(load_case.body_force) || nonzero(load_case.gravity);
+  for (const auto& t : load_case.tractions) loaded = loaded || t.function || nonzero(t.value);
+  for (const auto& p : load_case.pressures) loaded = loaded || p.value != 0;
+  for (const auto& l : load_case.point_loads) loaded = loaded || nonzero(l.force);
+  if (!loaded)
     item.fail(" (id '" + load_case.id +
-              "') has no load; give tractions, pressures, point_loads, body_force or gravity");
+              "') has no load: no entry, or every traction, pressure, point load, body force and "
+              "gravity is zero; give a non-zero load");
   return load_case;
 }
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "isospring/io/atomic_file.hpp"
+#include "isospring/io/json_text.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::io {
@@ -305,13 +306,7 @@ Eigen::VectorXd model_force_vector(const SpringModel& model, size_t index, bool 
 SpringModel read_model_json(const std::filesystem::path& path) {
   const std::string text = read_text_file(path, "model file");
   const std::string source = path.filename().string();
-  json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw InputError(source + ": not valid JSON (" + e.what() + "); check the file");
-  }
-  return model_from_json(document, source);
+  return model_from_json(parse_json_text(text, source, "model file"), source);
 }
 
 }  // namespace isospring::io

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "isospring/io/atomic_file.hpp"
+#include "isospring/io/json_text.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::io {
@@ -131,14 +132,7 @@ std::vector<nurbs::Patch> patches_from_json(const json& document, const std::str
 
 std::vector<nurbs::Patch> read_patch_file(const std::filesystem::path& path) {
   const std::string text = read_text_file(path, "patch file");
-  json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::exception& e) {
-    // parse_error for syntax, out_of_range for numbers that overflow a double (e.g. 1e999).
-    throw InputError(path.string() + ": not valid JSON (" + e.what() + ")");
-  }
-  return patches_from_json(document, path.string());
+  return patches_from_json(parse_json_text(text, path.string(), "patch file"), path.string());
 }
 
 json patches_to_json(const std::vector<nurbs::Patch>& patches) {

@@ -65,16 +65,32 @@ struct Case {
   nlohmann::json calibration;  // `"calibration"` as written (null when absent); its users validate
 };
 
+/// Limits checked while reading, before the discretisation is built. The refined control nets
+/// must always fit in the available memory (analysis::geometry_bytes).
+struct CaseLimits {
+  /// > 0: also refuse a case whose static solve needs more (analysis::estimate_static_solve).
+  double solve_memory_bytes = 0;
+  /// Where that limit comes from, for the message ("--max-memory 2 GB").
+  std::string solve_memory_source;
+};
+
 /// Reads, validates and discretises a case file.
-Case read_case_file(const std::filesystem::path& path);
+Case read_case_file(const std::filesystem::path& path, const CaseLimits& limits = {});
 
 /// The same from a parsed document; `case_file` names it in messages and anchors relative paths.
-Case build_case_from_json(const nlohmann::json& document, const std::filesystem::path& case_file);
+Case build_case_from_json(const nlohmann::json& document, const std::filesystem::path& case_file,
+                          const CaseLimits& limits = {});
 
 /// The case's problem at another discretisation (refinement studies): same geometry, material,
 /// supports and loads. Throws InputError when the discretisation is not possible (degree below the
 /// geometry's, elements not a multiple of the existing spans, a control point index out of range).
 analysis::Problem problem_at(const Case& c, const CaseDiscretization& discretization);
+
+/// With limits.solve_memory_bytes > 0: throws InputError with the estimate (DOFs, stiffness
+/// nonzeros, bytes) when the static solve of `c` at `discretization` needs more, checked from
+/// the sizes alone, before refining (analysis::estimate_static_solve).
+void check_solve_fits(const Case& c, const CaseDiscretization& discretization,
+                      const CaseLimits& limits);
 
 /// Elevates and splits exact patches as described at CaseDiscretization; `where` prefixes errors.
 std::vector<nurbs::Patch> discretize_patches(const std::vector<nurbs::Patch>& exact,

@@ -1,0 +1,277 @@
+// End-to-end table of bad inputs across the commands (issue 19): corrupted STEP files, numbers
+// that overflow a double, outputs that are inputs, unwritable output folders, loads and
+// materials whose results overflow, and sizes beyond the machine. Each must end with exit status
+// 1, 2 or 3 (never 4, never a signal) within seconds, with a message naming the file or the
+// field, and leave every input byte-identical and no output behind.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+
+#include "run_program.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+using isospring::testing::example;
+using isospring::testing::file_contents;
+using isospring::testing::run_isospring;
+using isospring::testing::TemporaryFolder;
+
+struct BadInput {
+  const char* name;
+  std::string arguments;  // "{d}" stands for the folder holding the inputs
+  std::string expected;   // part of the message: the file or the field ({d} replaced too)
+  std::set<int> codes = {1};
+};
+
+// ctest lists the case by its name, not by the bytes of the struct.
+void PrintTo(const BadInput& bad, std::ostream* out) {
+  *out << bad.name;
+}
+
+std::string replaced(std::string text, const std::string& dir) {
+  for (size_t at = text.find("{d}"); at != std::string::npos; at = text.find("{d}", at))
+    text.replace(at, 3, dir);
+  return text;
+}
+
+// A small clamped box (2 x 1 x 1 quadratic elements: solves in milliseconds); each field can be
+// replaced by text, e.g. an overflowing number.
+std::string box_case(
+    const std::string& size = "0.1", const std::string& elements = "[2, 1, 1]",
+    const std::string& modulus = "50000", const std::string& density = "1100",
+    const std::string& load = R"("tractions": [{"side": "u1", "value": [0, 0, -100]}])") {
+  return R"({"name": "box", "geometry": {"type": "box", "size": [)" + size +
+         R"(, 0.02, 0.02]},
+ "discretization": {"degree": [2, 2, 2], "elements": )" +
+         elements + R"(},
+ "material": {"E": )" +
+         modulus + R"(, "nu": 0.3, "density": )" + density + R"(},
+ "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}],
+ "load_cases": [{"id": "L1", )" +
+         load + "}]}\n";
+}
+
+std::string replace_once(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+// Every input of the table, written into `dir`.
+void write_inputs(const fs::path& dir) {
+  const auto write = [&](const std::string& name, const std::string& text) {
+    fs::create_directories((dir / name).parent_path());
+    std::ofstream(dir / name, std::ios::binary) << text;
+  };
+  const std::string patches = file_contents(example("patches/quarter_annulus.json"));
+  const std::string step = file_contents(example("cad/block.step"));
+  write("p.json", patches);
+  write("o.report.json", patches);
+  fs::create_symlink(dir / "p.json", dir / "link.json");
+  write("model.json", R"({"format": "isospring-spring-model", "version": 1, "dimension": 3,
+    "particles": [{"x": [0, 0, 0], "mass": 1, "fixed": true},
+                  {"x": [0, 0, -0.1], "mass": 1, "fixed": false}],
+    "springs": [{"i": 0, "j": 1, "k": 100, "c": 1, "L0": 0.1}]})");
+  write("sim/report.json", file_contents(dir / "model.json"));
+  write("case.json", box_case());
+  write("rep/report.json", box_case());
+  write("deck.report.json", box_case());
+  write("block.step", step);
+  write("afile", "a file where a folder is expected\n");
+  // Corrupted parts: a misspelled entity (OpenCascade used to crash on it), one in a B-spline
+  // free part of the file, and a file cut in half.
+  write("misspelled.step", replace_once(step, "CARTESIAN_POINT(", "CARTESIAN_POINTX("));
+  write("misspelled2.step", replace_once(step, "DIRECTION(", "DIRECTIOM("));
+  write("truncated.step", step.substr(0, step.size() / 2));
+  // Byte-mutated IGES exports of the block (tests/apps/data): the first made OpenCascade's reader
+  // segfault, the second made it throw Standard_Failure (which ended the program with abort).
+  const std::string data = std::string(ISOSPRING_SOURCE_DIR) + "/tests/apps/data/";
+  write("crashes.igs", file_contents(data + "block_crashes_opencascade.igs"));
+  write("void_bounds.igs", file_contents(data + "block_void_bounds.igs"));
+  write("cad_case.json", replace_once(file_contents(example("demo/demo.json")), "../cad/block.step",
+                                      "misspelled.step"));
+  // Numbers a double cannot hold.
+  write("e_overflow.json", box_case("0.1", "[2, 1, 1]", "1e999"));
+  write("size_overflow.json", box_case("1e999"));
+  write("density_overflow.json", box_case("0.1", "[2, 1, 1]", "50000", "1e999"));
+  write("traction_overflow.json",
+        box_case("0.1", "[2, 1, 1]", "50000", "1100",
+                 R"("tractions": [{"side": "u1", "value": [0, 0, -1e999]}])"));
+  write("point_load_overflow.json",
+        box_case("0.1", "[2, 1, 1]", "50000", "1100",
+                 R"("point_loads": [{"control_point": [-1, -1, -1], "force": [0, 1e999, 0]}])"));
+  write("patch_overflow.json", replace_once(patches, "[2, 2, 0]", "[2, 2e999, 0]"));
+  write("model_overflow.json",
+        replace_once(file_contents(dir / "model.json"), "\"k\": 100", "\"k\": 1e999"));
+  // Finite inputs whose results are not.
+  write("traction_huge.json",
+        box_case("0.1", "[2, 1, 1]", "50000", "1100",
+                 R"("tractions": [{"side": "u1", "value": [0, 0, -1e308]}])"));
+  write("weight_huge.json",
+        box_case("0.1", "[2, 1, 1]", "50000", "1e308", R"("gravity": [0, 0, -9.81])"));
+  write("modulus_tiny.json", box_case("0.1", "[2, 1, 1]", "1e-300"));
+  write("zero_load.json", box_case("0.1", "[2, 1, 1]", "50000", "1100",
+                                   R"("tractions": [{"side": "u1", "value": [0, 0, 0]}])"));
+  write("eval_huge.json", R"({"patches": [{"degrees": [1], "knots": [[0, 0, 1, 1]],
+    "control_points": [[-1.7e308, 0, 0], [1.7e308, 0, 0]]}]})");
+  // Sizes beyond the machine.
+  write("huge_mesh.json", box_case("0.1", "[100000, 1000, 1000]"));
+  write("big_mesh.json", box_case("0.1", "[20, 4, 4]"));
+}
+
+// Every file and folder under `dir` with its contents (symlinks as their target).
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    const std::string name = fs::relative(entry.path(), dir).string();
+    if (entry.is_symlink())
+      files[name] = "-> " + fs::read_symlink(entry.path()).string();
+    else if (entry.is_directory())
+      files[name] = "<folder>";
+    else
+      files[name] = file_contents(entry.path().string());
+  }
+  return files;
+}
+
+class BadInputs : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(BadInputs, FailCleanlyNamingTheProblem) {
+  const BadInput& bad = GetParam();
+  TemporaryFolder folder;
+  const std::string dir = folder.path().string();
+  write_inputs(folder.path());
+  const auto before = snapshot(folder.path());
+  const auto start = std::chrono::steady_clock::now();
+  const auto run = run_isospring(replaced(bad.arguments, dir));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_TRUE(bad.codes.count(run.exit_code))
+      << "exit " << run.exit_code << " (-1: killed by a signal)\n"
+      << run.output;
+  EXPECT_NE(run.output.find(replaced(bad.expected, dir)), std::string::npos)
+      << "expected '" << replaced(bad.expected, dir) << "' in\n"
+      << run.output;
+  EXPECT_EQ(run.output.find("internal error"), std::string::npos) << run.output;
+  EXPECT_LT(seconds, 5.0);
+  const auto after = snapshot(folder.path());
+  EXPECT_EQ(after.size(), before.size()) << "files were added or removed\n" << run.output;
+  for (const auto& [name, contents] : before) {
+    const auto found = after.find(name);
+    ASSERT_NE(found, after.end()) << name << " disappeared";
+    EXPECT_TRUE(found->second == contents) << name << " was modified";
+  }
+}
+
+const std::string kOverwrite = "would overwrite the input";
+const std::string kOverflow = "does not fit in a double";
+
+INSTANTIATE_TEST_SUITE_P(
+    Issue19, BadInputs,
+    ::testing::Values(
+        // 1. Outputs that are inputs.
+        BadInput{"RefineOntoItsInput", "refine {d}/p.json -o {d}/p.json", kOverwrite},
+        BadInput{"RefineThroughASymlink", "refine {d}/p.json -o {d}/link.json", "{d}/link.json"},
+        BadInput{"RefineReportOntoTheInput", "refine {d}/o.report.json -o {d}/o.json",
+                 "{d}/o.report.json"},
+        BadInput{"ExportOntoItsInput", "export {d}/model.json -o {d}/model.json", kOverwrite},
+        BadInput{"ImportOntoItsInput", "import {d}/block.step -o {d}/block.step", kOverwrite},
+        BadInput{"AnalyzeReportOntoTheCase", "analyze {d}/rep/report.json -o {d}/rep",
+                 "{d}/rep/report.json"},
+        BadInput{"ExportStepOntoItsInput", "export-step {d}/p.json -o {d}/p.json", kOverwrite},
+        BadInput{"CalculixReportOntoTheCase",
+                 "export-calculix {d}/deck.report.json -o {d}/deck.inp", "{d}/deck.report.json"},
+        BadInput{"SimulateReportOntoTheModel", "simulate {d}/sim/report.json -o {d}/sim --dt 0.01",
+                 "{d}/sim/report.json"},
+        // 2. Numbers that overflow a double.
+        BadInput{"AnalyzeModulus1e999", "analyze {d}/e_overflow.json -o {d}/out",
+                 "e_overflow.json: line 3, column 20: material.E = 1e999"},
+        BadInput{"AnalyzeSize1e999", "analyze {d}/size_overflow.json -o {d}/out",
+                 "geometry.size[0] = 1e999"},
+        BadInput{"AnalyzeDensity1e999", "analyze {d}/density_overflow.json -o {d}/out",
+                 "material.density = 1e999"},
+        BadInput{"AnalyzeTraction1e999", "analyze {d}/traction_overflow.json -o {d}/out",
+                 "load_cases[0].tractions[0].value[2] = -1e999"},
+        BadInput{"AnalyzePointLoad1e999", "analyze {d}/point_load_overflow.json -o {d}/out",
+                 "load_cases[0].point_loads[0].force[1] = 1e999"},
+        BadInput{"CalibrateModulus1e999", "calibrate {d}/e_overflow.json -o {d}/out",
+                 "material.E = 1e999"},
+        BadInput{"InfoModulus1e999", "info {d}/e_overflow.json", "material.E = 1e999"},
+        BadInput{"RefinePatch1e999", "refine {d}/patch_overflow.json -o {d}/r.json",
+                 "patches[0].control_points[4][1] = 2e999"},
+        BadInput{"EvalPatch1e999", "eval {d}/patch_overflow.json --at 0.5,0.5",
+                 "patch_overflow.json: line"},
+        BadInput{"ExportModel1e999", "export {d}/model_overflow.json -o {d}/m.xml",
+                 "springs[0].k = 1e999"},
+        BadInput{"SimulateModel1e999", "simulate {d}/model_overflow.json -o {d}/out --dt 0.01",
+                 "springs[0].k = 1e999"},
+        // 3. Output folders that cannot be written: exit 1 for every command, before computing.
+        BadInput{"AnalyzeIntoAFile", "analyze {d}/case.json -o {d}/afile/out", "is not a folder"},
+        BadInput{"StudyIntoAFile", "study {d}/case.json -o {d}/afile/out", "{d}/afile/out"},
+        BadInput{"CalibrateIntoAFile",
+                 "calibrate " + example("calibrate_square.json") + " -o {d}/afile/out",
+                 "{d}/afile/out"},
+        BadInput{"IdentifyIntoAFile",
+                 "identify " + example("identify/plate_hidden_gravity.json") + " -o {d}/afile/out",
+                 "{d}/afile/out"},
+        BadInput{"ThesisIntoAFile", "thesis -o {d}/afile/out", "{d}/afile/out"},
+        BadInput{"ImportIntoAFile", "import {d}/block.step -o {d}/afile/b.json", "{d}/afile"},
+        BadInput{"ImportDisplayIntoAFile",
+                 "import {d}/block.step -o {d}/b.json --display {d}/afile/b.vtp", "{d}/afile"},
+        BadInput{"ExportStepIntoSys", "export-step {d}/p.json -o /sys/isospring.step",
+                 "Permission denied"},
+        BadInput{"RefineIntoSys", "refine {d}/p.json -o /sys/isospring.json", "/sys"},
+        BadInput{"SimulateIntoSys", "simulate {d}/model.json -o /sys/isospring --dt 0.01",
+                 "/sys/isospring"},
+        BadInput{"DemoIntoSys", "demo -o /sys/isospring", "/sys/isospring"},
+        // 4. Results that overflow (exit 3, naming the load case), and an all-zero load.
+        BadInput{"AnalyzeTraction1e308",
+                 "analyze {d}/traction_huge.json -o {d}/out",
+                 "load case 'L1'",
+                 {3}},
+        BadInput{"AnalyzeDensity1e308",
+                 "analyze {d}/weight_huge.json -o {d}/out",
+                 "load case 'L1': the load vector overflowed",
+                 {3}},
+        BadInput{"AnalyzeModulus1em300",
+                 "analyze {d}/modulus_tiny.json -o {d}/out",
+                 "load case 'L1'",
+                 {3}},
+        BadInput{"EvalOverflowingPoint",
+                 "eval {d}/eval_huge.json --at 0.5 --derivs",
+                 "eval_huge.json: patch 0 at 0.5",
+                 {3}},
+        BadInput{"AnalyzeZeroLoad", "analyze {d}/zero_load.json -o {d}/out",
+                 "zero_load.json: load_cases[0] (id 'L1') has no load"},
+        // 5. Corrupted STEP files.
+        BadInput{"InfoMisspelledEntity", "info {d}/misspelled.step",
+                 "{d}/misspelled.step: 1 entity OpenCascade cannot read"},
+        BadInput{"ImportMisspelledEntity", "import {d}/misspelled.step -o {d}/m.json",
+                 "{d}/misspelled.step"},
+        BadInput{"ImportMisspelledDirection", "import {d}/misspelled2.step -o {d}/m.json",
+                 "{d}/misspelled2.step"},
+        BadInput{"ImportTruncated", "import {d}/truncated.step -o {d}/m.json",
+                 "{d}/truncated.step"},
+        BadInput{"ImportIgesThatCrashedOpenCascade", "import {d}/crashes.igs -o {d}/m.json",
+                 "{d}/crashes.igs: OpenCascade crashed"},
+        BadInput{"InfoIgesThatCrashedOpenCascade", "info {d}/crashes.igs", "{d}/crashes.igs"},
+        BadInput{"ImportIgesThatThrew", "import {d}/void_bounds.igs -o {d}/m.json",
+                 "{d}/void_bounds.igs: OpenCascade failed"},
+        BadInput{"AnalyzeCadCaseMisspelled", "analyze {d}/cad_case.json -o {d}/out",
+                 "misspelled.step"},
+        // 6. Sizes beyond the machine.
+        BadInput{"AnalyzeHugeMesh", "analyze {d}/huge_mesh.json -o {d}/out",
+                 "100000 x 1000 x 1000 elements"},
+        BadInput{"AnalyzeBeyondMaxMemory", "analyze {d}/big_mesh.json -o {d}/out --max-memory 0.01",
+                 "(--max-memory 0.01 GB)"},
+        BadInput{"StudyFinestLevelTooLarge", "study {d}/big_mesh.json -o {d}/out --levels 8",
+                 "2560 x 512 x 512 elements"},
+        BadInput{"RefineHugeH", "refine {d}/p.json -o {d}/r.json --h 1000000", "control points"}),
+    [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
+
+}  // namespace
