@@ -258,8 +258,8 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
   // pre-asymptotic (degree elevation on one element through a thickness stalls), and one
   // difference alone then underestimates the error.
   struct Tail {
-    std::vector<Eigen::Vector3d>
-        vector;  // per marker: estimated u_K - u_exact (sign: model - truth)
+    std::vector<Eigen::Vector3d> vector;  // per marker: estimated u_K - u_exact
+    double rms = 0.0, max = 0.0;          // of `vector`
     double ratio = kNaN;
     std::string how;
   };
@@ -283,17 +283,17 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
     }
     for (size_t m = 0; m < markers.size(); ++m)
       t.vector[m] = scale * (predictions[finest][m] - predictions[finest - 1][m]);
+    t.rms = scale * last.rms;
+    t.max = scale * last.max;
     return t;
   };
   // u_k - u_exact ~ (u_k - u_K) + tail, as a per-marker vector; its size by the triangle
   // inequality (rms and max of |u_k - u_K| plus those of the tail), an upper-bound estimate.
   auto estimate = [&](size_t k, size_t finest, const Tail& tail, DiscretizationLevel& row) {
     const Difference to_finest = difference(predictions[finest], predictions[k], dim);
-    std::vector<Eigen::Vector3d> zero(markers.size(), Eigen::Vector3d::Zero());
-    const Difference tail_size = difference(tail.vector, zero, dim);
-    row.error_rms = to_finest.rms + tail_size.rms;
-    row.error_max = to_finest.max + tail_size.max;
-    row.error_rms_after_material = to_finest.rms_after_material + tail_size.rms;
+    row.error_rms = to_finest.rms + tail.rms;
+    row.error_max = to_finest.max + tail.max;
+    row.error_rms_after_material = to_finest.rms_after_material + tail.rms;
     row.estimate = k == finest
                        ? "finest level solved, " + tail.how
                        : "difference to level " + std::to_string(finest) + " (" + tail.how + ")";
@@ -323,19 +323,17 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
   }
   // Final estimates against the finest level; when the ladder ended before a level met the
   // target with two finer levels behind it, one finer level has to do.
-  const Tail tail = tail_of(finest);
-  for (size_t k = 0; k <= finest; ++k) {
-    std::vector<Eigen::Vector3d> error = estimate(k, finest, tail, check.levels[k]);
-    if (finest == 0) {
-      check.levels[k].error_rms = check.levels[k].error_max =
-          check.levels[k].error_rms_after_material = kNaN;
-      check.levels[k].estimate = "none: no finer level could be solved";
-      continue;
+  if (finest == 0) {
+    check.levels[0].estimate = "none: no finer level could be solved";  // errors stay NaN
+  } else {
+    const Tail tail = tail_of(finest);
+    for (size_t k = 0; k <= finest; ++k) {
+      std::vector<Eigen::Vector3d> error = estimate(k, finest, tail, check.levels[k]);
+      if (chosen < 0 && k < finest && check.levels[k].error_rms <= check.target)
+        chosen = static_cast<int>(k);
+      if (static_cast<int>(k) == chosen || (chosen < 0 && k == finest))
+        check.marker_error = std::move(error);
     }
-    if (chosen < 0 && k < finest && check.levels[k].error_rms <= check.target)
-      chosen = static_cast<int>(k);
-    if (static_cast<int>(k) == chosen || (chosen < 0 && k == finest))
-      check.marker_error = std::move(error);
   }
   check.done = true;
   check.within_target = chosen >= 0;
@@ -345,7 +343,6 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
     check.within_target = true;
     check.note += "; the finest level's extrapolated error is in target";
   }
-  if (finest == 0) check.marker_error.clear();
   if (check.within_target) check.budget_exhausted = false;  // the budget did not matter
   if (check.chosen > 0) check.chosen_problem = std::move(solved_problems[check.chosen]);
   return check;

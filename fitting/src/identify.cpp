@@ -262,6 +262,27 @@ std::vector<Eigen::Vector3d> marker_predictions(const Setup& setup, const Model&
   return out;
 }
 
+// The residual of the model at theta at every marker, and what the noise estimate groups it by.
+struct MarkerResidual {
+  std::vector<Eigen::Vector3d> predicted, residual, positions;
+  std::vector<int> group;  // load case index
+};
+
+MarkerResidual marker_residual(const Setup& setup, const Model& model, const Eigen::VectorXd& theta,
+                               const std::vector<Marker>& markers) {
+  MarkerResidual r;
+  r.predicted = marker_predictions(setup, model, theta, markers.size());
+  r.residual.resize(markers.size());
+  r.positions.resize(markers.size());
+  r.group.resize(markers.size());
+  for (size_t m = 0; m < markers.size(); ++m) {
+    r.residual[m] = markers[m].displacement - r.predicted[m];
+    r.positions[m] = markers[m].position;
+    r.group[m] = setup.case_index.at(markers[m].load_case);
+  }
+  return r;
+}
+
 // Validates the inputs and builds everything that stays fixed while effects come and go.
 void make_setup(Setup& setup, const analysis::Problem& problem, const std::vector<Marker>& markers,
                 const std::vector<MarkerPlacement>& placements, bool fit_poisson,
@@ -377,14 +398,14 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   rms_data = std::sqrt(rms_data / std::max(1, total_rows));
   const double provisional =
       options.noise_sigma > 0.0 ? options.noise_sigma : std::max(1e-3 * rms_data, 1e-300);
-  auto nominal_fit = [&](const Setup& s) {
-    const Fit fit = run_fit(s, build_model(s, {}, Eigen::VectorXd()),
-                            make_weights(s, provisional, all_markers));
+  auto nominal_fit = [&](const Setup& s, const Model& nominal) {
+    const Fit fit = run_fit(s, nominal, make_weights(s, provisional, all_markers));
     if (!fit.ok) throw std::runtime_error("the nominal model's fit failed: " + fit.message);
     return fit;
   };
   say("fitting the nominal model");
-  const Fit case_fit = nominal_fit(case_setup);
+  const Model case_baseline = build_model(case_setup, {}, Eigen::VectorXd());
+  const Fit case_fit = nominal_fit(case_setup, case_baseline);
 
   // Discretisation control before diagnosis.
   std::optional<analysis::Problem> refined_problem;
@@ -399,16 +420,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       if (given > 0) noise = std::sqrt(sum / given);
     }
     if (!(noise > 0.0)) {
-      const auto predicted = marker_predictions(case_setup, build_model(case_setup, {}, {}),
-                                                case_fit.theta, markers.size());
-      std::vector<Eigen::Vector3d> residual(markers.size()), positions(markers.size());
-      std::vector<int> group(markers.size());
-      for (size_t m = 0; m < markers.size(); ++m) {
-        residual[m] = markers[m].displacement - predicted[m];
-        positions[m] = markers[m].position;
-        group[m] = case_setup.case_index.at(markers[m].load_case);
-      }
-      noise = estimate_noise(positions, residual, group, case_setup.dim);
+      const MarkerResidual r = marker_residual(case_setup, case_baseline, case_fit.theta, markers);
+      noise = estimate_noise(r.positions, r.residual, r.group, case_setup.dim);
     }
     if (!(noise > 0.0)) noise = provisional;
     const double nu = options.fit_poisson ? case_fit.theta[1] : problem.material.poisson_ratio;
@@ -431,19 +444,17 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   const analysis::ThreadScope single_thread(1);
   const int dim = setup.dim;
   const size_t num_cases = problem.load_cases.size();
-  const std::map<std::string, int>& case_index = setup.case_index;
   EffectContext& context = setup.context;
 
-  Model baseline = build_model(setup, {}, Eigen::VectorXd());
-  const Fit first_fit = refined_setup ? nominal_fit(setup) : case_fit;
-  result.model_before = marker_predictions(setup, baseline, first_fit.theta, markers.size());
-  std::vector<Eigen::Vector3d> residual_before(markers.size()), positions(markers.size());
-  std::vector<int> group(markers.size());
-  for (size_t m = 0; m < markers.size(); ++m) {
-    residual_before[m] = markers[m].displacement - result.model_before[m];
-    positions[m] = markers[m].position;
-    group[m] = case_index.at(markers[m].load_case);
-  }
+  std::optional<Model> refined_baseline;
+  if (refined_setup) refined_baseline = build_model(setup, {}, Eigen::VectorXd());
+  const Model& baseline = refined_baseline ? *refined_baseline : case_baseline;
+  const Fit first_fit = refined_setup ? nominal_fit(setup, baseline) : case_fit;
+  const MarkerResidual nominal = marker_residual(setup, baseline, first_fit.theta, markers);
+  result.model_before = nominal.predicted;
+  const std::vector<Eigen::Vector3d>& residual_before = nominal.residual;
+  const std::vector<Eigen::Vector3d>& positions = nominal.positions;
+  const std::vector<int>& group = nominal.group;
   result.before = summarize(residual_before, all_rows, dim);
   std::vector<std::string> case_ids;
   for (const auto& load : problem.load_cases) case_ids.push_back(load.id);

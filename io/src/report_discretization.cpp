@@ -5,15 +5,6 @@
 
 namespace isospring::io {
 
-namespace {
-
-// JSON has no NaN: a level without an estimate gets null.
-nlohmann::json number_or_null(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json();
-}
-
-}  // namespace
-
 nlohmann::json discretization_json(const fitting::DiscretizationCheck& check, double allowance) {
   nlohmann::json j{{"done", check.done},
                    {"note", check.note},
@@ -23,18 +14,18 @@ nlohmann::json discretization_json(const fitting::DiscretizationCheck& check, do
                    {"within_target", check.within_target},
                    {"budget_exhausted", check.budget_exhausted},
                    {"f_test_allowance", allowance}};
+  // A level without an estimate has NaN errors; write_json_report writes them as null.
   j["levels"] = nlohmann::json::array();
   for (const auto& level : check.levels)
-    j["levels"].push_back(
-        {{"level", level.level},
-         {"discretization", level.description},
-         {"dofs", level.dofs},
-         {"marker_error_rms", number_or_null(level.error_rms)},
-         {"marker_error_max", number_or_null(level.error_max)},
-         {"marker_error_rms_after_material", number_or_null(level.error_rms_after_material)},
-         {"error_over_noise", number_or_null(level.error_rms / check.noise)},
-         {"estimate", level.estimate},
-         {"seconds", level.seconds}});
+    j["levels"].push_back({{"level", level.level},
+                           {"discretization", level.description},
+                           {"dofs", level.dofs},
+                           {"marker_error_rms", level.error_rms},
+                           {"marker_error_max", level.error_max},
+                           {"marker_error_rms_after_material", level.error_rms_after_material},
+                           {"error_over_noise", level.error_rms / check.noise},
+                           {"estimate", level.estimate},
+                           {"seconds", level.seconds}});
   return j;
 }
 
