@@ -267,6 +267,12 @@ void run_identify(const IdentifyCommandOptions& options) {
                                     {"unit", p.unit},
                                     {"value", p.value},
                                     {"standard_error", p.standard_error}});
+  for (const auto& p : r.parameters_before)
+    report["parameters_before"].push_back({{"effect", p.effect},
+                                           {"name", p.name},
+                                           {"unit", p.unit},
+                                           {"value", p.value},
+                                           {"standard_error", p.standard_error}});
   for (const auto& [name, value] : r.derived) report["derived"][name] = value;
   report["residual_before"] = residual_json(r.residual_before);
   report["residual_after"] = residual_json(r.residual_after);
@@ -344,7 +350,9 @@ void run_identify(const IdentifyCommandOptions& options) {
       (r.noise_given ? "given" : "estimated from neighbouring residual differences") + ").");
   io::add_discretization(md, r.discretization, r.discretization_allowance);
   md.heading(2, "Effects");
-  md.paragraph(r.effects_added.empty()
+  const bool none_tried = settings.identify.candidates && settings.identify.candidates->empty();
+  md.paragraph(none_tried ? "None tried (measurements.effects is []): the nominal fit alone."
+               : r.effects_added.empty()
                    ? "None significant: the nominal model explains the data to the noise level."
                    : "Added in order: " +
                          [&] {
@@ -354,6 +362,9 @@ void run_identify(const IdentifyCommandOptions& options) {
                          }() +
                          ".");
   std::vector<std::vector<std::string>> rows;
+  for (const auto& p : r.parameters_before)
+    rows.push_back({"nominal model (before)", p.name, io::format_number(p.value),
+                    io::format_number(p.standard_error, 3), p.unit});
   for (const auto& p : r.parameters)
     rows.push_back({p.effect, p.name, io::format_number(p.value),
                     io::format_number(p.standard_error, 3), p.unit});

@@ -64,8 +64,9 @@ struct Setup {
   std::vector<Observation> observations;       // per load case
   std::vector<Eigen::VectorXd> measured;       // per load case, observation space
   std::vector<Eigen::VectorXd> sigma;          // per load case, per row (0: use the global one)
-  std::vector<std::vector<int>> markers;       // per load case: marker indices, in row order
-  std::map<std::string, int> case_index;       // load case id -> index
+  Eigen::Vector3d component_weight = Eigen::Vector3d::Ones();  // IdentifyOptions::component_weights
+  std::vector<std::vector<int>> markers;  // per load case: marker indices, in row order
+  std::map<std::string, int> case_index;  // load case id -> index
   // The last K_ff factorisation, shared by every model of the loop (identify_model.hpp).
   std::shared_ptr<FactorizationCache> factorizations = make_factorization_cache();
 };
@@ -166,7 +167,8 @@ std::vector<Eigen::VectorXd> make_weights(const Setup& setup, double sigma,
     for (Eigen::Index k = 0; k < w.size(); ++k) {
       const int marker = setup.markers[l][static_cast<size_t>(k / setup.dim)];
       const double s = setup.sigma[l][k] > 0.0 ? setup.sigma[l][k] : sigma;
-      w[k] = use_marker[static_cast<size_t>(marker)] ? 1.0 / s : 0.0;
+      w[k] =
+          use_marker[static_cast<size_t>(marker)] ? setup.component_weight[k % setup.dim] / s : 0.0;
     }
     weights.push_back(w);
   }
@@ -188,6 +190,54 @@ class QuietSolverWarnings {
  private:
   int previous_;
 };
+
+// IdentifyOptions::component_weights (or the mean-|u| normalisation) for a model of dimension
+// `dim`, normalised to rms 1.
+Eigen::Vector3d component_weights(const IdentifyOptions& options,
+                                  const std::vector<Marker>& markers, int dim) {
+  Eigen::Vector3d w = Eigen::Vector3d::Ones();
+  const char* axes = "xyz";
+  if (options.component_weights_mean_abs) {
+    if (!options.component_weights.empty())
+      throw nurbs::InputError(
+          "measurements.component_weights: give either weights or \"mean_abs\", not both");
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Marker& m : markers) mean += m.displacement.cwiseAbs();
+    mean /= static_cast<double>(markers.size());
+    for (int c = 0; c < dim; ++c) {
+      if (!(mean[c] > 0.0))
+        throw nurbs::InputError(std::string("measurements.component_weights: \"mean_abs\" needs "
+                                            "non-zero measured ") +
+                                axes[c] + " displacements; give the weights as numbers instead");
+      w[c] = 1.0 / mean[c];
+    }
+  } else if (!options.component_weights.empty()) {
+    if (static_cast<int>(options.component_weights.size()) != dim)
+      throw nurbs::InputError("measurements.component_weights: " + std::to_string(dim) +
+                              " weights expected (one per displacement component of the model), "
+                              "got " +
+                              std::to_string(options.component_weights.size()));
+    for (int c = 0; c < dim; ++c) {
+      const double v = options.component_weights[static_cast<size_t>(c)];
+      if (!(std::isfinite(v) && v > 0.0))
+        throw nurbs::InputError(std::string("measurements.component_weights[") + std::to_string(c) +
+                                "]: must be a positive number");
+      w[c] = v;
+    }
+  }
+  double sum = 0.0;
+  for (int c = 0; c < dim; ++c) sum += w[c] * w[c];
+  return w / std::sqrt(sum / dim);
+}
+
+// The noise estimate of residuals weighted per component: with component weights w_c the noise
+// model is sigma_c = sigma / w_c, and sigma is estimated from the residual components times w_c
+// (so that weights w_c / sigma make every row's noise 1 and the covariance is right).
+double weighted_noise(const Setup& setup, const std::vector<Eigen::Vector3d>& positions,
+                      std::vector<Eigen::Vector3d> residuals, const std::vector<int>& group) {
+  for (auto& r : residuals) r = r.cwiseProduct(setup.component_weight);
+  return estimate_noise(positions, residuals, group, setup.dim);
+}
 
 Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::VectorXd>& weights,
             Eigen::MatrixXd* covariance = nullptr) {
@@ -384,6 +434,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   // level that the discretisation check compares the reference's own error with.
   Setup case_setup;
   make_setup(case_setup, problem, markers, placements, options.fit_poisson, say);
+  case_setup.component_weight = component_weights(options, markers, case_setup.dim);
   IdentifyResult result;
   const std::vector<bool> all_markers(markers.size(), true);
   std::vector<int> all_rows(markers.size());
@@ -421,9 +472,11 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
     }
     if (!(noise > 0.0)) {
       const MarkerResidual r = marker_residual(case_setup, case_baseline, case_fit.theta, markers);
-      noise = estimate_noise(r.positions, r.residual, r.group, case_setup.dim);
+      noise = weighted_noise(case_setup, r.positions, r.residual, r.group);
     }
     if (!(noise > 0.0)) noise = provisional;
+    // The reference must be accurate enough for the most precise component (sigma / max w_c).
+    noise /= case_setup.component_weight.head(case_setup.dim).maxCoeff();
     const double nu = options.fit_poisson ? case_fit.theta[1] : problem.material.poisson_ratio;
     result.discretization = check_discretization(
         problem, markers, placements, problem.material.youngs_modulus * case_fit.theta[0], nu,
@@ -433,6 +486,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       result.discretization.chosen_problem.reset();
       refined_setup = std::make_unique<Setup>();
       make_setup(*refined_setup, *refined_problem, markers, placements, options.fit_poisson, say);
+      refined_setup->component_weight = case_setup.component_weight;
     }
   } else {
     result.discretization.note = "turned off";
@@ -466,7 +520,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   result.noise_given = options.noise_sigma > 0.0;
   result.noise_estimate = result.noise_given
                               ? options.noise_sigma
-                              : estimate_noise(positions, residual_before, group, dim);
+                              : weighted_noise(setup, positions, residual_before, group);
   if (!(result.noise_estimate > 0.0)) result.noise_estimate = provisional;
   std::vector<Eigen::VectorXd> weights = make_weights(setup, result.noise_estimate, all_markers);
 
@@ -492,7 +546,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   const double allowance = result.discretization_allowance;
 
   // Candidates (matrices assembled once).
-  std::vector<std::string> names = options.candidates.empty() ? effect_names() : options.candidates;
+  std::vector<std::string> names = options.candidates ? *options.candidates : effect_names();
   std::vector<std::unique_ptr<Effect>> library;
   std::vector<std::string> unavailable;
   for (const std::string& name : names) {
@@ -620,12 +674,23 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
     std::vector<Eigen::Vector3d> residual(markers.size());
     for (size_t m = 0; m < markers.size(); ++m)
       residual[m] = markers[m].displacement - predicted[m];
-    const double sigma = estimate_noise(positions, residual, group, dim);
+    const double sigma = weighted_noise(setup, positions, residual, group);
     if (sigma > 0.0) result.noise_estimate = sigma;
     weights = make_weights(setup, result.noise_estimate, all_markers);
   }
-  const Fit baseline_final = run_fit(setup, build_model(setup, {}, first_fit.theta), weights);
+  Eigen::MatrixXd cov_before;
+  const Fit baseline_final =
+      run_fit(setup, build_model(setup, {}, first_fit.theta), weights, &cov_before);
   const double rss_before = baseline_final.rss;
+  if (baseline_final.ok) {
+    const double e_prior = problem.material.youngs_modulus;
+    const Eigen::VectorXd& t = baseline_final.theta;
+    result.parameters_before.push_back(
+        {"material", "E", "Pa", e_prior * t[0], e_prior * std::sqrt(cov_before(0, 0))});
+    if (options.fit_poisson)
+      result.parameters_before.push_back(
+          {"material", "nu", "1", t[1], std::sqrt(cov_before(1, 1))});
+  }
 
   // Final fit with covariance.
   Eigen::MatrixXd cov;
@@ -655,6 +720,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
     result.effect_values.emplace_back(chosen[e]->name(), theta.segment(first, count));
     result.spring_model_notes.push_back(chosen[e]->name() + ": " + chosen[e]->spring_model_note());
   }
+  for (int c = 0; c < setup.dim; ++c) result.component_weights.push_back(setup.component_weight[c]);
   result.model_after = marker_predictions(setup, current, theta, markers.size());
   result.corrected_displacements = current.forward->evaluate(theta, false).displacements;
   if (refined_setup) {

@@ -9,6 +9,7 @@
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/plate_with_central_hole.hpp"
 #include "isospring/geometry/primitives.hpp"
+#include "isospring/geometry/specimen_shoulder.hpp"
 #include "isospring/io/patch_file.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -164,7 +165,11 @@ const std::map<std::string, Builder>& builders() {
       {"plate_with_central_hole",
        [](const GeometryFields& f, const auto&) {
          const auto s = f.numbers("size", 2);
-         return geometry::plate_with_central_hole(s[0], s[1], f.number("hole_radius"));
+         Patches plate = geometry::plate_with_central_hole(s[0], s[1], f.number("hole_radius"));
+         if (!f.has("shoulder")) return plate;
+         // [straight_length, fillet_radius, shoulder_width]: the specimen widening at x = 0.
+         const auto h = f.numbers("shoulder", 3);
+         return geometry::add_specimen_shoulder(std::move(plate), s[1], {h[0], h[1], h[2]});
        }},
       {"box",
        [](const GeometryFields& f, const auto&) {
@@ -314,7 +319,8 @@ std::string geometry_types_help() {
   ellipse           radii [a, b]                        2D
   annulus           inner_radius outer_radius [start_angle 0, sweep_angle 90]   2D, u radial
   plate_with_hole   hole_radius half_width [patches 1|2]   2D quarter plate (x <= 0, y >= 0)
-  plate_with_central_hole  size [lx, ly] hole_radius   2D, hole at (lx/2, ly/2); 6 patches, ends = side v1 of patches 0 and 5
+  plate_with_central_hole  size [lx, ly] hole_radius [shoulder]   2D, hole at (lx/2, ly/2); 6 patches, ends = side v1 of patches 0 and 5;
+                    shoulder [straight_length, fillet_radius, width]: the specimen widening left of x = 0 (2 more patches; left end = side v1 of the last)
   box               size [lx, ly, lz]                   u along x, v along y, w along z
   cube              size L
   tube              inner_radius outer_radius length [start_angle 0, sweep_angle 90]

@@ -148,6 +148,7 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
                                             "columns",
                                             "load_case",
                                             "noise_sigma",
+                                            "component_weights",
                                             "placement_tolerance",
                                             "fit_poisson",
                                             "significance",
@@ -225,6 +226,24 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
   const double scale = s.file_options.unit_scale;
   if (m.contains("noise_sigma"))
     s.identify.noise_sigma = scale * number_field("noise_sigma", 0, 1e300);
+  if (m.contains("component_weights")) {
+    const auto& w = m.at("component_weights");
+    if (w.is_string() && w.get<std::string>() == "mean_abs") {
+      s.identify.component_weights_mean_abs = true;
+    } else if (w.is_array() && static_cast<int>(w.size()) == dimension) {
+      for (size_t c = 0; c < w.size(); ++c) {
+        if (!w[c].is_number() || !std::isfinite(w[c].get<double>()) || !(w[c].get<double>() > 0))
+          throw nurbs::InputError(where + ".component_weights[" + std::to_string(c) +
+                                  "]: must be a positive number, got " + w[c].dump());
+        s.identify.component_weights.push_back(w[c].get<double>());
+      }
+    } else {
+      throw nurbs::InputError(where + ".component_weights: must be \"mean_abs\" or a list of " +
+                              std::to_string(dimension) +
+                              " positive relative weights (one per displacement component), got " +
+                              w.dump());
+    }
+  }
   if (m.contains("placement_tolerance"))
     s.placement_tolerance = scale * number_field("placement_tolerance", 0, 1e300);
   if (m.contains("fit_poisson")) s.identify.fit_poisson = bool_field("fit_poisson");
@@ -244,6 +263,7 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
     const auto& effects = m.at("effects");
     const auto names = fitting::effect_names();
     if (!effects.is_array()) throw nurbs::InputError(where + ".effects: must be a list of names");
+    s.identify.candidates.emplace();  // [] is the nominal fit alone
     for (const auto& e : effects) {
       if (!e.is_string() ||
           std::find(names.begin(), names.end(), e.get<std::string>()) == names.end()) {
@@ -252,7 +272,7 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
         throw nurbs::InputError(where + ".effects: " + e.dump() +
                                 " is not an effect; use: " + list);
       }
-      s.identify.candidates.push_back(e.get<std::string>());
+      s.identify.candidates->push_back(e.get<std::string>());
     }
   }
   return s;

@@ -4,6 +4,8 @@
 // leave a residual at the noise level; on pure noise it must add nothing.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
 #include <set>
 
 #include "isospring/fitting/identify.hpp"
@@ -52,7 +54,7 @@ void expect_identified(const Effects& hidden, unsigned seed = 1, double true_nu 
   options.discretization.enabled = false;
   options.holdout = false;
   options.fit_poisson = fit_poisson;
-  options.candidates = candidates;
+  if (!candidates.empty()) options.candidates = candidates;
   const IdentifyResult r = identify(data.prior, data.markers, data.placements, options);
   std::set<std::string> expected, found(r.effects_added.begin(), r.effects_added.end());
   for (const auto& [name, values] : hidden) expected.insert(name);
@@ -179,6 +181,68 @@ TEST(IdentifyEffects, HoldoutImprovesWhenTheEffectIsReal) {
   // Validation residual drops from the misfit to the noise level.
   EXPECT_LT(r.holdout.validation_after.rms, 1.3 * kSigma);
   EXPECT_GT(r.holdout.validation_before.rms, 2 * r.holdout.validation_after.rms);
+}
+
+// Component weights: with noise 100x smaller in y than in x, weights 1 / sigma_c are the
+// statistically right ones (the minimum-variance estimate); the fit must use them: estimates
+// within 3 standard errors of the truth and standard errors smaller than with equal weights.
+// Only the weights' ratios matter, and "mean_abs" weights are 1 / mean |u_c| normalised.
+TEST(IdentifyEffects, ComponentWeightsWeighTheComponents) {
+  Synthetic data = make_data({}, 11, 0.25);
+  analysis::Problem truth = data.prior;
+  truth.material.youngs_modulus *= kTrueScale;
+  truth.material.poisson_ratio = 0.25;
+  const auto exact = simulate_markers(truth, data.markers, data.placements, {});
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (size_t m = 0; m < data.markers.size(); ++m) {
+    data.markers[m].displacement = exact[m];
+    data.markers[m].displacement.x() += kSigma * noise(rng);
+    data.markers[m].displacement.y() += 0.01 * kSigma * noise(rng);
+  }
+  IdentifyOptions options;
+  options.discretization.enabled = false;
+  options.holdout = false;
+  options.fit_poisson = true;
+  options.candidates = std::vector<std::string>{};  // the nominal fit alone
+  const IdentifyResult equal = identify(data.prior, data.markers, data.placements, options);
+  options.component_weights = {1.0, 100.0};
+  const IdentifyResult weighted = identify(data.prior, data.markers, data.placements, options);
+  ASSERT_EQ(weighted.parameters.size(), 2u);
+  ASSERT_EQ(weighted.parameters_before.size(), 2u);
+  EXPECT_TRUE(weighted.effects_added.empty());
+  const double truths[2] = {kTrueScale * 1e6, 0.25};
+  for (size_t k = 0; k < 2; ++k) {
+    const ParameterEstimate& p = weighted.parameters[k];
+    EXPECT_LT(std::abs(p.value - truths[k]), 3 * p.standard_error) << p.name;
+    EXPECT_LT(p.standard_error, 0.5 * equal.parameters[k].standard_error) << p.name;
+  }
+  ASSERT_EQ(weighted.component_weights.size(), 2u);
+  EXPECT_NEAR(weighted.component_weights[1] / weighted.component_weights[0], 100.0, 1e-12);
+  EXPECT_NEAR(std::hypot(weighted.component_weights[0], weighted.component_weights[1]),
+              std::sqrt(2.0), 1e-12);  // rms 1
+  options.component_weights = {3.0, 300.0};
+  const IdentifyResult scaled = identify(data.prior, data.markers, data.placements, options);
+  for (size_t k = 0; k < 2; ++k)
+    EXPECT_NEAR(scaled.parameters[k].value / weighted.parameters[k].value, 1.0, 1e-9);
+
+  options.component_weights.clear();
+  options.component_weights_mean_abs = true;
+  const IdentifyResult mean_abs = identify(data.prior, data.markers, data.placements, options);
+  double mx = 0.0, my = 0.0;
+  for (const Marker& m : data.markers)
+    mx += std::abs(m.displacement.x()), my += std::abs(m.displacement.y());
+  ASSERT_EQ(mean_abs.component_weights.size(), 2u);
+  EXPECT_NEAR(mean_abs.component_weights[1] / mean_abs.component_weights[0], mx / my,
+              1e-9 * mx / my);
+
+  options.component_weights = {1.0, 2.0};  // both: an input error
+  EXPECT_THROW(identify(data.prior, data.markers, data.placements, options), nurbs::InputError);
+  options.component_weights_mean_abs = false;
+  options.component_weights = {1.0, 2.0, 3.0};  // three weights for a 2D model
+  EXPECT_THROW(identify(data.prior, data.markers, data.placements, options), nurbs::InputError);
+  options.component_weights = {1.0, -2.0};
+  EXPECT_THROW(identify(data.prior, data.markers, data.placements, options), nurbs::InputError);
 }
 
 TEST(IdentifyEffects, UnknownLoadCaseIsAnInputError) {

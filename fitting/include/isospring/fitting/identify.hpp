@@ -24,6 +24,7 @@
 // cancel the smooth part of the residual (what the model misses) and keep the noise.
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,8 +39,18 @@ struct IdentifyOptions {
   bool fit_poisson = false;
   double noise_sigma = 0.0;  // [m]; 0: estimate from the data
   double significance = 0.01;
-  std::vector<std::string> candidates;  // empty: the whole library (effect_names())
-  bool holdout = true;                  // fit on even markers, validate on odd ones
+  /// The effects to try; unset: the whole library (effect_names()); an empty list: none, the
+  /// nominal fit alone (e.g. to reproduce a published plain fit before the loop adds effects).
+  std::optional<std::vector<std::string>> candidates;
+  /// Relative weights of the displacement components (x, y(, z)) on top of the noise level: rows
+  /// of component c weigh component_weights[c] / sigma in every fit. Normalised to rms 1 over
+  /// the model's components, so only their ratios matter. Empty: equal weights.
+  std::vector<double> component_weights;
+  /// Weights 1 / mean |u_c| over the measured displacements of component c (normalised as
+  /// above): the per-component normalisation of Anton et al. (2024) for DIC data whose transverse
+  /// displacements are much smaller than the axial ones. Excludes component_weights.
+  bool component_weights_mean_abs = false;
+  bool holdout = true;  // fit on even markers, validate on odd ones
   int max_effects = 6;
   DiscretizationOptions discretization;              // discretisation control before diagnosis
   std::function<void(const std::string&)> progress;  // progress lines (may be empty)
@@ -91,6 +102,7 @@ struct HoldoutCheck {
 struct IdentifyResult {
   std::vector<std::string> effects_added;
   std::vector<ParameterEstimate> parameters;
+  std::vector<ParameterEstimate> parameters_before;     // the nominal model's (no effects)
   std::vector<std::pair<std::string, double>> derived;  // e.g. support stiffness values
   std::vector<std::string> spring_model_notes;          // per added effect
   ErrorSummary before, after;
@@ -109,6 +121,7 @@ struct IdentifyResult {
   double discretization_allowance = 0.0;
   HoldoutCheck holdout;
   bool holdout_done = false;
+  std::vector<double> component_weights;  // the weights used (one per component, rms 1)
   std::vector<Eigen::Vector3d> model_before, model_after;  // per marker, model displacement [m]
   double youngs_modulus = 0.0, poisson_ratio = 0.0;        // final material
   /// The added effects with their fitted values (parameter_names() order), as simulate_markers
