@@ -301,18 +301,33 @@ void run_identify(const IdentifyCommandOptions& options) {
                                  {"rss", t.rss},
                                  {"f", t.f_statistic},
                                  {"p_value", t.p_value},
+                                 {"delta_bic", t.delta_bic},
+                                 {"score_f", t.score_f},
                                  {"seconds", t.seconds},
                                  {"note", t.note}});
     report["selection"].push_back(j);
   }
+  report["alternatives"] = nlohmann::json::array();
+  for (const auto& a : r.alternatives)
+    report["alternatives"].push_back({{"replaced", a.replaced},
+                                      {"by", a.by},
+                                      {"delta_bic", a.delta_bic},
+                                      {"swapped", a.swapped}});
   report["selection_rule"] = "F-test, significance " +
                              io::format_number(identify_options.significance) +
-                             " / (candidates in the round); backward step at the same level";
+                             " / (candidates in the round), ties (p underflowing to 0) broken by "
+                             "the lower BIC; backward step at the same level";
   if (r.holdout_done)
     report["holdout"] = {{"fit_markers", r.holdout.fit_markers},
                          {"validation_markers", r.holdout.validation_markers},
                          {"validation_before", errors_json(r.holdout.validation_before)},
                          {"validation_after", errors_json(r.holdout.validation_after)}};
+  for (const auto& h : r.load_case_holdout)
+    report["load_case_holdout"].push_back({{"id", h.id},
+                                           {"markers", h.markers},
+                                           {"local_parameters", h.local_parameters},
+                                           {"before", errors_json(h.before)},
+                                           {"after", errors_json(h.after)}});
   report["spring_model"] = r.spring_model_notes;
   if (recalibration) {
     const fitting::Recalibration& rc = *recalibration;
@@ -405,6 +420,19 @@ void run_identify(const IdentifyCommandOptions& options) {
     md.paragraph("Hold-out (fit on every other marker, validate on the rest): validation rms " +
                  io::format_number(r.holdout.validation_before.rms, 4) + " m before, " +
                  io::format_number(r.holdout.validation_after.rms, 4) + " m after.");
+  if (!r.load_case_holdout.empty()) {
+    rows.clear();
+    for (const auto& h : r.load_case_holdout)
+      rows.push_back({h.id, std::to_string(h.markers), io::format_number(h.before.rms, 4),
+                      io::format_number(h.after.rms, 4), std::to_string(h.local_parameters)});
+    md.paragraph(
+        "Leave one load case out (both models refitted without it, then predicting it; "
+        "parameters of that load case alone, such as its own rigid motion or load "
+        "factor, are fitted on it):");
+    md.table({"held-out load case", "markers", "rms nominal", "rms with effects",
+              "own parameters fitted"},
+             rows);
+  }
   md.heading(2, "Residual");
   md.paragraph(
       "Share of the residual energy in constant and linear functions of position per load case "
@@ -417,12 +445,26 @@ void run_identify(const IdentifyCommandOptions& options) {
     rows.clear();
     for (const auto& t : r.rounds[k].candidates)
       rows.push_back({t.effect, std::to_string(t.parameters), io::format_number(t.f_statistic, 4),
-                      io::format_number(t.p_value, 3), t.note});
+                      io::format_number(t.p_value, 3), io::format_number(t.delta_bic, 4), t.note});
     md.paragraph(
         "Round " + std::to_string(k + 1) + ": " +
         (r.rounds[k].added.empty() ? "nothing significant, stop" : "added " + r.rounds[k].added) +
         ". Residual before the round: " + r.rounds[k].residual.summary);
-    md.table({"candidate", "parameters", "F", "p", "note"}, rows);
+    md.table({"candidate", "parameters", "F", "p", "delta BIC", "note"}, rows);
+  }
+  if (!r.alternatives.empty()) {
+    std::vector<std::string> lines;
+    for (const auto& a : r.alternatives)
+      lines.push_back(a.swapped
+                          ? "swapped: " + a.by + " in place of " + a.replaced + " (delta BIC " +
+                                io::format_number(a.delta_bic, 3) +
+                                ": the same data explained with fewer parameters)"
+                          : "cannot be told apart on these data: " + a.replaced + " or " + a.by +
+                                " (delta BIC " + io::format_number(a.delta_bic, 3) + ", below 2)");
+    md.paragraph(
+        "Swap stage (each selected effect against every other linear candidate in its "
+        "place, by BIC):");
+    md.bullets(lines);
   }
   if (!r.spring_model_notes.empty()) {
     md.heading(2, "Carrying over to the spring model");
@@ -491,7 +533,8 @@ void setup_identify(CLI::App& app) {
       "The case file's \"measurements\" object names the marker CSV (header\n"
       "load_case,x,y,z,ux,uy,uz[,sigma] by default; columns and units can be mapped).\n"
       "Fits E (and nu with fit_poisson), then adds effects (gravity, support_compliance,\n"
-      "stiffness_gradient, rigid_offset, load_scale, geometric_nonlinearity) while an F-test\n"
+      "stiffness_gradient, rigid_offset, load_scale, geometric_nonlinearity,\n"
+      "rigid_offset_per_load) while an F-test\n"
       "finds them significant (docs/identify.md). Before that, the reference is refined\n"
       "(degree, then elements) until its error at the markers is below a third of the\n"
       "noise, within --max-dofs; beyond the budget the F-tests are widened instead.\n"

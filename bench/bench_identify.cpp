@@ -72,8 +72,9 @@ void BM_IdentifyBox3D(benchmark::State& state) {
   rigid << 2e-6, -1e-6, 1.5e-6, 1e-5, -2e-5, 1e-5;  // per load case: translations, rotations
   Eigen::VectorXd rigid_all(6 * 3);
   for (int l = 0; l < 3; ++l) rigid_all.segment(6 * l, 6) = rigid * (1.0 + l);
-  const std::vector<Eigen::Vector3d> truth = fitting::simulate_markers(
-      problem, markers, placed.placements, {{"gravity", gravity}, {"rigid_offset", rigid_all}});
+  const std::vector<Eigen::Vector3d> truth =
+      fitting::simulate_markers(problem, markers, placed.placements,
+                                {{"gravity", gravity}, {"rigid_offset_per_load", rigid_all}});
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 1e-7);
   for (size_t m = 0; m < markers.size(); ++m)
@@ -99,8 +100,8 @@ void BM_IdentifyBox3D(benchmark::State& state) {
   state.counters["effects"] = static_cast<double>(added.size());
   state.counters["found_gravity"] =
       std::find(added.begin(), added.end(), "gravity") != added.end() ? 1.0 : 0.0;
-  state.counters["found_rigid_offset"] =
-      std::find(added.begin(), added.end(), "rigid_offset") != added.end() ? 1.0 : 0.0;
+  state.counters["found_rigid_offset_per_load"] =
+      std::find(added.begin(), added.end(), "rigid_offset_per_load") != added.end() ? 1.0 : 0.0;
 }
 BENCHMARK(BM_IdentifyBox3D)->Unit(benchmark::kSecond)->Iterations(1);
 

@@ -55,6 +55,7 @@ class Gravity : public Effect {
 
 class SupportCompliance : public Effect {
  public:
+  Eigen::VectorXd neutral_values() const override { return {}; }
   SupportCompliance(const EffectContext& context, const std::vector<size_t>& compliant)
       : reference_stiffness_(context.youngs_modulus_prior / context.length) {
     const analysis::Problem& problem = *context.problem;
@@ -159,9 +160,15 @@ class StiffnessGradient : public Effect {
   std::vector<LameMatrices> parts_;  // weight (x_c - centre_c) / L per axis
 };
 
+// A measuring frame's offset does not depend on the load: `shared` is one rigid motion for every
+// load case; per load case (shared false) only when the specimen may have moved between them
+// (re-clamped, re-seated). The F-test between the two tells a moved frame (shared) from motions
+// that change with the load case (a compliant clamp moves in proportion to its load, which a
+// shared motion cannot follow).
 class RigidOffset : public Effect {
  public:
-  explicit RigidOffset(const EffectContext& context) : dimension_(context.dimension) {
+  RigidOffset(const EffectContext& context, bool shared)
+      : dimension_(context.dimension), shared_(shared) {
     const int dim = dimension_;
     const int motions = dim == 2 ? 3 : 6;
     for (size_t l = 0; l < context.marker_positions.size(); ++l) {
@@ -184,28 +191,32 @@ class RigidOffset : public Effect {
       load_case_ids_.push_back(context.problem->load_cases[l].id);
     }
   }
-  std::string name() const override { return "rigid_offset"; }
+  std::string name() const override { return shared_ ? "rigid_offset" : "rigid_offset_per_load"; }
+  std::string simpler() const override { return shared_ ? "" : "rigid_offset"; }
   std::vector<std::string> parameter_names() const override {
     std::vector<std::string> names;
-    for (const std::string& id : load_case_ids_) {
-      for (int c = 0; c < dimension_; ++c) names.push_back(id + ".t" + kAxes[c]);
-      for (int a = (dimension_ == 2 ? 2 : 0); a < 3; ++a) names.push_back(id + ".r" + kAxes[a]);
+    for (size_t l = 0; l < (shared_ ? 1 : load_case_ids_.size()); ++l) {
+      const std::string prefix = shared_ ? "" : load_case_ids_[l] + ".";
+      for (int c = 0; c < dimension_; ++c) names.push_back(prefix + "t" + kAxes[c]);
+      for (int a = (dimension_ == 2 ? 2 : 0); a < 3; ++a) names.push_back(prefix + "r" + kAxes[a]);
     }
     return names;
   }
   std::vector<std::string> parameter_units() const override {
     std::vector<std::string> units;
-    for (size_t l = 0; l < load_case_ids_.size(); ++l) {
+    for (size_t l = 0; l < (shared_ ? 1 : load_case_ids_.size()); ++l) {
       for (int c = 0; c < dimension_; ++c) units.push_back("m");
       for (int a = (dimension_ == 2 ? 2 : 0); a < 3; ++a) units.push_back("rad");
     }
     return units;
   }
   void add_terms(const EffectContext&, int first, ModelTerms& terms) const override {
-    int index = first;
-    for (size_t l = 0; l < modes_.size(); ++l)
+    const int motions = dimension_ == 2 ? 3 : 6;
+    for (size_t l = 0; l < modes_.size(); ++l) {
+      int index = first + (shared_ ? 0 : static_cast<int>(l) * motions);
       for (const Eigen::VectorXd& mode : modes_[l])
         terms.offsets.push_back({static_cast<int>(l), mode, linear_coefficient(index++)});
+    }
   }
   std::string spring_model_note() const override {
     return "a measurement artefact (the specimen moved in the measuring frame): nothing carries "
@@ -214,6 +225,7 @@ class RigidOffset : public Effect {
 
  private:
   int dimension_;
+  bool shared_;
   std::vector<std::vector<Eigen::VectorXd>> modes_;  // per load case: observation-space motions
   std::vector<std::string> load_case_ids_;
 };
@@ -269,8 +281,8 @@ std::vector<size_t> compliant_supports(const EffectContext& context) {
 }  // namespace
 
 std::vector<std::string> effect_names() {
-  return {"gravity",      "support_compliance", "stiffness_gradient",
-          "rigid_offset", "load_scale",         "geometric_nonlinearity"};
+  return {"gravity",    "support_compliance",     "stiffness_gradient",   "rigid_offset",
+          "load_scale", "geometric_nonlinearity", "rigid_offset_per_load"};
 }
 
 std::unique_ptr<Effect> make_effect(const std::string& name, const EffectContext& context,
@@ -291,7 +303,12 @@ std::unique_ptr<Effect> make_effect(const std::string& name, const EffectContext
     return std::make_unique<SupportCompliance>(context, compliant);
   }
   if (name == "stiffness_gradient") return std::make_unique<StiffnessGradient>(context);
-  if (name == "rigid_offset") return std::make_unique<RigidOffset>(context);
+  if (name == "rigid_offset") return std::make_unique<RigidOffset>(context, true);
+  if (name == "rigid_offset_per_load") {
+    if (context.problem->load_cases.size() < 2)
+      return unavailable("one load case: the same as rigid_offset");
+    return std::make_unique<RigidOffset>(context, false);
+  }
   if (name == "load_scale") {
     if (context.problem->load_cases.size() < 2)
       return unavailable("one load case: its load factor cannot be told apart from E");

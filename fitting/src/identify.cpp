@@ -2,7 +2,9 @@
 #include "isospring/fitting/identify.hpp"
 
 #include <ceres/ceres.h>
+#include <Eigen/QR>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -281,6 +283,61 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
     *covariance = gauss_newton_covariance(jacobian);
   }
   return fit;
+}
+
+// The score (Lagrange-multiplier) test of adding a candidate to the current fit: with the
+// candidate at its neutral values the model equals the current one, so the residual r is the
+// current residual, and to first order the best the candidate can do is to remove the part of r
+// along its Jacobian columns D that the current parameters' columns J cannot already explain:
+// reduction = |P r|^2 with P the projection on (I - J J^+) D. F and p as in the F-test.
+struct ScoreTest {
+  bool done = false;
+  double reduction = 0.0, f_statistic = 0.0, p_value = 1.0;
+};
+
+ScoreTest score_test(const Setup& setup, const Model& candidate, const Fit& current,
+                     const Eigen::VectorXd& neutral, const std::vector<Eigen::VectorXd>& weights,
+                     double allowance) {
+  ScoreTest out;
+  const Eigen::Index p = current.theta.size();
+  const Eigen::Index total = candidate.forward->num_parameters();
+  if (neutral.size() != total - p) return out;
+  Eigen::VectorXd theta(total);
+  theta << current.theta, neutral;
+  ModelEvaluation eval;
+  try {
+    eval = candidate.forward->evaluate(theta, true);
+  } catch (const std::exception&) {
+    return out;
+  }
+  const Eigen::Index rows = setup_rows(weights);
+  Eigen::MatrixXd jacobian(rows, total);
+  Eigen::VectorXd residual(rows);
+  Eigen::Index row = 0;
+  for (size_t l = 0; l < weights.size(); ++l)
+    for (Eigen::Index k = 0; k < weights[l].size(); ++k, ++row) {
+      jacobian.row(row) = weights[l][k] * eval.jacobians[l].row(k);
+      residual[row] = weights[l][k] * (setup.measured[l][k] - eval.predictions[l][k]);
+    }
+  // Column scaling keeps the projection's conditioning independent of the parameters' units.
+  Eigen::VectorXd scale = jacobian.colwise().norm().transpose();
+  for (Eigen::Index c = 0; c < total; ++c)
+    if (scale[c] > 0.0) jacobian.col(c) /= scale[c];
+  const Eigen::MatrixXd current_columns = jacobian.leftCols(p);
+  Eigen::MatrixXd added = jacobian.rightCols(total - p);
+  added -= current_columns * current_columns.colPivHouseholderQr().solve(added);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(added);
+  if (qr.rank() == 0) return out;
+  const Eigen::VectorXd along = added * qr.solve(residual);
+  const int q = static_cast<int>(qr.rank());
+  const int d2 = current.rows - static_cast<int>(p) - q;
+  const double rss = residual.squaredNorm();
+  out.reduction = std::min(along.squaredNorm(), rss);
+  if (d2 <= 0 || !(rss - out.reduction > 0.0)) return out;
+  out.f_statistic = std::max(0.0, (out.reduction - allowance) / q) / ((rss - out.reduction) / d2);
+  out.p_value = f_test_p_value(out.f_statistic, q, d2);
+  out.done = true;
+  return out;
 }
 
 ErrorSummary summarize(const std::vector<Eigen::Vector3d>& residuals, const std::vector<int>& rows,
@@ -580,7 +637,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       round.candidates.push_back(
           {note.substr(0, note.find(':')), 0, 0, 0, 1, note.substr(note.find(':') + 2)});
     int tried = 0;
-    double best_p = 2.0;
+    double best_p = 2.0, best_bic = 0.0;
     const Effect* best = nullptr;
     Fit best_fit;
     for (const auto& effect : library) {
@@ -590,13 +647,33 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       const Model model = build_model(setup, trial, current_fit.theta);
       say("trying " + effect->name());
       const auto fit_start = std::chrono::steady_clock::now();
-      const Fit fit = run_fit(setup, model, weights);
       CandidateTest test;
-      test.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
       test.effect = effect->name();
       test.parameters = effect->num_parameters();
       ++tried;
+      // An expensive candidate (Newton solves) is fitted only when a score test at the current
+      // fit does not rule it out: far below the threshold it cannot become significant.
+      if (model.forward->nonlinear()) {
+        const ScoreTest score =
+            score_test(setup, model, current_fit, effect->neutral_values(), weights, allowance);
+        const double threshold = options.significance / static_cast<double>(library.size());
+        if (score.done) test.score_f = score.f_statistic;
+        if (score.done && score.p_value > 10.0 * threshold) {
+          test.f_statistic = score.f_statistic;
+          test.p_value = score.p_value;
+          test.rss = current_fit.rss - score.reduction;
+          test.note = "screened out by a score test at the current fit (F = " +
+                      std::to_string(score.f_statistic) + ", p = " + std::to_string(score.p_value) +
+                      "; fitted only when p < 10 x the threshold)";
+          test.seconds =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+          round.candidates.push_back(test);
+          continue;
+        }
+      }
+      const Fit fit = run_fit(setup, model, weights);
+      test.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
       if (!fit.ok) {
         test.note = "fit failed: " + fit.message;
         round.candidates.push_back(test);
@@ -609,11 +686,16 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           d2 > 0 ? std::max(0.0, (current_fit.rss - fit.rss - allowance) / d1) / (fit.rss / d2)
                  : 0.0;
       test.p_value = f_test_p_value(test.f_statistic, d1, d2);
+      const double n = static_cast<double>(fit.rows);
+      test.delta_bic =
+          n * std::log(std::max(fit.rss - allowance, 1e-300) / current_fit.rss) + d1 * std::log(n);
       round.candidates.push_back(test);
       // Strong effects have p-values that underflow to 0 in double; among equal p-values the
-      // candidate that explains the most (smallest refit RSS) wins, not the first one tried.
-      if (test.p_value < best_p || (test.p_value == best_p && best && fit.rss < best_fit.rss)) {
+      // candidate with the lower BIC wins (the most explained per parameter), not the first one
+      // tried and not simply the largest.
+      if (test.p_value < best_p || (test.p_value == best_p && best && test.delta_bic < best_bic)) {
         best_p = test.p_value;
+        best_bic = test.delta_bic;
         best = effect.get();
         best_fit = fit;
       }
@@ -625,38 +707,68 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       current = build_model(setup, chosen, best_fit.theta);
       current_fit = best_fit;
       // Backward step (stepwise selection): an effect added earlier may only have stood in for
-      // the new one; drop the least significant earlier effect while its F-test fails.
-      while (chosen.size() > 1) {
+      // the new one, and an effect may be more general than the data need now (a rigid motion
+      // per load case where one shared motion does). Drop an earlier effect, or replace an
+      // effect by its nested simpler version (Effect::simpler), while the F-test of the change
+      // fails; the least significant change first.
+      while (true) {
         double worst_p = -1.0;
-        size_t worst = 0;
+        std::vector<const Effect*> worst_effects;
         Fit worst_fit;
-        for (size_t e = 0; e + 1 < chosen.size(); ++e) {
-          std::vector<const Effect*> reduced = chosen;
-          reduced.erase(reduced.begin() + static_cast<std::ptrdiff_t>(e));
-          Eigen::VectorXd start = current_fit.theta.head(setup.material_parameters);
-          for (size_t k = 0; k < chosen.size(); ++k) {
-            if (k == e) continue;
-            const auto [first, count] = current.blocks[k];
-            start.conservativeResize(start.size() + count);
-            start.tail(count) = current_fit.theta.segment(first, count);
-          }
+        std::string worst_change;
+        auto consider = [&](const std::vector<const Effect*>& reduced, const Eigen::VectorXd& start,
+                            int d1, const std::string& change) {
           const Fit fit = run_fit(setup, build_model(setup, reduced, start), weights);
-          if (!fit.ok) continue;
-          const int d1 = chosen[e]->num_parameters();
+          if (!fit.ok || d1 <= 0) return;
           const int d2 = current_fit.rows - static_cast<int>(current_fit.theta.size());
           const double f =
               std::max(0.0, (fit.rss - current_fit.rss - allowance) / d1) / (current_fit.rss / d2);
           const double p = f_test_p_value(f, d1, d2);
           if (p > worst_p) {
             worst_p = p;
-            worst = e;
+            worst_effects = reduced;
             worst_fit = fit;
+            worst_change = change;
+          }
+        };
+        for (size_t e = 0; e < chosen.size(); ++e) {
+          // The kept effects' fitted values start the refit; a replacement starts at its own.
+          auto start_for = [&](const Effect* replacement) {
+            Eigen::VectorXd start = current_fit.theta.head(setup.material_parameters);
+            for (size_t k = 0; k < chosen.size(); ++k) {
+              const Eigen::VectorXd values =
+                  k != e        ? Eigen::VectorXd(current_fit.theta.segment(current.blocks[k].first,
+                                                                            current.blocks[k].second))
+                  : replacement ? replacement->initial_values()
+                                : Eigen::VectorXd();
+              start.conservativeResize(start.size() + values.size());
+              start.tail(values.size()) = values;
+            }
+            return start;
+          };
+          if (e + 1 < chosen.size() && chosen.size() > 1) {  // not the effect just added
+            std::vector<const Effect*> reduced = chosen;
+            reduced.erase(reduced.begin() + static_cast<std::ptrdiff_t>(e));
+            consider(reduced, start_for(nullptr), chosen[e]->num_parameters(),
+                     "dropped " + chosen[e]->name());
+          }
+          const std::string simpler = chosen[e]->simpler();
+          const auto it = std::find_if(library.begin(), library.end(),
+                                       [&](const auto& x) { return x->name() == simpler; });
+          if (!simpler.empty() && it != library.end() &&
+              std::find(chosen.begin(), chosen.end(), it->get()) == chosen.end()) {
+            std::vector<const Effect*> replaced = chosen;
+            replaced[e] = it->get();
+            consider(replaced, start_for(it->get()),
+                     chosen[e]->num_parameters() - (*it)->num_parameters(),
+                     "replaced " + chosen[e]->name() + " by " + simpler);
           }
         }
         if (worst_p <= options.significance) break;
-        say("dropped " + chosen[worst]->name() + " (p = " + std::to_string(worst_p) + ")");
-        round.removed.push_back(chosen[worst]->name());
-        chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(worst));
+        say(worst_change + " (p = " + std::to_string(worst_p) + ")");
+        round.removed.push_back(worst_change.substr(0, 8) == "dropped " ? worst_change.substr(8)
+                                                                        : worst_change);
+        chosen = worst_effects;
         current = build_model(setup, chosen, worst_fit.theta);
         current_fit = worst_fit;
       }
@@ -664,6 +776,69 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
     } else {
       result.rounds.push_back(round);
       break;
+    }
+  }
+
+  // Swap stage. Forward selection is path dependent: an effect that explains a bit of
+  // everything (a rigid motion per load case) can win the first round and leave nothing for the
+  // physical effect that explains the same data with fewer parameters (a stiff clamp, whose
+  // motion is fixed by its two spring stiffnesses). Each selected effect is replaced in turn by
+  // every other linear candidate and the models compared by BIC (not nested: no F-test). A swap
+  // with delta BIC < -2 (positive evidence) is taken, and the stage repeats; alternatives within
+  // 2 of the selection are reported as indistinguishable on these data.
+  {
+    const double n = static_cast<double>(current_fit.rows);
+    auto bic = [&](const Fit& f) {
+      return n * std::log(std::max(f.rss, 1e-300)) +
+             static_cast<double>(f.theta.size()) * std::log(n);
+    };
+    for (size_t pass = 0; pass < library.size() && !chosen.empty(); ++pass) {
+      std::vector<Alternative> seen;
+      double best_delta = -2.0;
+      std::vector<const Effect*> best_effects;
+      Fit best_alternative;
+      Alternative best_swap;
+      for (size_t e = 0; e < chosen.size(); ++e)
+        for (const auto& candidate : library) {
+          if (std::find(chosen.begin(), chosen.end(), candidate.get()) != chosen.end()) continue;
+          std::vector<const Effect*> swapped = chosen;
+          swapped[e] = candidate.get();
+          const Model model =
+              build_model(setup, swapped, current_fit.theta.head(setup.material_parameters));
+          if (model.forward->nonlinear()) continue;  // Newton fits: the score test handled it
+          Eigen::VectorXd start = current_fit.theta.head(setup.material_parameters);
+          for (size_t k = 0; k < swapped.size(); ++k) {
+            const Eigen::VectorXd values =
+                k != e ? Eigen::VectorXd(current_fit.theta.segment(current.blocks[k].first,
+                                                                   current.blocks[k].second))
+                       : candidate->initial_values();
+            start.conservativeResize(start.size() + values.size());
+            start.tail(values.size()) = values;
+          }
+          const Fit fit = run_fit(setup, build_model(setup, swapped, start), weights);
+          if (!fit.ok) continue;
+          const Alternative alternative{chosen[e]->name(), candidate->name(),
+                                        bic(fit) - bic(current_fit), false};
+          seen.push_back(alternative);
+          if (alternative.delta_bic < best_delta) {
+            best_delta = alternative.delta_bic;
+            best_effects = swapped;
+            best_alternative = fit;
+            best_swap = alternative;
+          }
+        }
+      if (best_effects.empty()) {
+        for (const Alternative& a : seen)
+          if (std::abs(a.delta_bic) < 2.0) result.alternatives.push_back(a);
+        break;
+      }
+      best_swap.swapped = true;
+      result.alternatives.push_back(best_swap);
+      say("swapped " + best_swap.replaced + " for " + best_swap.by +
+          " (delta BIC = " + std::to_string(best_swap.delta_bic) + ")");
+      chosen = best_effects;
+      current = build_model(setup, chosen, best_alternative.theta);
+      current_fit = best_alternative;
     }
   }
 
@@ -788,6 +963,60 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       result.holdout.validation_before = summarize(residuals(base, base_fit), validation, dim);
       result.holdout.validation_after = summarize(residuals(full, full_fit), validation, dim);
       result.holdout_done = true;
+    }
+  }
+  // Leave one load case out: do the effects predict a load case they were not fitted to?
+  if (options.holdout && num_cases >= 2) {
+    for (size_t l = 0; l < num_cases; ++l) {
+      std::vector<bool> fit_marker(markers.size(), true);
+      for (int m : setup.markers[l]) fit_marker[static_cast<size_t>(m)] = false;
+      const auto w = make_weights(setup, result.noise_estimate, fit_marker);
+      LoadCaseHoldout out;
+      out.id = problem.load_cases[l].id;
+      out.markers = static_cast<int>(setup.markers[l].size());
+      bool ok = true;
+      for (const bool final_model : {false, true}) {
+        const Model model = final_model ? build_model(setup, chosen, theta)
+                                        : build_model(setup, {}, first_fit.theta);
+        const Fit fit = run_fit(setup, model, w);
+        if (!fit.ok) {
+          ok = false;
+          break;
+        }
+        const ModelEvaluation eval = model.forward->evaluate(fit.theta, true);
+        // Columns that vanish on every other load case act on load case l alone.
+        std::vector<Eigen::Index> local;
+        for (Eigen::Index k = 0; k < fit.theta.size(); ++k) {
+          double elsewhere = 0.0;
+          for (size_t o = 0; o < num_cases; ++o)
+            if (o != l) elsewhere += eval.jacobians[o].col(k).squaredNorm();
+          if (elsewhere == 0.0 && eval.jacobians[l].col(k).squaredNorm() > 0.0) local.push_back(k);
+        }
+        Eigen::VectorXd r = setup.measured[l] - eval.predictions[l];
+        if (!local.empty()) {
+          Eigen::MatrixXd j(r.size(), static_cast<Eigen::Index>(local.size()));
+          for (size_t k = 0; k < local.size(); ++k)
+            j.col(static_cast<Eigen::Index>(k)) = eval.jacobians[l].col(local[k]);
+          // Weighted like the fit (component weights), so the step is the least-squares one.
+          Eigen::VectorXd rw = r;
+          for (Eigen::Index k = 0; k < r.size(); ++k) {
+            const double s = setup.component_weight[k % dim];
+            rw[k] *= s;
+            j.row(k) *= s;
+          }
+          const Eigen::VectorXd step = j.colPivHouseholderQr().solve(rw);
+          for (size_t k = 0; k < local.size(); ++k)
+            r -= step[static_cast<Eigen::Index>(k)] * eval.jacobians[l].col(local[k]);
+        }
+        std::vector<Eigen::Vector3d> residual(markers.size(), Eigen::Vector3d::Zero());
+        for (size_t k = 0; k < setup.markers[l].size(); ++k)
+          for (int c = 0; c < dim; ++c)
+            residual[static_cast<size_t>(setup.markers[l][k])][c] =
+                r[static_cast<Eigen::Index>(k) * dim + c];
+        (final_model ? out.after : out.before) = summarize(residual, setup.markers[l], dim);
+        if (final_model) out.local_parameters = static_cast<int>(local.size());
+      }
+      if (ok) result.load_case_holdout.push_back(out);
     }
   }
   // Last: the refined setup points into refined_problem until here.

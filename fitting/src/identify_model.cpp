@@ -4,6 +4,8 @@
 #include "isospring/fitting/identify_model.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -45,30 +47,45 @@ struct FactorizationCache {
   std::unique_ptr<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>> cholesky;
   std::vector<double> fingerprint;   // of the factorised model's terms and free DOFs
   std::vector<double> coefficients;  // of the factorised K_ff
+  // W = K_c^-1 U and G = U^T W for the model's local DOFs B (U: the columns of the identity at
+  // B); computed on the first low-rank solve after each factorisation.
+  Eigen::MatrixXd w, g;
+  bool low_rank_ready = false;
+  FactorizationStats stats;
 
-  // s with c = s * coefficients to round-off for the same terms, or 0 when there is no such s.
-  double scale_to(const std::vector<double>& model_fingerprint,
-                  const std::vector<double>& c) const {
+  // s with c_j = s * coefficients_j to 1e-13 of c_j for every term with local[j] false (all
+  // terms when local is empty), or 0 when there is no such s. One scale for every term, each to
+  // 1e-13 of itself: a term far stiffer than the others (a support spring of 1e12 against
+  // E = 1e9) must not hide a change in the others, which a badly conditioned K would amplify.
+  double scale_to(const std::vector<double>& model_fingerprint, const std::vector<double>& c,
+                  const std::vector<bool>& local) const {
     if (!cholesky || model_fingerprint != fingerprint || c.size() != coefficients.size())
       return 0.0;
-    // One scale for every term, each to 1e-13 of itself: a term far stiffer than the others
-    // (a support spring of 1e12 against E = 1e9) must not hide a change in the others, which a
-    // badly conditioned K would amplify.
+    auto global = [&](size_t j) { return local.empty() || !local[j]; };
     double s = 0.0;
     for (size_t j = 0; j < c.size(); ++j)
-      if (coefficients[j] != 0.0) {
+      if (global(j) && coefficients[j] != 0.0) {
         s = c[j] / coefficients[j];
         break;
       }
     if (!(s > 0.0)) return 0.0;
     for (size_t j = 0; j < c.size(); ++j)
-      if (std::abs(c[j] - s * coefficients[j]) > 1e-13 * std::abs(c[j])) return 0.0;
+      if (global(j) && std::abs(c[j] - s * coefficients[j]) > 1e-13 * std::abs(c[j])) return 0.0;
     return s;
   }
 };
 
 std::shared_ptr<FactorizationCache> make_factorization_cache() {
   return std::make_shared<FactorizationCache>();
+}
+
+FactorizationStats factorization_stats(const FactorizationCache& cache) {
+  return cache.stats;
+}
+
+FactorizationStats ForwardModel::factorization_stats() const {
+  std::lock_guard<std::mutex> lock(linear_cache_->mutex);
+  return linear_cache_->stats;
 }
 
 ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observations,
@@ -100,6 +117,47 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
     free_blocks_.push_back(
         detail::free_upper_block(term.matrix, free_index_, static_cast<int>(free_dofs_.size())));
   if (!terms_.nonlinear.empty()) nonlinear_cache_ = make_nonlinear_cache();
+  // Local terms: each touches at most 1/4 of the free DOFs, and together at most 1500 of them
+  // (the dense |B| x |B| algebra of a low-rank solve then costs less than a factorisation).
+  const int nf = static_cast<int>(free_dofs_.size());
+  std::vector<bool> touched(static_cast<size_t>(nf), false);
+  local_term_.assign(free_blocks_.size(), false);
+  for (size_t j = 0; j < free_blocks_.size(); ++j) {
+    std::vector<bool> rows(static_cast<size_t>(nf), false);
+    int count = 0;
+    for (int k = 0; k < free_blocks_[j].outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(free_blocks_[j], k); it; ++it)
+        for (const Eigen::Index d : {it.row(), it.col()})
+          if (!rows[static_cast<size_t>(d)]) rows[static_cast<size_t>(d)] = true, ++count;
+    if (count == 0 || 4 * count > nf) continue;
+    local_term_[j] = true;
+    for (int d = 0; d < nf; ++d)
+      if (rows[static_cast<size_t>(d)]) touched[static_cast<size_t>(d)] = true;
+  }
+  for (int d = 0; d < nf; ++d)
+    if (touched[static_cast<size_t>(d)]) local_dofs_.push_back(d);
+  const bool any_global = std::count(local_term_.begin(), local_term_.end(), false) > 0;
+  if (local_dofs_.size() > 1500 || 4 * static_cast<int>(local_dofs_.size()) > nf || !any_global) {
+    local_term_.assign(free_blocks_.size(), false);
+    local_dofs_.clear();
+  }
+  std::vector<int> local_index(static_cast<size_t>(nf), -1);
+  for (size_t b = 0; b < local_dofs_.size(); ++b)
+    local_index[static_cast<size_t>(local_dofs_[b])] = static_cast<int>(b);
+  local_blocks_.resize(free_blocks_.size());
+  for (size_t j = 0; j < free_blocks_.size(); ++j) {
+    if (!local_term_[j]) continue;
+    const auto nb = static_cast<Eigen::Index>(local_dofs_.size());
+    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(nb, nb);
+    for (int k = 0; k < free_blocks_[j].outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(free_blocks_[j], k); it; ++it) {
+        const int r = local_index[static_cast<size_t>(it.row())];
+        const int q = local_index[static_cast<size_t>(it.col())];
+        block(r, q) = it.value();
+        block(q, r) = it.value();  // the stored upper triangle, mirrored
+      }
+    local_blocks_[j] = std::move(block);
+  }
   // Fingerprint: the free DOFs and each term's size and entries (sums of values and of their
   // position-weighted values), so that two models share a factorisation only for the same K_j.
   fingerprint_ = {static_cast<double>(num_dofs), static_cast<double>(free_dofs_.size())};
@@ -150,7 +208,41 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
   FactorizationCache& cache = *linear_cache_;
   std::lock_guard<std::mutex> lock(cache.mutex);
   // K_ff = scale * (the factorised matrix): solutions are the cached factor's divided by scale.
-  double scale = cache.scale_to(fingerprint_, c);
+  double scale = cache.scale_to(fingerprint_, c, {});
+  // Or K_ff = scale * (K_c + U C U^T) when only local terms changed: a low-rank solve.
+  Eigen::MatrixXd update;  // C (I + G C)^-1, |B| x |B|
+  if (scale == 0.0 && !local_dofs_.empty()) {
+    const double s = cache.scale_to(fingerprint_, c, local_term_);
+    bool same_signs = s > 0.0;
+    for (size_t j = 0; j < nt && same_signs; ++j)
+      if (local_term_[j] && c[j] * cache.coefficients[j] < 0.0) same_signs = false;
+    if (same_signs) {
+      if (!cache.low_rank_ready) {
+        const auto nb = static_cast<Eigen::Index>(local_dofs_.size());
+        Eigen::MatrixXd u = Eigen::MatrixXd::Zero(nf, nb);
+        for (Eigen::Index b = 0; b < nb; ++b) u(local_dofs_[static_cast<size_t>(b)], b) = 1.0;
+        cache.w = cache.cholesky->solve(u);
+        cache.g.resize(nb, nb);
+        for (Eigen::Index b = 0; b < nb; ++b)
+          cache.g.row(b) = cache.w.row(local_dofs_[static_cast<size_t>(b)]);
+        cache.low_rank_ready = true;
+      }
+      Eigen::MatrixXd change = Eigen::MatrixXd::Zero(cache.g.rows(), cache.g.cols());
+      for (size_t j = 0; j < nt; ++j)
+        if (local_term_[j]) change += (c[j] / s - cache.coefficients[j]) * local_blocks_[j];
+      // C (I + G C)^-1 = (I + C G)^-1 C (push-through identity).
+      const Eigen::MatrixXd capacitance =
+          Eigen::MatrixXd::Identity(change.rows(), change.cols()) + change * cache.g;
+      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(capacitance);
+      // A nearly singular capacitance (springs driven towards zero: K itself nearly singular)
+      // would amplify round-off: factorise anew instead, which also tests definiteness.
+      if (lu.rcond() > 1e-10) {
+        update = lu.solve(change);
+        scale = s;
+        ++cache.stats.low_rank_updates;
+      }
+    }
+  }
   if (scale == 0.0) {
     Eigen::SparseMatrix<double> kff(nf, nf);
     for (size_t j = 0; j < nt; ++j) kff += c[j] * free_blocks_[j];
@@ -166,9 +258,22 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
     }
     cache.fingerprint = fingerprint_;
     cache.coefficients = c;
+    cache.low_rank_ready = false;
     scale = 1.0;
+    ++cache.stats.factorizations;
+  } else if (update.size() == 0) {
+    ++cache.stats.reuses;
   }
-  auto solve = [&](const auto& rhs) { return (cache.cholesky->solve(rhs) / scale).eval(); };
+  auto solve = [&](const auto& rhs) {
+    Eigen::MatrixXd x = cache.cholesky->solve(rhs);
+    if (update.size() > 0) {
+      Eigen::MatrixXd at_local(static_cast<Eigen::Index>(local_dofs_.size()), x.cols());
+      for (size_t b = 0; b < local_dofs_.size(); ++b)
+        at_local.row(static_cast<Eigen::Index>(b)) = x.row(local_dofs_[b]);
+      x -= cache.w * (update * at_local);
+    }
+    return (x / scale).eval();
+  };
 
   auto to_free = [&](const Eigen::VectorXd& global) {
     Eigen::VectorXd f(nf);

@@ -57,8 +57,8 @@ Recalibration recalibrate_identified(const analysis::Problem& prior, const Ident
       out.notes.push_back(
           "stiffness_gradient: carried by the reference (the springs are fitted to the "
           "displacements of the graded material)");
-    } else if (name == "rigid_offset") {
-      out.notes.push_back("rigid_offset: a measurement-frame effect, not part of the model");
+    } else if (name == "rigid_offset" || name == "rigid_offset_per_load") {
+      out.notes.push_back(name + ": a measurement-frame effect, not part of the model");
     } else if (name == "support_compliance") {
       out.notes.push_back(
           "support_compliance: NOT carried (the spring model's supported particles stay fixed; "

@@ -97,7 +97,8 @@ TEST(Identify3D, RigidOffsetWithFiniteStandardErrors) {
   Eigen::VectorXd rigid(18);  // per load case: translations [m], rotations [rad]
   for (int l = 0; l < 3; ++l)
     rigid.segment(6 * l, 6) << 2e-6 * (l + 1), -1e-6, 1.5e-6, 1e-5, -2e-5 * (l + 1), 1e-5;
-  const auto clean = simulate_markers(truth, markers, placements, {{"rigid_offset", rigid}});
+  const auto clean =
+      simulate_markers(truth, markers, placements, {{"rigid_offset_per_load", rigid}});
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, kSigma);
   for (size_t m = 0; m < markers.size(); ++m)
@@ -109,7 +110,7 @@ TEST(Identify3D, RigidOffsetWithFiniteStandardErrors) {
   options.holdout = false;
   options.noise_sigma = kSigma;
   const IdentifyResult r = identify(prior, markers, placements, options);
-  ASSERT_EQ(r.effects_added, std::vector<std::string>{"rigid_offset"});
+  ASSERT_EQ(r.effects_added, std::vector<std::string>{"rigid_offset_per_load"});
   ASSERT_EQ(r.parameters.size(), 19u);
   // Every estimate has a finite positive standard error and lies within 3.5 of them of the
   // truth (19 parameters: P(max |z| > 3.5) ~ 0.9%); the E error is the dominant one.

@@ -89,7 +89,7 @@ IdentifyResult identify_with(const std::vector<std::pair<std::string, Eigen::Vec
 TEST(ResidualDescription, RigidOffsetIsConstantAndLinearInTheLoop) {
   const Eigen::VectorXd offset =
       (Eigen::VectorXd(6) << 3e-6, -2e-6, 4e-5, -1e-6, 3e-6, -2e-5).finished();
-  const IdentifyResult r = identify_with({{"rigid_offset", offset}});
+  const IdentifyResult r = identify_with({{"rigid_offset_per_load", offset}});
   const ResidualDescription& before = r.residual_before;
   // The baseline residual is the rigid motion (rms ~3e-6 m) plus 1e-6 m noise: about 90% of its
   // energy is in the modes (noise share ~4%); most of it, by a wide margin.

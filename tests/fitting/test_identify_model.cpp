@@ -145,6 +145,73 @@ TEST(IdentifyModel, AnalyticJacobianMatchesCentralDifferences) {
   }
 }
 
+// Support springs touch only the clamped side's DOFs: when only their stiffness changes (E and
+// the rest scaled alike), the model solves by a low-rank (Woodbury) update of the cached
+// factorisation. Its predictions and Jacobian must equal a fresh factorisation's to round-off,
+// for springs 1000x softer and 1000x stiffer than the cached ones, and with E changed too.
+TEST(IdentifyModel, LowRankSpringUpdatesMatchFreshFactorisations) {
+  const analysis::Problem problem = plate_problem(12, 6);
+  const analysis::DofMap dofs(problem);
+  const auto lame = analysis::lame_parameters(problem.material, problem.formulation);
+  const LameMatrices parts = assemble_lame_stiffness(problem, dofs);
+  const SideSpringMatrices springs =
+      assemble_side_springs(problem, dofs, analysis::parse_side("u0"));
+  ModelTerms terms;
+  terms.num_parameters = 3;
+  terms.stiffness.push_back({parts.lambda_part, linear_coefficient(0, lame.lambda)});
+  terms.stiffness.push_back({parts.mu_part, linear_coefficient(0, lame.mu)});
+  const double k_ref = 1e6 / 0.1;
+  for (int k : {1, 2})
+    terms.stiffness.push_back({k == 1 ? springs.normal : springs.tangential,
+                               [k_ref, k](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
+                                 if (g) {
+                                   g->setZero(t.size());
+                                   (*g)[k] = k_ref * std::exp(t[k]);
+                                 }
+                                 return k_ref * std::exp(t[k]);
+                               }});
+  terms.loads.push_back({0, analysis::assemble_load(problem, dofs, problem.load_cases[0]),
+                         constant_coefficient(1.0)});
+  const std::vector<Marker> markers = grid_markers(problem, 6, 3);
+  const PlacementResult placed = place_markers(problem.patches, markers, 1e-9);
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int m = 0; m < 18; ++m) {
+    const nurbs::RationalBasis basis =
+        problem.patches[0].basis(placed.placements[static_cast<size_t>(m)].param, 0);
+    for (int c = 0; c < 2; ++c)
+      for (size_t a = 0; a < basis.indices.size(); ++a)
+        triplets.emplace_back(2 * m + c, dofs.dof(0, basis.indices[a], c),
+                              basis.values[static_cast<Eigen::Index>(a)]);
+  }
+  Observation obs;
+  obs.operator_.resize(36, dofs.num_dofs());
+  obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  terms.released_dofs = constraints.dofs;
+  const auto shared = make_factorization_cache();
+  const ForwardModel updated(terms, {obs}, constraints.dofs, constraints.values, dofs.num_dofs(), 1,
+                             shared);
+  const Eigen::VectorXd start = Eigen::Vector3d(1.0, 0.5, 0.5);
+  updated.evaluate(start, false);  // factorises; later evaluations may update it
+  for (const Eigen::Vector3d& theta :
+       {Eigen::Vector3d(1.0, 0.5 - 6.9, 0.5), Eigen::Vector3d(1.0, 0.5 + 6.9, 0.5 - 3.0),
+        Eigen::Vector3d(1.7, 2.0, -1.0)}) {
+    const ModelEvaluation low_rank = updated.evaluate(theta, true);
+    const ForwardModel fresh(terms, {obs}, constraints.dofs, constraints.values, dofs.num_dofs(),
+                             1);  // a cache of its own: factorises at theta
+    const ModelEvaluation direct = fresh.evaluate(theta, true);
+    const Eigen::VectorXd& y = direct.predictions[0];
+    EXPECT_LT((low_rank.predictions[0] - y).norm(), 1e-9 * y.norm()) << theta.transpose();
+    EXPECT_LT((low_rank.jacobians[0] - direct.jacobians[0]).norm(),
+              1e-8 * direct.jacobians[0].norm())
+        << theta.transpose();
+  }
+  // One factorisation for all of them: the rest were low-rank updates.
+  const FactorizationStats stats = updated.factorization_stats();
+  EXPECT_EQ(stats.factorizations, 1);
+  EXPECT_EQ(stats.low_rank_updates, 3);
+}
+
 TEST(IdentifyStatistics, FTestMatchesTables) {
   // Upper 1% and 5% points of F (Abramowitz & Stegun table 26.9).
   EXPECT_NEAR(f_test_p_value(6.85, 1, 120), 0.01, 2e-4);

@@ -168,6 +168,12 @@ Outcome identify_cantilever(double q, unsigned seed) {
   return {identify(prior, markers, placements, options), sigma};
 }
 
+const CandidateTest& nonlinear_candidate(const SelectionRound& round) {
+  for (const CandidateTest& c : round.candidates)
+    if (c.effect == "geometric_nonlinearity") return c;
+  throw std::runtime_error("geometric_nonlinearity was not a candidate");
+}
+
 TEST(IdentifyNonlinear, FindsTheNonlinearityOfALargeTipDeflection) {
   // q = 450 Pa: 14% tip deflection; the nonlinear part (axial shortening, stiffening) is ~2% of
   // the deflection, 20 times the noise.
@@ -183,6 +189,27 @@ TEST(IdentifyNonlinear, FindsTheNonlinearityOfALargeTipDeflection) {
   EXPECT_EQ(w.name, "w");
   EXPECT_GT(w.standard_error, 0.0);
   EXPECT_LT(std::abs(w.value - 1.0), 3 * w.standard_error);
+  // The score screening let it through to a full fit (no screening note), and its p-value
+  // agreed: far below the threshold.
+  ASSERT_FALSE(r.rounds.empty());
+  const CandidateTest& nonlinear = nonlinear_candidate(r.rounds[0]);
+  EXPECT_TRUE(nonlinear.note.empty()) << nonlinear.note;
+}
+
+// The score test is the F-test's first-order version: on data where the nonlinearity is real its
+// F must be close to the full refit's (within 20 %: the candidate is linear in w, nonlinear only
+// through E's change), which is what justifies screening with it.
+TEST(IdentifyNonlinear, ScoreScreeningAgreesWithTheFullFit) {
+  const Outcome out = identify_cantilever(150.0, 5);
+  const IdentifyResult& r = out.result;
+  ASSERT_FALSE(r.rounds.empty());
+  const CandidateTest& fitted = nonlinear_candidate(r.rounds[0]);
+  ASSERT_TRUE(fitted.note.empty()) << fitted.note;
+  ASSERT_EQ(r.effects_added, std::vector<std::string>{"geometric_nonlinearity"});
+  ASSERT_TRUE(std::isfinite(fitted.score_f));
+  EXPECT_GT(fitted.f_statistic, 10.0);
+  EXPECT_NEAR(fitted.score_f / fitted.f_statistic, 1.0, 0.2)
+      << "score F " << fitted.score_f << ", refit F " << fitted.f_statistic;
 }
 
 TEST(IdentifyNonlinear, DoesNotAddItInTheLinearRegime) {
@@ -194,6 +221,10 @@ TEST(IdentifyNonlinear, DoesNotAddItInTheLinearRegime) {
   EXPECT_LT(r.after.rms, 1.3 * out.sigma);
   const ParameterEstimate& e = r.parameters[0];
   EXPECT_LT(std::abs(e.value - kTrueScale * kPriorE), 3 * e.standard_error);
+  // Screened out by the score test, without a Newton fit.
+  ASSERT_FALSE(r.rounds.empty());
+  const CandidateTest& nonlinear = nonlinear_candidate(r.rounds[0]);
+  EXPECT_NE(nonlinear.note.find("screened out"), std::string::npos) << nonlinear.note;
 }
 
 }  // namespace

@@ -9,14 +9,19 @@
 //   support_compliance  the fixed sides become Robin supports: springs per area k_n (normal) and
 //                       k_t (tangential), fitted as log(k / (E_prior / L))
 //   stiffness_gradient  E(x) = E (1 + a . (x - x_c) / L), a fitted (2 or 3 components)
-//   rigid_offset        rigid motion of the specimen in the measuring frame per load case:
-//                       translations and small rotations about x_c (2D: 2 + 1, 3D: 3 + 3)
+//   rigid_offset        rigid motion of the specimen in the measuring frame, one for all load
+//                       cases (a frame offset does not depend on the load): translations and
+//                       small rotations about x_c (2D: 2 + 1, 3D: 3 + 3)
 //   load_scale          actual load factor (1 + s_l) of every load case but the first (the first
 //                       one's is not separable from E)
 //   geometric_nonlinearity  large deformation: total Lagrangian St. Venant-Kirchhoff solved by
 //                       Newton; the prediction blends the linear and SVK solutions with a fitted
 //                       weight w (0 linear, 1 SVK) so the linear model is nested and the F-test
 //                       applies (effect_geometric_nonlinearity.cpp says why)
+//   rigid_offset_per_load  a rigid motion per load case (the specimen moved between them); a
+//                       compliant clamp also moves per load case, in proportion to the load,
+//                       so a moved frame is told apart by the shared rigid_offset fitting as
+//                       well, and a clamp by support_compliance fitting better
 // x_c is the centre and L the diagonal of the model's bounding box.
 #include <Eigen/Core>
 #include <memory>
@@ -57,6 +62,14 @@ class Effect {
   int num_parameters() const { return static_cast<int>(parameter_names().size()); }
   /// Starting values: the effect switched off (or, for compliance, nearly rigid).
   virtual Eigen::VectorXd initial_values() const { return Eigen::VectorXd::Zero(num_parameters()); }
+  /// Values at which the effect vanishes (the model equals the one without it), for the score
+  /// screening of expensive candidates; empty when there are none (a compliance is rigid only
+  /// in the limit).
+  virtual Eigen::VectorXd neutral_values() const { return Eigen::VectorXd::Zero(num_parameters()); }
+  /// The name of a nested special case with fewer parameters (rigid_offset_per_load ->
+  /// rigid_offset), or empty: the backward step of the selection tries the simpler one in its
+  /// place.
+  virtual std::string simpler() const { return {}; }
   /// Adds the effect's terms; its parameters are theta[first .. first + num_parameters()).
   virtual void add_terms(const EffectContext& context, int first, ModelTerms& terms) const = 0;
   /// Reportable values from the fitted parameters (e.g. k = k_ref exp(p)): name -> value.

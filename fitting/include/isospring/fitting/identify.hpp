@@ -24,6 +24,7 @@
 // cancel the smooth part of the residual (what the model misses) and keep the noise.
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -84,6 +85,14 @@ struct CandidateTest {
   double p_value = 1.0;
   std::string note;      // why it was not tried (unavailable, fit failed)
   double seconds = 0.0;  // the refit's wall time
+  /// The score test's F for expensive (nonlinear) candidates, NaN when not screened: such a
+  /// candidate is fitted only when its score p-value is below 10 x the threshold.
+  double score_f = std::numeric_limits<double>::quiet_NaN();
+  /// Schwarz's criterion of the refit against the round's model: BIC = n ln(RSS / n) + k ln n
+  /// (n weighted observations, k parameters); negative favours the candidate. Beside the F-test
+  /// in the report, and the tie-break between candidates whose p-values both underflow to 0 (the
+  /// RSS alone would then always favour the candidate with more parameters).
+  double delta_bic = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct SelectionRound {
@@ -92,6 +101,25 @@ struct SelectionRound {
   std::vector<CandidateTest> candidates;
   std::string added;                 // empty: none significant, the loop stopped
   std::vector<std::string> removed;  // earlier effects the backward step dropped
+};
+
+/// A non-nested alternative to the selected effects: one of them replaced by another candidate,
+/// compared by BIC (the F-test needs nested models).
+struct Alternative {
+  std::string replaced, by;
+  double delta_bic = 0.0;  // BIC(alternative) - BIC(selected); < 0 favours the alternative
+  bool swapped = false;    // the selection took it (delta_bic < -2: positive evidence)
+};
+
+/// Leave-one-load-case-out: the nominal and the final model refitted without a load case, then
+/// predicting it. Parameters that act on that load case alone (its own rigid motion, its load
+/// factor) cannot be predicted and are fitted on it (a linear least-squares step: they enter
+/// linearly); `local_parameters` counts them.
+struct LoadCaseHoldout {
+  std::string id;
+  int markers = 0;
+  int local_parameters = 0;
+  ErrorSummary before, after;  // on the held-out load case
 };
 
 struct HoldoutCheck {
@@ -113,6 +141,10 @@ struct IdentifyResult {
   int observations = 0;
   std::vector<LoadCaseErrors> load_cases;
   std::vector<SelectionRound> rounds;
+  /// The swap stage after the stepwise selection: every selected effect against every other
+  /// linear candidate in its place. Swaps taken, and the alternatives the data cannot tell from
+  /// the selection (|delta_bic| < 2): e.g. a stiff clamp and a per-load-case rigid motion.
+  std::vector<Alternative> alternatives;
   /// The discretisation ladder (chosen_problem is the model the loop ran on when refined).
   DiscretizationCheck discretization;
   /// Weighted RSS subtracted from every candidate's RSS reduction in the F-tests: the estimated
@@ -121,7 +153,8 @@ struct IdentifyResult {
   double discretization_allowance = 0.0;
   HoldoutCheck holdout;
   bool holdout_done = false;
-  std::vector<double> component_weights;  // the weights used (one per component, rms 1)
+  std::vector<LoadCaseHoldout> load_case_holdout;  // with 2 or more load cases
+  std::vector<double> component_weights;           // the weights used (one per component, rms 1)
   std::vector<Eigen::Vector3d> model_before, model_after;  // per marker, model displacement [m]
   double youngs_modulus = 0.0, poisson_ratio = 0.0;        // final material
   /// The added effects with their fitted values (parameter_names() order), as simulate_markers

@@ -80,9 +80,21 @@ struct ModelEvaluation {
 /// The last factorisation of a linear model's K_ff, shareable between forward models: the
 /// candidate models of one identification differ in loads and offsets far more often than in
 /// their stiffness, and a model whose stiffness terms, free DOFs and coefficients (up to a common
-/// scale) match the cached ones solves with it instead of factorising again.
+/// scale) match the cached ones solves with it instead of factorising again. When only the
+/// coefficients of terms confined to a few DOFs B differ (support springs: |B| a few hundred
+/// against thousands of free DOFs), K = s (K_cached + U C U^T) with U selecting B, and solves use
+/// the Woodbury identity (K_c + U C U^T)^-1 = K_c^-1 - W C (I + G C)^-1 U^T K_c^-1, with
+/// W = K_c^-1 U and G = U^T W computed once per factorisation (|B| solves).
 struct FactorizationCache;
 std::shared_ptr<FactorizationCache> make_factorization_cache();
+
+/// What a cache did so far: for benchmarks, tests and the report's timing notes.
+struct FactorizationStats {
+  long factorizations = 0;    // sparse Cholesky factorisations
+  long reuses = 0;            // solves with the cached factor as it is (scaled)
+  long low_rank_updates = 0;  // solves through a Woodbury update of the cached factor
+};
+FactorizationStats factorization_stats(const FactorizationCache& cache);
 
 class ForwardModel {
  public:
@@ -94,6 +106,10 @@ class ForwardModel {
                std::shared_ptr<FactorizationCache> cache = nullptr);
 
   int num_parameters() const { return terms_.num_parameters; }
+  /// Whether the model has nonlinear terms (each evaluation is a Newton solve).
+  bool nonlinear() const { return !terms_.nonlinear.empty(); }
+  /// The counts of the (possibly shared) cache this model solves with.
+  FactorizationStats factorization_stats() const;
   /// Predictions (and Jacobians when `with_jacobian`) at theta. Throws std::runtime_error when
   /// K(theta) is not positive definite (parameters outside the physical range) or, with nonlinear
   /// terms, when Newton does not converge.
@@ -129,6 +145,11 @@ class ForwardModel {
   std::vector<int> free_dofs_;
   Eigen::VectorXd prescribed_;
   std::vector<Eigen::SparseMatrix<double>> free_blocks_;  // upper triangles of K_j,ff
+  // Terms confined to a few free DOFs (support springs): a change of their coefficients alone is
+  // a low-rank update of the cached factorisation (Woodbury) instead of a new one.
+  std::vector<bool> local_term_;
+  std::vector<int> local_dofs_;                // free indices touched by local terms
+  std::vector<Eigen::MatrixXd> local_blocks_;  // K_j restricted to local_dofs_ (full)
 };
 
 }  // namespace isospring::fitting
