@@ -1,6 +1,7 @@
 // Generalisation table of `isospring thesis` (header).
 #include "thesis_generalisation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -37,6 +38,9 @@ fitting::GeneralisationOptions candidates(const fitting::ThesisObject& object, b
     options.reaches = {1, 2};
     prior_iterations = quick ? 300 : 1500;
   }
+  // Plain central springs and springs with a volume (area) term per net cell: cross-validation
+  // picks (docs/calibration.md, "Richer spring models").
+  options.volume_terms = {false, true};
   options.folds = 3;
   options.target_percent_e_rms = object.published_e_rms;
   return options;
@@ -44,11 +48,14 @@ fitting::GeneralisationOptions candidates(const fitting::ThesisObject& object, b
 
 }  // namespace
 
-void thesis_generalisation(bool quick, nlohmann::json& report, io::MarkdownReport& md,
+void thesis_generalisation(bool quick, const std::vector<std::string>& objects,
+                           nlohmann::json& report, io::MarkdownReport& md,
                            const io::Progress& progress) {
   std::vector<std::vector<std::string>> rows;
   for (const std::string name :
        {"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}) {
+    if (!objects.empty() && std::find(objects.begin(), objects.end(), name) == objects.end())
+      continue;
     const auto start = std::chrono::steady_clock::now();
     const fitting::ThesisObject object = fitting::thesis_object(name);
     const fitting::ThesisSuite suite = fitting::thesis_load_suite(object);
@@ -75,7 +82,9 @@ void thesis_generalisation(bool quick, nlohmann::json& report, io::MarkdownRepor
                         {"training_cases", suite.training},
                         {"validation_cases", suite.validation},
                         {"reach", chosen.reach},
+                        {"volume_terms", chosen.volume_terms},
                         {"springs", r.mesh.network.springs.size()},
+                        {"volume_term_count", r.mesh.network.volumes.size()},
                         {"gamma", chosen.gamma},
                         {"prior_weight", chosen.prior_weight},
                         {"parameters", r.parameters},
@@ -95,6 +104,7 @@ void thesis_generalisation(bool quick, nlohmann::json& report, io::MarkdownRepor
              {"percent_e_max", e.control.percent_e_max}});
     for (const auto& c : g.candidates)
       j["candidates"].push_back({{"reach", c.reach},
+                                 {"volume_terms", c.volume_terms},
                                  {"gamma", c.gamma},
                                  {"prior_weight", c.prior_weight},
                                  {"parameters", c.parameters},
@@ -114,7 +124,11 @@ void thesis_generalisation(bool quick, nlohmann::json& report, io::MarkdownRepor
     rows.push_back(
         {name,
          std::to_string(r.mesh.network.springs.size()) + " springs (reach " +
-             std::to_string(chosen.reach) + "), " +
+             std::to_string(chosen.reach) + ")" +
+             (chosen.volume_terms
+                  ? " + " + std::to_string(r.mesh.network.volumes.size()) + " volume terms"
+                  : "") +
+             ", " +
              (chosen.prior_weight > 0.0
                   ? "per spring, w " + num(chosen.prior_weight) + " (gamma " + num(chosen.gamma) +
                         ")"
