@@ -164,8 +164,9 @@ void run_calibrate(const CalibrateOptions& options) {
   // Baseline beside the matrix approach: the acceleration objective on the same springs.
   std::optional<fitting::MatrixComparison> acceleration;
   if (request.acceleration_objective && !result.mesh.network.volumes.empty())
-    progress("acceleration objective skipped: it fits central springs only and the calibrated "
-             "model has volume terms");
+    progress(
+        "acceleration objective skipped: it fits central springs only and the calibrated "
+        "model has volume terms");
   else if (request.acceleration_objective) {
     progress("acceleration objective [S15 4.1-4.5] on the same springs (baseline)");
     acceleration = fitting::acceleration_baseline(c.problem, settings, result);

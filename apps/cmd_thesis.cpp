@@ -465,8 +465,7 @@ void setup_thesis(CLI::App& app) {
                 "Only the generalisation table (load suite, cross-validated freedom)");
   cmd->add_option("--object", options->objects,
                   "Generalisation table: only this object (repeatable; default all six)")
-      ->check(CLI::IsMember(
-          {"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}));
+      ->check(CLI::IsMember({"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}));
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_thesis(*options); });
 }

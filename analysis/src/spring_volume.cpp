@@ -63,7 +63,8 @@ double cell_volume_fixed(const double* corner_x, Eigen::VectorXd* gradient,
     }
     if (gradient)
       for (int a = 0; a < corners; ++a)
-        for (int i = 0; i < Dim; ++i) (*gradient)[a * Dim + i] += weight * cof.row(i).dot(dn.row(a));
+        for (int i = 0; i < Dim; ++i)
+          (*gradient)[a * Dim + i] += weight * cof.row(i).dot(dn.row(a));
     if (!hessian) continue;
     // d2 det J / dJ_im dJ_jn: 2D eps_ij eps_mn; 3D sum_kl eps_ijk eps_mnl J_kl.
     for (int i = 0; i < Dim; ++i)
@@ -75,7 +76,8 @@ double cell_volume_fixed(const double* corner_x, Eigen::VectorXd* gradient,
               second = static_cast<double>((jj - i) * (n - m));  // eps_ij eps_mn in 2D
             } else {
               for (int k = 0; k < 3; ++k)
-                for (int l = 0; l < 3; ++l) second += epsilon(i, jj, k) * epsilon(m, n, l) * j(k, l);
+                for (int l = 0; l < 3; ++l)
+                  second += epsilon(i, jj, k) * epsilon(m, n, l) * j(k, l);
             }
             if (second == 0.0) continue;
             for (int a = 0; a < corners; ++a)
@@ -88,7 +90,9 @@ double cell_volume_fixed(const double* corner_x, Eigen::VectorXd* gradient,
 
 }  // namespace
 
-int volume_corners(int dimension) { return dimension == 2 ? 4 : 8; }
+int volume_corners(int dimension) {
+  return dimension == 2 ? 4 : 8;
+}
 
 double cell_volume(const VolumeTerm& term, const Eigen::VectorXd& x, int dimension,
                    Eigen::VectorXd* gradient, Eigen::MatrixXd* hessian) {
@@ -129,8 +133,7 @@ double volume_energy(const SpringNetwork& network, const Eigen::VectorXd& x) {
   return energy;
 }
 
-void add_volume_forces(const SpringNetwork& network, const Eigen::VectorXd& x,
-                       Eigen::VectorXd& f) {
+void add_volume_forces(const SpringNetwork& network, const Eigen::VectorXd& x, Eigen::VectorXd& f) {
   Eigen::VectorXd b;
   for (const VolumeTerm& t : network.volumes) {
     const double change = cell_volume(t, x, network.dimension, &b) - t.rest_volume;

@@ -210,11 +210,11 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
                  mesh.network.springs.size() + mesh.network.volumes.size()) {
         options.initial = settings.per_spring_start;
       } else {
-        throw nurbs::InputError(
-            "calibration: per_spring_start has " +
-            std::to_string(settings.per_spring_start.size()) + " stiffnesses for " +
-            std::to_string(mesh.network.springs.size()) + " springs and " +
-            std::to_string(mesh.network.volumes.size()) + " volume terms");
+        throw nurbs::InputError("calibration: per_spring_start has " +
+                                std::to_string(settings.per_spring_start.size()) +
+                                " stiffnesses for " + std::to_string(mesh.network.springs.size()) +
+                                " springs and " + std::to_string(mesh.network.volumes.size()) +
+                                " volume terms");
       }
       options.grouping = one_group_per_spring(mesh.network);
       if (settings.prior_weight > 0.0) {
@@ -276,8 +276,9 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
   for (size_t v = 0; v < mesh.network.volumes.size(); ++v) {
     const double kappa = fit.volume_modulus[v];
     if (!(kappa > 0.0) || !std::isfinite(kappa))
-      throw std::runtime_error("calibration: the fit produced a non-positive or non-finite volume "
-                               "modulus");
+      throw std::runtime_error(
+          "calibration: the fit produced a non-positive or non-finite volume "
+          "modulus");
     mesh.network.volumes[v].modulus = kappa;
     mesh.network.volumes[v].group = result.grouping.group_of_volume[v];
   }

@@ -69,7 +69,8 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     for (size_t a = 0; a < particle_dofs.size(); ++a) {
       const int f = dofs_.free_index(particle_dofs[a]);
       if (f < 0) continue;
-      auto it = std::find_if(entries.begin(), entries.end(), [f](const auto& e) { return e.first == f; });
+      auto it =
+          std::find_if(entries.begin(), entries.end(), [f](const auto& e) { return e.first == f; });
       if (it == entries.end())
         entries.emplace_back(f, values[static_cast<Eigen::Index>(a)]);
       else

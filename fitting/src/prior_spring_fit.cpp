@@ -42,8 +42,8 @@ class PriorObjective final : public ceres::FirstOrderFunction {
       begin_.push_back(static_cast<int>(dof_.size()));
     };
     for (const auto& s : net.springs) {
-      Eigen::Vector3d n = net.positions[static_cast<size_t>(s.j)] -
-                          net.positions[static_cast<size_t>(s.i)];
+      Eigen::Vector3d n =
+          net.positions[static_cast<size_t>(s.j)] - net.positions[static_cast<size_t>(s.i)];
       if (dim_ == 2) n.z() = 0.0;
       n.normalize();
       std::vector<int> dofs;

@@ -76,9 +76,8 @@ void add_cell_volume_terms(const analysis::Problem& problem, double diagonal, Sp
         for (int i = 0; i + 1 < n[0]; ++i) {
           analysis::VolumeTerm term;
           for (int a = 0; a < analysis::volume_corners(dim); ++a)
-            term.particles[static_cast<size_t>(a)] =
-                mesh.particle[p][patch.index(i + (a & 1), j + ((a >> 1) & 1),
-                                             dim == 3 ? k + ((a >> 2) & 1) : 0)];
+            term.particles[static_cast<size_t>(a)] = mesh.particle[p][patch.index(
+                i + (a & 1), j + ((a >> 1) & 1), dim == 3 ? k + ((a >> 2) & 1) : 0)];
           term.rest_volume = analysis::rest_cell_volume(net, term);
           if (!(std::abs(term.rest_volume) > 1e-12 * std::pow(diagonal, dim))) {
             ++degenerate;

@@ -154,11 +154,11 @@ json model_to_json(const analysis::SpringNetwork& network, const json& provenanc
     json volumes = json::array();
     const size_t corners = network.dimension == 2 ? 4 : 8;
     for (const analysis::VolumeTerm& v : network.volumes)
-      volumes.push_back(json{
-          {"particles", std::vector<int>(v.particles.begin(), v.particles.begin() + corners)},
-          {"kappa", v.modulus},
-          {"V0", v.rest_volume},
-          {"group", v.group}});
+      volumes.push_back(
+          json{{"particles", std::vector<int>(v.particles.begin(), v.particles.begin() + corners)},
+               {"kappa", v.modulus},
+               {"V0", v.rest_volume},
+               {"group", v.group}});
     document["volumes"] = std::move(volumes);
   }
   return document;

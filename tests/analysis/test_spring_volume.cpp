@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
+#include "isospring/analysis/spring_dynamics.hpp"
 #include "isospring/analysis/spring_mechanics.hpp"
 #include "isospring/analysis/spring_volume.hpp"
 
@@ -36,8 +37,8 @@ SpringNetwork one_cell(int dim, double distortion, unsigned seed) {
 TEST(SpringVolume, ExactVolumes) {
   // A parallelepiped spanned by a, b, c has volume det[a b c] (trilinear = affine map here).
   SpringNetwork net = one_cell(3, 0.0, 1);
-  const Eigen::Matrix3d span = (Eigen::Matrix3d() << 2.0, 0.3, 0.1, 0.2, 1.5, -0.4, 0.0, 0.5, 0.8)
-                                   .finished();
+  const Eigen::Matrix3d span =
+      (Eigen::Matrix3d() << 2.0, 0.3, 0.1, 0.2, 1.5, -0.4, 0.0, 0.5, 0.8).finished();
   for (int a = 0; a < 8; ++a)
     net.positions[static_cast<size_t>(a)] =
         span * Eigen::Vector3d((a & 1) * 1.0, ((a >> 1) & 1) * 1.0, ((a >> 2) & 1) * 1.0);
@@ -119,7 +120,8 @@ TEST(SpringVolume, RigidMotionsAreInTheNullSpace) {
         s.i = a;
         s.j = b;
         s.stiffness = 1.0 + 0.1 * (a + b);
-        s.rest_length = (net.positions[static_cast<size_t>(a)] - net.positions[static_cast<size_t>(b)]).norm();
+        s.rest_length =
+            (net.positions[static_cast<size_t>(a)] - net.positions[static_cast<size_t>(b)]).norm();
         net.springs.push_back(s);
       }
     const Eigen::MatrixXd k = Eigen::MatrixXd(rest_stiffness(net));
@@ -143,7 +145,8 @@ TEST(SpringVolume, RigidMotionsAreInTheNullSpace) {
         EXPECT_LT((k * rotation).norm(), 1e-12) << "axis " << axis;
       }
     }
-    const Eigen::VectorXd eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(k).eigenvalues();
+    const Eigen::VectorXd eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(k).eigenvalues();
     const int rigid = dim * (dim + 1) / 2;
     EXPECT_LT(std::abs(eigenvalues[rigid - 1]), 1e-10 * eigenvalues.maxCoeff());
     EXPECT_GT(eigenvalues[rigid], 1e-6 * eigenvalues.maxCoeff());
@@ -174,7 +177,8 @@ TEST(SpringVolume, CubicLatticeModuliAndPoissonRatio) {
         s.i = a;
         s.j = b;
         s.stiffness = differing == 1 ? k1 / 4.0 : differing == 2 ? k2 / 2.0 : k3;
-        s.rest_length = (net.positions[static_cast<size_t>(a)] - net.positions[static_cast<size_t>(b)]).norm();
+        s.rest_length =
+            (net.positions[static_cast<size_t>(a)] - net.positions[static_cast<size_t>(b)]).norm();
         net.springs.push_back(s);
       }
     const double kappa = net.volumes[0].modulus;
@@ -189,7 +193,8 @@ TEST(SpringVolume, CubicLatticeModuliAndPoissonRatio) {
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) grad(r, c) = entry(rng);
       Eigen::VectorXd u(24);
-      for (int a = 0; a < 8; ++a) u.segment<3>(3 * a) = grad * net.positions[static_cast<size_t>(a)];
+      for (int a = 0; a < 8; ++a)
+        u.segment<3>(3 * a) = grad * net.positions[static_cast<size_t>(a)];
       const Eigen::Matrix3d eps = 0.5 * (grad + grad.transpose());
       double energy = 0.0;  // 1/2 eps:C:eps per unit volume, cubic symmetry
       for (int i = 0; i < 3; ++i) {
@@ -202,6 +207,50 @@ TEST(SpringVolume, CubicLatticeModuliAndPoissonRatio) {
     // Isotropic (C11 - C12 = 2 C44) both ways; nu = lambda / (2 (lambda + mu)), lambda = C12.
     EXPECT_NEAR(c11 - c12, 2.0 * c44, 1e-12 * c11);
     EXPECT_NEAR(c12 / (2.0 * (c12 + c44)), with_volume ? 1.0 / 3.0 : 0.25, 1e-12);
+  }
+}
+
+// The dynamics run volume terms: an undamped cell with edge springs and a stiff volume term,
+// squeezed and released, keeps its total energy under velocity Verlet (symplectic) and only
+// loses it under backward Euler (dissipative); both oscillate about the rest volume.
+TEST(SpringVolume, DynamicsConserveOrDissipateTheVolumeEnergy) {
+  SpringNetwork net = one_cell(3, 0.0, 1);
+  for (int a = 0; a < 8; ++a)
+    for (int b = a + 1; b < 8; ++b)
+      if (__builtin_popcount(static_cast<unsigned>(a ^ b)) == 1) {
+        Spring s;
+        s.i = a;
+        s.j = b;
+        s.stiffness = 10.0;
+        s.rest_length = 1.0;
+        net.springs.push_back(s);
+      }
+  net.volumes[0].modulus = 200.0;  // the volume term dominates the squeeze
+  for (int a = 0; a < 4; ++a) net.fixed[static_cast<size_t>(a)] = true;  // bottom face held
+  const Eigen::VectorXd no_load = Eigen::VectorXd::Zero(24);
+  for (bool verlet : {true, false}) {
+    SpringState state = rest_state(net);
+    for (int a = 4; a < 8; ++a) state.x[3 * a + 2] -= 0.1;  // squeeze the top face down
+    const double e0 = total_energy(net, state, no_load);
+    ASSERT_GT(volume_energy(net, state.x), 0.5 * e0);
+    double lowest_top = 1.0, highest_top = 0.0, e_end = 0.0;
+    for (int step = 0; step < 2000; ++step) {
+      if (verlet)
+        step_velocity_verlet(net, state, no_load, 1e-3);
+      else
+        step_backward_euler(net, state, no_load, 1e-3);
+      lowest_top = std::min(lowest_top, state.x[3 * 4 + 2]);
+      highest_top = std::max(highest_top, state.x[3 * 4 + 2]);
+      e_end = total_energy(net, state, no_load);
+      if (verlet) {
+        ASSERT_NEAR(e_end, e0, 1e-3 * e0) << "step " << step;
+      }
+    }
+    EXPECT_GT(highest_top, 1.0) << (verlet ? "verlet" : "backward Euler");  // springs back up
+    EXPECT_LT(lowest_top, 0.95);
+    if (!verlet) {
+      EXPECT_LT(e_end, 0.9 * e0);
+    }
   }
 }
 

@@ -10,6 +10,8 @@
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/fitting/calibration.hpp"
 #include "isospring/fitting/displacement_fit.hpp"
+#include "isospring/fitting/generalising_calibration.hpp"
+#include "isospring/fitting/load_suite.hpp"
 #include "isospring/fitting/prior_spring_fit.hpp"
 #include "isospring/fitting/spring_mesh.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -40,7 +42,8 @@ Hidden hidden_model(bool per_element_variation) {
     if (per_element_variation) spring.stiffness *= 1.0 + 0.2 * std::sin(1.3 * s);
   }
   for (size_t v = 0; v < network.volumes.size(); ++v)
-    network.volumes[v].modulus = 5000.0 * (per_element_variation ? 1.0 + 0.3 * std::cos(2.1 * v) : 1.0);
+    network.volumes[v].modulus =
+        5000.0 * (per_element_variation ? 1.0 + 0.3 * std::cos(2.1 * v) : 1.0);
   Hidden h;
   h.truth = network;
   const int dofs = static_cast<int>(network.positions.size()) * 3;
@@ -48,9 +51,9 @@ Hidden hidden_model(bool per_element_variation) {
     Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs);
     for (size_t p = 0; p < network.positions.size(); ++p) {
       const Eigen::Vector3d& x = network.positions[p];
-      if (kind < 3 && x.x() > 0.99) f[3 * p + kind] = 1.0;         // tension, two shears
-      if (kind == 3) f[3 * p + 2] = -1.0;                           // self-weight
-      if (kind == 4 && x.x() > 0.99) f[3 * p + 1] = x.z() - 0.5;    // twist (held out)
+      if (kind < 3 && x.x() > 0.99) f[3 * p + kind] = 1.0;        // tension, two shears
+      if (kind == 3) f[3 * p + 2] = -1.0;                         // self-weight
+      if (kind == 4 && x.x() > 0.99) f[3 * p + 1] = x.z() - 0.5;  // twist (held out)
     }
     return f;
   };
@@ -193,6 +196,33 @@ TEST(VolumeTerms, LowerTheErrorOfPlainSpringsOnANearlyIncompressibleSolid) {
   // The matrix approach cannot fit volume terms: refused, not silently dropped.
   settings.matrix_approach = true;
   EXPECT_THROW(calibrate(problem, settings), nurbs::InputError);
+}
+
+// The generalising calibration chooses plain springs or springs + volume terms by
+// cross-validation; on the nu = 0.4 box the volume terms win, and the chosen model carries them.
+TEST(VolumeTerms, CrossValidationChoosesTheRicherModelOnANearlyIncompressibleSolid) {
+  analysis::Problem problem = testing::grid_problem({4, 4, 4}, {2, 1, 1});
+  problem.material.poisson_ratio = 0.4;
+  const LoadSuite suite = generate_load_suite(problem, LoadSuiteOptions{});
+  problem.load_cases = suite.cases;
+  CalibrationSettings settings;
+  settings.fit_cases = suite.training;
+  settings.holdout_cases = suite.validation;
+  settings.field_metrics = false;
+  GeneralisationOptions options;
+  options.gammas = {0.2};
+  options.prior_weights = {};
+  options.volume_terms = {false, true};
+  const GeneralisationResult g = calibrate_for_generalisation(problem, settings, options);
+  ASSERT_EQ(g.candidates.size(), 2u);
+  EXPECT_FALSE(g.candidates[0].volume_terms);
+  EXPECT_TRUE(g.candidates[1].volume_terms);
+  EXPECT_LT(g.candidates[1].worst, 0.8 * g.candidates[0].worst)
+      << "plain " << g.candidates[0].worst << ", volume terms " << g.candidates[1].worst;
+  EXPECT_EQ(g.chosen, 1);
+  EXPECT_EQ(g.calibration.mesh.network.volumes.size(), 27u);
+  options.volume_terms.clear();
+  EXPECT_THROW(calibrate_for_generalisation(problem, settings, options), nurbs::InputError);
 }
 
 }  // namespace

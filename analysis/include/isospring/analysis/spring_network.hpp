@@ -38,7 +38,7 @@ struct SpringNetwork {
   std::vector<bool> fixed;                 // particle held in place
   std::vector<Spring> springs;
   std::vector<VolumeTerm> volumes;  // usually empty: plain central springs
-  int dimension = 3;  // 2 for in-plane models (z ignored)
+  int dimension = 3;                // 2 for in-plane models (z ignored)
 };
 
 }  // namespace isospring::analysis
