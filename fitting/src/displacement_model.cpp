@@ -90,16 +90,24 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     if (dim_ == 2) l.z() = 0.0;
     const double length = l.norm();
     const Eigen::Vector3d n = length > 0.0 ? Eigen::Vector3d(l / length) : Eigen::Vector3d::Zero();
+    // Entries interleaved (i_x, j_x, i_y, j_y, ...) and the stretch below summed per component
+    // as n_d (u_i,d - u_j,d): the same floating-point operations, in the same order, as before
+    // volume terms existed, so plain spring fits are bit-for-bit unchanged.
+    SpringData data_s;
+    data_s.n = n;
     std::vector<int> particle_dofs;
     Eigen::VectorXd values(2 * dim_);
+    for (int d = 0; d < 3; ++d) {
+      data_s.free_i[d] = d < dim_ ? dofs_.free_index(spring.i * dim_ + d) : -1;
+      data_s.free_j[d] = d < dim_ ? dofs_.free_index(spring.j * dim_ + d) : -1;
+    }
     for (int d = 0; d < dim_; ++d) {
       particle_dofs.push_back(spring.i * dim_ + d);
-      values[d] = n[d];
-    }
-    for (int d = 0; d < dim_; ++d) {
+      values[2 * d] = n[d];
       particle_dofs.push_back(spring.j * dim_ + d);
-      values[dim_ + d] = -n[d];
+      values[2 * d + 1] = -n[d];
     }
+    springs_.push_back(data_s);
     add_element(particle_dofs, values, grouping.group_of_spring[s]);
   }
   if (!net.volumes.empty() && grouping.group_of_volume.size() != net.volumes.size())
@@ -222,8 +230,15 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
     auto for_each_entry = [&](auto&& emit) {
       for (int s = 0; s < num_elements(); ++s) {
         double stretch = 0.0;
-        for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
-          stretch += entry_value_[a] * u[c][entry_free_[a]];
+        if (s < static_cast<int>(springs_.size())) {
+          const SpringData& sp = springs_[static_cast<size_t>(s)];
+          for (int d = 0; d < dim_; ++d)
+            stretch += sp.n[d] * ((sp.free_i[d] >= 0 ? u[c][sp.free_i[d]] : 0.0) -
+                                  (sp.free_j[d] >= 0 ? u[c][sp.free_j[d]] : 0.0));
+        } else {
+          for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
+            stretch += entry_value_[a] * u[c][entry_free_[a]];
+        }
         const int g = group_of_element_[s];
         const double factor = k_group[g] * stretch;
         spring_force_[c][s] = factor;

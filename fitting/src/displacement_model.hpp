@@ -60,6 +60,12 @@ class DisplacementModel {
  private:
   int num_elements() const { return static_cast<int>(group_of_element_.size()); }
 
+  struct SpringData {
+    Eigen::Vector3d n;         // unit rest direction
+    int free_i[3], free_j[3];  // free indices of the two particles' components, -1 when held
+  };
+  std::vector<SpringData> springs_;  // the first elements are the springs
+
   // Rank-one stiffness elements (springs, then volume terms): K_e = k_e g_e g_e^T with g_e's
   // entries [entry_begin_[e], entry_begin_[e + 1]) of entry_free_ (free index) and entry_value_.
   std::vector<int> group_of_element_;

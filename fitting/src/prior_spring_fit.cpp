@@ -46,6 +46,7 @@ class PriorObjective final : public ceres::FirstOrderFunction {
           net.positions[static_cast<size_t>(s.j)] - net.positions[static_cast<size_t>(s.i)];
       if (dim_ == 2) n.z() = 0.0;
       n.normalize();
+      direction_.push_back(n);
       std::vector<int> dofs;
       Eigen::VectorXd g(2 * dim_);
       for (int d = 0; d < dim_; ++d) {
@@ -114,9 +115,18 @@ class PriorObjective final : public ceres::FirstOrderFunction {
       const Eigen::VectorXd lambda = free_.expand(solver_.solve(free_.restrict(adjoint)));
       for (size_t s = 0; s < springs; ++s) {
         double gu = 0.0, gl = 0.0;
-        for (int a = begin_[s]; a < begin_[s + 1]; ++a) {
-          gu += value_[a] * u[dof_[a]];
-          gl += value_[a] * lambda[dof_[a]];
+        if (s < direction_.size()) {  // a spring: g^T v = n . (v_j - v_i)
+          const auto& spring = data_.network.springs[s];
+          const Eigen::Index i = static_cast<Eigen::Index>(spring.i) * dim_;
+          const Eigen::Index j = static_cast<Eigen::Index>(spring.j) * dim_;
+          const Eigen::VectorXd n = direction_[s].head(dim_);
+          gu = n.dot(u.segment(j, dim_) - u.segment(i, dim_));
+          gl = n.dot(lambda.segment(j, dim_) - lambda.segment(i, dim_));
+        } else {  // a volume term: g^T v over its corners
+          for (int a = begin_[s]; a < begin_[s + 1]; ++a) {
+            gu += value_[a] * u[dof_[a]];
+            gl += value_[a] * lambda[dof_[a]];
+          }
         }
         gradient[s] -= k[s] * gl * gu / cases;  // d/dtheta = k d/dk
       }
@@ -157,6 +167,7 @@ class PriorObjective final : public ceres::FirstOrderFunction {
   analysis::FreeDofSet free_;
   double weight_;
   std::vector<double> log_prior_, scale_;
+  std::vector<Eigen::Vector3d> direction_;  // per spring: unit (x_j - x_i)
   std::vector<int> begin_, dof_;  // element s: entries [begin_[s], begin_[s + 1]) of dof_, value_
   std::vector<double> value_;
   std::vector<Eigen::VectorXd> load_;
