@@ -32,8 +32,8 @@ fitting::GeneralisationOptions candidates(const fitting::ThesisObject& object, b
     options.prior_weights = {1e-2, 1e-4};
     options.reaches = {1};
     // L-BFGS iterations of the per-spring fits: the cube's worst (fitted) case falls from 2.66
-    // (200 iterations) to 1.95 (800) and 1.85 (3000, 206 s for the cube alone); the torus, met
-    // with 200, costs ~4x the cube per iteration.
+    // (200 iterations) to 1.91 (800) and ~1.85 (1500 to 3000, 200-300 s for the cube); the torus,
+    // met with 200, costs 4-5x the cube per iteration.
     prior_iterations = quick ? 100 : object.name == "torus" ? 200 : 800;
   } else {
     options.gammas = {0.8, 0.5, 0.2, 0.1, 0.01};
