@@ -122,7 +122,8 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
                           CalibrationRequest& request) {
   if (!g.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
   const Fields f(g, where);
-  f.expect_only({"load_suite", "gammas", "prior_weights", "reaches", "folds", "prior_iterations"});
+  f.expect_only({"load_suite", "gammas", "prior_weights", "reaches", "volume_terms", "folds",
+                 "prior_iterations"});
   fitting::GeneralisationOptions o;
   request.load_suite = f.boolean("load_suite", !fit_given);
   if (f.has("gammas")) o.gammas = numbers(f, "gammas", 0.0, 0.999);
@@ -136,6 +137,18 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
       if (r != 1.0 && r != 2.0) f.fail("reaches", "entries must be 1 or 2");
       o.reaches.push_back(static_cast<int>(r));
     }
+  }
+  if (f.has("volume_terms")) {
+    const auto& v = f.at("volume_terms");
+    if (!v.is_array() || v.empty()) f.fail("volume_terms", "must be a non-empty list of booleans");
+    o.volume_terms.clear();
+    for (const auto& x : v) {
+      if (!x.is_boolean())
+        f.fail("volume_terms", "entries must be true or false (got " + x.dump() + ")");
+      o.volume_terms.push_back(x.get<bool>());
+    }
+  } else {
+    o.volume_terms = {request.settings.mesh.volume_terms};
   }
   o.folds = f.integer("folds", o.folds, 2);
   request.settings.prior_max_iterations =
@@ -155,7 +168,7 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
                  "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
                  "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
-                 "target_percent_e_rms", "generalisation"});
+                 "target_percent_e_rms", "generalisation", "volume_terms"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)
@@ -183,9 +196,15 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
            "give damping_alpha ([S15 4.18]) or damping_ratio (fraction of critical), not both");
   s.upper_bounds = f.boolean("upper_bounds", false);
   s.mesh.merge_coincident = f.boolean("merge_coincident", false);
+  s.mesh.volume_terms = f.boolean("volume_terms", false);
   s.max_iterations = f.integer("max_iterations", s.max_iterations, 1);
   s.field_samples = f.integer("field_samples", s.field_samples, 2);
-  request.matrix_approach = f.boolean("matrix_approach", true);
+  // The matrix approach fits central springs only: off by default with volume terms.
+  request.matrix_approach = f.boolean("matrix_approach", !s.mesh.volume_terms);
+  if (request.matrix_approach && s.mesh.volume_terms)
+    f.fail("matrix_approach",
+           "fits central springs only and cannot compare a model with volume_terms; set it to "
+           "false");
   request.acceleration_objective = f.boolean("acceleration_objective", true);
   request.target_percent_e_rms = f.number("target_percent_e_rms", 0.0, 0.0, false);
   if (f.has("generalisation")) {

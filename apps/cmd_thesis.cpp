@@ -29,6 +29,7 @@ struct ThesisOptions {
   bool quick = false;
   bool quiet = false;
   bool generalisation_only = false;
+  std::vector<std::string> objects;  // generalisation table: these objects only (empty: all six)
 };
 
 // The gamma values every grouped fit sweeps (Algorithm 5.1, coarse to fine): S15's Table 5.5
@@ -310,7 +311,7 @@ void run_thesis(const ThesisOptions& options) {
       "Acceleration: the [S15 4.1-4.5] objective with the same grouping, solved as "
       "non-negative linear least squares. Every load case is scaled to %eps_G = 10.");
 
-  thesis_generalisation(options.quick, report, md, progress);
+  thesis_generalisation(options.quick, options.objects, report, md, progress);
   if (options.generalisation_only) {
     report["seconds"] = seconds_since(start);
     io::write_json_report(out_dir / "report.json", report);
@@ -462,6 +463,9 @@ void setup_thesis(CLI::App& app) {
                 "candidates and iterations in the generalisation table");
   cmd->add_flag("--generalisation-only", options->generalisation_only,
                 "Only the generalisation table (load suite, cross-validated freedom)");
+  cmd->add_option("--object", options->objects,
+                  "Generalisation table: only this object (repeatable; default all six)")
+      ->check(CLI::IsMember({"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}));
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_thesis(*options); });
 }

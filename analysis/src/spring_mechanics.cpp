@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "isospring/analysis/spring_volume.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::analysis {
@@ -58,6 +59,8 @@ Eigen::SparseMatrix<double> rest_matrix(const SpringNetwork& network, bool dampi
     add_spring_block(triplets, s.i, s.j, network.dimension,
                      (damping ? s.damping : s.stiffness) * n * n.transpose());
   }
+  // Volume terms are elastic only (no damping of their own).
+  if (!damping) add_volume_stiffness(network, Eigen::VectorXd(), true, triplets);
   return from_triplets(network, triplets);
 }
 
@@ -81,7 +84,7 @@ double spring_energy(const SpringNetwork& network, const Eigen::VectorXd& x) {
         s.rest_length;
     energy += 0.5 * s.stiffness * stretch * stretch;
   }
-  return energy;
+  return energy + volume_energy(network, x);
 }
 
 // The force loops below are the whole cost of an explicit step (10^4 springs at 10^3
@@ -106,6 +109,7 @@ Eigen::VectorXd spring_forces(const SpringNetwork& network, const Eigen::VectorX
       fj[c] -= scale * l[c];
     }
   }
+  add_volume_forces(network, x, f);
   return f;
 }
 
@@ -177,6 +181,7 @@ void spring_and_damping_forces(const SpringNetwork& network, const Eigen::Vector
     force_pass<3>(network.springs, x.data(), v.data(), f_spring.data(), f_damping.data());
   else
     force_pass<2>(network.springs, x.data(), v.data(), f_spring.data(), f_damping.data());
+  add_volume_forces(network, x, f_spring);
 }
 
 Eigen::SparseMatrix<double> tangent_stiffness(const SpringNetwork& network,
@@ -195,6 +200,7 @@ Eigen::SparseMatrix<double> tangent_stiffness(const SpringNetwork& network,
         s.stiffness * (nn + (1.0 - s.rest_length / length) * (Block::Identity() - nn));
     add_spring_block(triplets, s.i, s.j, dim, block);
   }
+  add_volume_stiffness(network, x, false, triplets);
   return from_triplets(network, triplets);
 }
 

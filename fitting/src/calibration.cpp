@@ -93,8 +93,9 @@ DisplacementFitResult fit_with_prior(const DisplacementFitData& data,
   options.max_iterations = settings.prior_max_iterations;
   const PriorSpringFitResult fit = fit_springs_with_prior(data, options);
   DisplacementFitResult result;
-  result.group_stiffness = fit.spring_stiffness;
   result.spring_stiffness = fit.spring_stiffness;
+  result.volume_modulus = fit.volume_modulus;
+  result.group_stiffness = per_element_values(result);
   result.percent_e_rms = fit.percent_e_rms;
   result.percent_e_max = fit.percent_e_max;
   result.cost = fit.cost;
@@ -177,6 +178,16 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
 
   const std::vector<double> bounds =
       settings.upper_bounds ? stiffness_upper_bounds(problem, mesh) : std::vector<double>{};
+  // Volume terms: 10 times the constrained modulus lambda + 2 mu (per unit thickness in 2D), far
+  // above the kappa ~ lambda - mu a lattice needs; it only stops a runaway towards a rigid cell.
+  const double nu = problem.material.poisson_ratio;
+  const double volume_bound = 10.0 * problem.material.youngs_modulus * (1.0 - nu) /
+                              ((1.0 + nu) * (1.0 - 2.0 * nu)) *
+                              (dim == 2 ? problem.material.thickness : 1.0);
+  if (settings.matrix_approach && !mesh.network.volumes.empty())
+    throw nurbs::InputError(
+        "calibration: the matrix approach fits central springs only; turn off "
+        "calibration.volume_terms or matrix_approach");
   auto fit_with = [&](double gamma, Grouping& grouping) {
     const Grouping groups = group_by_rest_length(mesh.network, gamma);
     DisplacementFitOptions options;
@@ -194,14 +205,16 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
       // Start from the grouped optimum: the per-spring problem is large and underdetermined.
       if (settings.per_spring_start.empty()) {
         options.grouping = groups;
-        options.initial = fit_displacements(data, options).spring_stiffness;
-      } else if (settings.per_spring_start.size() == mesh.network.springs.size()) {
+        options.initial = per_element_values(fit_displacements(data, options));
+      } else if (settings.per_spring_start.size() ==
+                 mesh.network.springs.size() + mesh.network.volumes.size()) {
         options.initial = settings.per_spring_start;
       } else {
         throw nurbs::InputError("calibration: per_spring_start has " +
                                 std::to_string(settings.per_spring_start.size()) +
                                 " stiffnesses for " + std::to_string(mesh.network.springs.size()) +
-                                " springs");
+                                " springs and " + std::to_string(mesh.network.volumes.size()) +
+                                " volume terms");
       }
       options.grouping = one_group_per_spring(mesh.network);
       if (settings.prior_weight > 0.0) {
@@ -219,6 +232,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
         double& b = options.upper_bounds[options.grouping.group_of_spring[s]];
         b = std::max(b, bounds[s]);
       }
+      for (int g : options.grouping.group_of_volume) options.upper_bounds[g] = volume_bound;
     }
     grouping = options.grouping;
     return fit_displacements(data, options);
@@ -258,6 +272,15 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
       throw std::runtime_error("calibration: the fit produced a non-positive or non-finite spring");
     mesh.network.springs[s].stiffness = k;
     mesh.network.springs[s].group = result.grouping.group_of_spring[s];
+  }
+  for (size_t v = 0; v < mesh.network.volumes.size(); ++v) {
+    const double kappa = fit.volume_modulus[v];
+    if (!(kappa > 0.0) || !std::isfinite(kappa))
+      throw std::runtime_error(
+          "calibration: the fit produced a non-positive or non-finite volume "
+          "modulus");
+    mesh.network.volumes[v].modulus = kappa;
+    mesh.network.volumes[v].group = result.grouping.group_of_volume[v];
   }
   result.parameters = result.grouping.num_groups();
   if (fit.groups_at_lower_bound > 0)

@@ -79,8 +79,13 @@ class EqualityRegularization : public ceres::SizedCostFunction<1, 1, 1> {
 // common factor fitted in closed form, since u(alpha k) = u(k) / alpha.
 Eigen::VectorXd initial_stiffness(detail::DisplacementModel& model, const Grouping& grouping,
                                   double youngs_modulus) {
+  // Volume terms: kappa = E / 4 (the order of the bulk stiffness a lattice of central springs
+  // lacks at nu = 1/3: lambda - mu = 3E / 8); the common factor below rescales both kinds.
   Eigen::VectorXd k(grouping.num_groups());
-  for (int g = 0; g < grouping.num_groups(); ++g) k[g] = youngs_modulus * grouping.centre[g];
+  const std::vector<bool> volume = grouping.volume_groups();
+  for (int g = 0; g < grouping.num_groups(); ++g)
+    k[g] = volume[static_cast<size_t>(g)] ? 0.25 * youngs_modulus
+                                          : youngs_modulus * grouping.centre[g];
   Eigen::VectorXd r;
   if (!model.evaluate(k.array().log().matrix(), r, nullptr))
     throw std::runtime_error("calibration: the spring network is a mechanism under the supports");
@@ -217,6 +222,12 @@ void solve_dual(detail::DisplacementModel& model, const DisplacementFitOptions& 
 
 }  // namespace
 
+std::vector<double> per_element_values(const DisplacementFitResult& fit) {
+  std::vector<double> values = fit.spring_stiffness;
+  values.insert(values.end(), fit.volume_modulus.begin(), fit.volume_modulus.end());
+  return values;
+}
+
 int num_displacement_residuals(const DisplacementFitData& data) {
   return static_cast<int>(data.references.size()) * static_cast<int>(data.particle_of_node.size()) *
          data.network.dimension;
@@ -274,6 +285,7 @@ DisplacementFitResult fit_displacements(const DisplacementFitData& data,
   }
   for (int g : grouping.group_of_spring)
     result.spring_stiffness.push_back(result.group_stiffness[g]);
+  for (int g : grouping.group_of_volume) result.volume_modulus.push_back(result.group_stiffness[g]);
   Eigen::VectorXd r;
   Eigen::VectorXd final_theta = Eigen::Map<Eigen::VectorXd>(theta.data(), groups);
   if (!model.evaluate(final_theta, r, nullptr))

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "isospring/analysis/spring_volume.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting::detail {
@@ -36,8 +37,7 @@ void check_data(const DisplacementFitData& data, const Grouping& grouping) {
 }  // namespace
 
 DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grouping& grouping)
-    : group_of_spring_(grouping.group_of_spring),
-      dim_(data.network.dimension),
+    : dim_(data.network.dimension),
       groups_(grouping.num_groups()),
       rows_per_case_(static_cast<int>(data.particle_of_node.size()) * data.network.dimension),
       dofs_(static_cast<int>(data.network.positions.size()) * data.network.dimension,
@@ -60,36 +60,83 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     scaled_reference_.segment(static_cast<Eigen::Index>(c) * rows_per_case_, rows_per_case_) =
         scale_[c] * data.references[c];
 
-  // Per spring: direction, free indices, and the upper-triangle entries it touches.
-  std::vector<Eigen::Triplet<double>> pattern;
-  std::vector<std::pair<int, int>> entry_position;
-  begin_.push_back(0);
-  for (const analysis::Spring& spring : net.springs) {
-    SpringData s;
+  // Every stiffness element is rank one, K_e = k_e g_e g_e^T: a spring has g = (n on i, -n on j),
+  // a volume term g = b / sqrt(|V0|) with b = dV/dx over its cell's corners (spring_volume.hpp).
+  // Only free DOFs are kept; a DOF that appears twice (merged corners) is summed into one entry.
+  auto add_element = [&](const std::vector<int>& particle_dofs, const Eigen::VectorXd& values,
+                         int group) {
+    std::vector<std::pair<int, double>> entries;
+    for (size_t a = 0; a < particle_dofs.size(); ++a) {
+      const int f = dofs_.free_index(particle_dofs[a]);
+      if (f < 0) continue;
+      auto it =
+          std::find_if(entries.begin(), entries.end(), [f](const auto& e) { return e.first == f; });
+      if (it == entries.end())
+        entries.emplace_back(f, values[static_cast<Eigen::Index>(a)]);
+      else
+        it->second += values[static_cast<Eigen::Index>(a)];
+    }
+    for (const auto& [f, v] : entries) {
+      entry_free_.push_back(f);
+      entry_value_.push_back(v);
+    }
+    entry_begin_.push_back(static_cast<int>(entry_free_.size()));
+    group_of_element_.push_back(group);
+  };
+  entry_begin_.push_back(0);
+  for (size_t s = 0; s < net.springs.size(); ++s) {
+    const analysis::Spring& spring = net.springs[s];
     Eigen::Vector3d l = net.positions[spring.i] - net.positions[spring.j];
     if (dim_ == 2) l.z() = 0.0;
     const double length = l.norm();
-    s.n = length > 0.0 ? Eigen::Vector3d(l / length) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d n = length > 0.0 ? Eigen::Vector3d(l / length) : Eigen::Vector3d::Zero();
+    // Entries interleaved (i_x, j_x, i_y, j_y, ...) and the stretch below summed per component
+    // as n_d (u_i,d - u_j,d): the same floating-point operations, in the same order, as before
+    // volume terms existed, so plain spring fits are bit-for-bit unchanged.
+    SpringData data_s;
+    data_s.n = n;
+    std::vector<int> particle_dofs;
+    Eigen::VectorXd values(2 * dim_);
     for (int d = 0; d < 3; ++d) {
-      s.free_i[d] = d < dim_ ? dofs_.free_index(spring.i * dim_ + d) : -1;
-      s.free_j[d] = d < dim_ ? dofs_.free_index(spring.j * dim_ + d) : -1;
+      data_s.free_i[d] = d < dim_ ? dofs_.free_index(spring.i * dim_ + d) : -1;
+      data_s.free_j[d] = d < dim_ ? dofs_.free_index(spring.j * dim_ + d) : -1;
     }
-    // Block +n n^T on (i,i), (j,j) and -n n^T on (i,j), (j,i); keep row <= column.
-    auto add = [&](int r, int c, double value) {
-      if (r < 0 || c < 0 || r > c) return;
-      pattern.emplace_back(r, c, 1.0);
-      entry_position.emplace_back(r, c);
-      coefficient_.push_back(value);
-    };
-    for (int a = 0; a < dim_; ++a)
-      for (int b = 0; b < dim_; ++b) {
-        const double nn = s.n[a] * s.n[b];
-        add(s.free_i[a], s.free_i[b], nn);
-        add(s.free_j[a], s.free_j[b], nn);
-        add(s.free_i[a], s.free_j[b], -nn);
-        add(s.free_j[a], s.free_i[b], -nn);
+    for (int d = 0; d < dim_; ++d) {
+      particle_dofs.push_back(spring.i * dim_ + d);
+      values[2 * d] = n[d];
+      particle_dofs.push_back(spring.j * dim_ + d);
+      values[2 * d + 1] = -n[d];
+    }
+    springs_.push_back(data_s);
+    add_element(particle_dofs, values, grouping.group_of_spring[s]);
+  }
+  if (!net.volumes.empty() && grouping.group_of_volume.size() != net.volumes.size())
+    throw nurbs::InputError("calibration: the stiffness grouping does not cover every volume term");
+  for (size_t v = 0; v < net.volumes.size(); ++v) {
+    const analysis::VolumeTerm& term = net.volumes[v];
+    Eigen::VectorXd b;
+    analysis::rest_cell_volume(net, term, &b);
+    const int g = grouping.group_of_volume[v];
+    if (g < 0 || g >= groups_)
+      throw nurbs::InputError("calibration: a volume term's group is out of range");
+    add_element(analysis::volume_dofs(term, dim_), b / std::sqrt(std::abs(term.rest_volume)), g);
+  }
+
+  // Upper-triangle entries of every element, g_a g_b at (f_a, f_b) with f_a <= f_b. Entries with
+  // g_a g_b = 0 (a spring along an axis) stay in the pattern so that the pattern (and the
+  // symbolic factorisation) does not depend on the stiffness values.
+  std::vector<Eigen::Triplet<double>> pattern;
+  std::vector<std::pair<int, int>> entry_position;
+  begin_.push_back(0);
+  for (size_t e = 0; e + 1 < entry_begin_.size(); ++e) {
+    for (int a = entry_begin_[e]; a < entry_begin_[e + 1]; ++a)
+      for (int b = entry_begin_[e]; b < entry_begin_[e + 1]; ++b) {
+        const int r = entry_free_[a], c = entry_free_[b];
+        if (r > c) continue;
+        pattern.emplace_back(r, c, 1.0);
+        entry_position.emplace_back(r, c);
+        coefficient_.push_back(entry_value_[a] * entry_value_[b]);
       }
-    springs_.push_back(s);
     begin_.push_back(static_cast<int>(coefficient_.size()));
   }
   const int n = dofs_.num_free();
@@ -104,7 +151,7 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     slot_.push_back(static_cast<int>(std::lower_bound(first, last, r) - k_.innerIndexPtr()));
   }
   std::vector<int> springs_in_group(static_cast<size_t>(groups_), 0);
-  for (int g : group_of_spring_) ++springs_in_group[g];
+  for (int g : group_of_element_) ++springs_in_group[g];
   one_spring_per_group_ =
       std::all_of(springs_in_group.begin(), springs_in_group.end(), [](int n) { return n == 1; });
   solver_.cholmod().print = 0;  // a non-positive-definite trial is reported by info(), not printed
@@ -127,8 +174,8 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
     factor_at_inverse_ = false;
     double* values = k_.valuePtr();
     std::fill(values, values + k_.nonZeros(), 0.0);
-    for (size_t s = 0; s < springs_.size(); ++s) {
-      const double k = k_group[group_of_spring_[s]];
+    for (size_t s = 0; s + 1 < begin_.size(); ++s) {
+      const double k = k_group[group_of_element_[s]];
       for (int e = begin_[s]; e < begin_[s + 1]; ++e) values[slot_[e]] += k * coefficient_[e];
     }
     solver_.factorize(k_);
@@ -167,7 +214,7 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
   } else
     inverse.resize(0, 0);  // gram() is only valid for the adjoint form
   factor_at_inverse_ = use_inverse;
-  spring_force_.assign(static_cast<size_t>(cases), Eigen::VectorXd(springs_.size()));
+  spring_force_.assign(static_cast<size_t>(cases), Eigen::VectorXd(num_elements()));
   // K^-1's residual rows (zero for held DOFs), gathered once: the adjoint columns are axpys.
   Eigen::MatrixXd& rows = inverse_rows_;
   if (use_inverse) {
@@ -178,21 +225,25 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
   }
   for (int c = 0; c < cases; ++c) {
     const Eigen::Index offset = static_cast<Eigen::Index>(c) * rows_per_case_;
-    // The spring's stretch along its rest direction, times k, spread as +-n onto its free DOFs.
+    // The element's strain g_e . u (a spring's stretch along its rest direction, a cell's
+    // volume change over sqrt(|V0|)), times k, spread as g_e onto its free DOFs.
     auto for_each_entry = [&](auto&& emit) {
-      for (size_t s = 0; s < springs_.size(); ++s) {
-        const SpringData& sp = springs_[s];
+      for (int s = 0; s < num_elements(); ++s) {
         double stretch = 0.0;
-        for (int d = 0; d < dim_; ++d)
-          stretch += sp.n[d] * ((sp.free_i[d] >= 0 ? u[c][sp.free_i[d]] : 0.0) -
-                                (sp.free_j[d] >= 0 ? u[c][sp.free_j[d]] : 0.0));
-        const double factor = k_group[group_of_spring_[s]] * stretch;
-        spring_force_[c][static_cast<Eigen::Index>(s)] = factor;
-        const int g = group_of_spring_[s];
-        for (int d = 0; d < dim_; ++d) {
-          if (sp.free_i[d] >= 0) emit(sp.free_i[d], g, factor * sp.n[d]);
-          if (sp.free_j[d] >= 0) emit(sp.free_j[d], g, -factor * sp.n[d]);
+        if (s < static_cast<int>(springs_.size())) {
+          const SpringData& sp = springs_[static_cast<size_t>(s)];
+          for (int d = 0; d < dim_; ++d)
+            stretch += sp.n[d] * ((sp.free_i[d] >= 0 ? u[c][sp.free_i[d]] : 0.0) -
+                                  (sp.free_j[d] >= 0 ? u[c][sp.free_j[d]] : 0.0));
+        } else {
+          for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
+            stretch += entry_value_[a] * u[c][entry_free_[a]];
         }
+        const int g = group_of_element_[s];
+        const double factor = k_group[g] * stretch;
+        spring_force_[c][s] = factor;
+        for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
+          emit(entry_free_[a], g, factor * entry_value_[a]);
       }
     };
     if (use_inverse) {
@@ -227,20 +278,14 @@ bool DisplacementModel::gram(const Eigen::VectorXd& weight, Eigen::MatrixXd& res
   for (int c = 0; c < cases; ++c)
     for (int d = 0; d <= c; ++d) {
       inverse_g.setZero();
-      for (size_t s = 0; s < springs_.size(); ++s) {
-        const auto i = static_cast<Eigen::Index>(s);
-        const double w = weight[group_of_spring_[s]] * spring_force_[c][i] * spring_force_[d][i];
+      for (int s = 0; s < num_elements(); ++s) {
+        const double w = weight[group_of_element_[s]] * spring_force_[c][s] * spring_force_[d][s];
         if (w == 0.0) continue;
-        const SpringData& sp = springs_[s];
         column.setZero();
-        for (int e = 0; e < dim_; ++e) {
-          if (sp.free_i[e] >= 0) column += sp.n[e] * inverse_.col(sp.free_i[e]);
-          if (sp.free_j[e] >= 0) column -= sp.n[e] * inverse_.col(sp.free_j[e]);
-        }
-        for (int e = 0; e < dim_; ++e) {
-          if (sp.free_i[e] >= 0) inverse_g.col(sp.free_i[e]) += (w * sp.n[e]) * column;
-          if (sp.free_j[e] >= 0) inverse_g.col(sp.free_j[e]) -= (w * sp.n[e]) * column;
-        }
+        for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
+          column += entry_value_[a] * inverse_.col(entry_free_[a]);
+        for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
+          inverse_g.col(entry_free_[a]) += (w * entry_value_[a]) * column;
       }
       const Eigen::MatrixXd g_inverse = inverse_g.transpose();  // G K^-1 (both symmetric)
       // K^-1 (G K^-1): through the factorisation when it is still the one of inverse_ (CHOLMOD's
@@ -294,20 +339,14 @@ bool DisplacementModel::dual_k_form(const Eigen::VectorXd& weight,
   // s^2 P B W B^T P^T: per spring s^2 w_s (k_s g_s^T u)^2 g_s g_s^T.
   const double scale = scale_[0] * scale_[0];
   g.setZero(free, free);
-  for (size_t s = 0; s < springs_.size(); ++s) {
-    const double force = spring_force_[0][static_cast<Eigen::Index>(s)];
-    const double w = scale * weight[group_of_spring_[s]] * force * force;
+  for (int s = 0; s < num_elements(); ++s) {
+    const double force = spring_force_[0][s];
+    const double w = scale * weight[group_of_element_[s]] * force * force;
     if (w == 0.0) continue;
-    const SpringData& sp = springs_[s];
-    int index[6];
-    double value[6];
-    int n = 0;
-    for (int e = 0; e < dim_; ++e) {
-      if (sp.free_i[e] >= 0) index[n] = position_of_dof[sp.free_i[e]], value[n++] = sp.n[e];
-      if (sp.free_j[e] >= 0) index[n] = position_of_dof[sp.free_j[e]], value[n++] = -sp.n[e];
-    }
-    for (int b = 0; b < n; ++b)
-      for (int a = 0; a < n; ++a) g(index[a], index[b]) += w * value[a] * value[b];
+    for (int b = entry_begin_[s]; b < entry_begin_[s + 1]; ++b)
+      for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
+        g(position_of_dof[entry_free_[a]], position_of_dof[entry_free_[b]]) +=
+            w * entry_value_[a] * entry_value_[b];
   }
   return true;
 }

@@ -58,21 +58,28 @@ class DisplacementModel {
   std::vector<double> percent_e_max(const Eigen::VectorXd& residuals) const;
 
  private:
+  int num_elements() const { return static_cast<int>(group_of_element_.size()); }
+
   struct SpringData {
     Eigen::Vector3d n;         // unit rest direction
     int free_i[3], free_j[3];  // free indices of the two particles' components, -1 when held
   };
-  const std::vector<int>& group_of_spring_;
+  std::vector<SpringData> springs_;  // the first elements are the springs
+
+  // Rank-one stiffness elements (springs, then volume terms): K_e = k_e g_e g_e^T with g_e's
+  // entries [entry_begin_[e], entry_begin_[e + 1]) of entry_free_ (free index) and entry_value_.
+  std::vector<int> group_of_element_;
+  std::vector<int> entry_begin_, entry_free_;
+  std::vector<double> entry_value_;
   int dim_ = 3;
   int groups_ = 0;
   int rows_per_case_ = 0;
   analysis::FreeDofSet dofs_;
-  std::vector<SpringData> springs_;
   std::vector<int> row_free_;          // residual row within a case -> free index, -1 when held
   std::vector<double> scale_;          // per case: 1 / (o_max sqrt(n))
   std::vector<Eigen::VectorXd> load_;  // per case, on the free DOFs
   Eigen::VectorXd scaled_reference_;
-  // Scatter of spring s: entries [begin_[s], begin_[s + 1]) of slot_ (position in the value
+  // Scatter of element s: entries [begin_[s], begin_[s + 1]) of slot_ (position in the value
   // array of k_) and coefficient_ (+-n_a n_b).
   std::vector<int> begin_, slot_;
   std::vector<double> coefficient_;

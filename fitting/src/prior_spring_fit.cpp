@@ -13,14 +13,16 @@
 #include <stdexcept>
 
 #include "isospring/analysis/spring_static.hpp"
+#include "isospring/analysis/spring_volume.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
 
 namespace {
 
-// K(k) on the free DOFs with a fixed pattern (every spring's 2 x 2 blocks of dim x dim entries
-// always present), so CHOLMOD's symbolic analysis is done once.
+// K(k) on the free DOFs with a fixed pattern (every element's blocks always present), so
+// CHOLMOD's symbolic analysis is done once. Elements are rank one, K_e = k_e g_e g_e^T: springs
+// (g = +-n on the two particles) and volume terms (g = dV/dx / sqrt(|V0|)).
 class PriorObjective final : public ceres::FirstOrderFunction {
  public:
   PriorObjective(const DisplacementFitData& data, const std::vector<double>& prior, double weight)
@@ -29,13 +31,38 @@ class PriorObjective final : public ceres::FirstOrderFunction {
         free_(static_cast<int>(data.network.positions.size()) * data.network.dimension,
               analysis::constrained_dofs(data.network, data.constrained_dofs)),
         weight_(weight) {
-    const int springs = static_cast<int>(data.network.springs.size());
     for (double k : prior) log_prior_.push_back(std::log(k));
-    for (const auto& s : data.network.springs) {
-      Eigen::Vector3d n = data.network.positions[static_cast<size_t>(s.j)] -
-                          data.network.positions[static_cast<size_t>(s.i)];
+    const auto& net = data.network;
+    begin_.push_back(0);
+    auto add = [&](const std::vector<int>& dofs, const Eigen::VectorXd& g) {
+      for (size_t a = 0; a < dofs.size(); ++a) {
+        dof_.push_back(dofs[a]);
+        value_.push_back(g[static_cast<Eigen::Index>(a)]);
+      }
+      begin_.push_back(static_cast<int>(dof_.size()));
+    };
+    for (const auto& s : net.springs) {
+      Eigen::Vector3d n =
+          net.positions[static_cast<size_t>(s.j)] - net.positions[static_cast<size_t>(s.i)];
       if (dim_ == 2) n.z() = 0.0;
-      direction_.push_back(n.normalized());
+      n.normalize();
+      direction_.push_back(n);
+      std::vector<int> dofs;
+      Eigen::VectorXd g(2 * dim_);
+      for (int d = 0; d < dim_; ++d) {
+        dofs.push_back(s.i * dim_ + d);
+        g[d] = -n[d];
+      }
+      for (int d = 0; d < dim_; ++d) {
+        dofs.push_back(s.j * dim_ + d);
+        g[dim_ + d] = n[d];
+      }
+      add(dofs, g);
+    }
+    for (const auto& term : net.volumes) {
+      Eigen::VectorXd b;
+      analysis::rest_cell_volume(net, term, &b);
+      add(analysis::volume_dofs(term, dim_), b / std::sqrt(std::abs(term.rest_volume)));
     }
     const int nodes = static_cast<int>(data.particle_of_node.size());
     for (const auto& ref : data.references) {
@@ -46,15 +73,15 @@ class PriorObjective final : public ceres::FirstOrderFunction {
       scale_.push_back(1.0 / (o_max * std::sqrt(static_cast<double>(nodes))));
       load_.push_back(free_.restrict(Eigen::VectorXd(data.loads[scale_.size() - 1])));
     }
-    pattern_ = assemble(std::vector<double>(static_cast<size_t>(springs), 1.0));
+    pattern_ = assemble(std::vector<double>(static_cast<size_t>(NumParameters()), 1.0));
     solver_.cholmod().print = 0;
     solver_.analyzePattern(pattern_);
   }
 
-  int NumParameters() const override { return static_cast<int>(direction_.size()); }
+  int NumParameters() const override { return static_cast<int>(begin_.size()) - 1; }
 
   bool Evaluate(const double* theta, double* cost, double* gradient) const override {
-    const size_t springs = direction_.size();
+    const auto springs = static_cast<size_t>(NumParameters());
     std::vector<double> k(springs);
     for (size_t s = 0; s < springs; ++s) {
       k[s] = std::exp(theta[s]);
@@ -87,12 +114,20 @@ class PriorObjective final : public ceres::FirstOrderFunction {
       if (!gradient) continue;
       const Eigen::VectorXd lambda = free_.expand(solver_.solve(free_.restrict(adjoint)));
       for (size_t s = 0; s < springs; ++s) {
-        const auto& spring = data_.network.springs[s];
-        const Eigen::Index i = static_cast<Eigen::Index>(spring.i) * dim_;
-        const Eigen::Index j = static_cast<Eigen::Index>(spring.j) * dim_;
-        const Eigen::VectorXd n = direction_[s].head(dim_);
-        const double gu = n.dot(u.segment(j, dim_) - u.segment(i, dim_));
-        const double gl = n.dot(lambda.segment(j, dim_) - lambda.segment(i, dim_));
+        double gu = 0.0, gl = 0.0;
+        if (s < direction_.size()) {  // a spring: g^T v = n . (v_j - v_i)
+          const auto& spring = data_.network.springs[s];
+          const Eigen::Index i = static_cast<Eigen::Index>(spring.i) * dim_;
+          const Eigen::Index j = static_cast<Eigen::Index>(spring.j) * dim_;
+          const Eigen::VectorXd n = direction_[s].head(dim_);
+          gu = n.dot(u.segment(j, dim_) - u.segment(i, dim_));
+          gl = n.dot(lambda.segment(j, dim_) - lambda.segment(i, dim_));
+        } else {  // a volume term: g^T v over its corners
+          for (int a = begin_[s]; a < begin_[s + 1]; ++a) {
+            gu += value_[a] * u[dof_[a]];
+            gl += value_[a] * lambda[dof_[a]];
+          }
+        }
         gradient[s] -= k[s] * gl * gu / cases;  // d/dtheta = k d/dk
       }
     }
@@ -113,21 +148,15 @@ class PriorObjective final : public ceres::FirstOrderFunction {
  private:
   Eigen::SparseMatrix<double> assemble(const std::vector<double>& k) const {
     std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(direction_.size() * 4 * static_cast<size_t>(dim_ * dim_));
-    for (size_t s = 0; s < direction_.size(); ++s) {
-      const auto& spring = data_.network.springs[s];
-      const int particles[2] = {spring.i, spring.j};
-      for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b)
-          for (int p = 0; p < dim_; ++p)
-            for (int q = 0; q < dim_; ++q) {
-              const int row = free_.free_index(particles[a] * dim_ + p);
-              const int col = free_.free_index(particles[b] * dim_ + q);
-              if (row < 0 || col < 0) continue;
-              const double sign = a == b ? 1.0 : -1.0;
-              entries.emplace_back(row, col, sign * k[s] * direction_[s][p] * direction_[s][q]);
-            }
-    }
+    for (size_t s = 0; s + 1 < begin_.size(); ++s)
+      for (int a = begin_[s]; a < begin_[s + 1]; ++a) {
+        const int row = free_.free_index(dof_[a]);
+        if (row < 0) continue;
+        for (int b = begin_[s]; b < begin_[s + 1]; ++b) {
+          const int col = free_.free_index(dof_[b]);
+          if (col >= 0) entries.emplace_back(row, col, k[s] * value_[a] * value_[b]);
+        }
+      }
     Eigen::SparseMatrix<double> K(free_.num_free(), free_.num_free());
     K.setFromTriplets(entries.begin(), entries.end());
     return K;
@@ -138,7 +167,9 @@ class PriorObjective final : public ceres::FirstOrderFunction {
   analysis::FreeDofSet free_;
   double weight_;
   std::vector<double> log_prior_, scale_;
-  std::vector<Eigen::Vector3d> direction_;
+  std::vector<Eigen::Vector3d> direction_;  // per spring: unit (x_j - x_i)
+  std::vector<int> begin_, dof_;  // element s: entries [begin_[s], begin_[s + 1]) of dof_, value_
+  std::vector<double> value_;
   std::vector<Eigen::VectorXd> load_;
   Eigen::SparseMatrix<double> pattern_;
   mutable Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
@@ -150,8 +181,9 @@ class PriorObjective final : public ceres::FirstOrderFunction {
 PriorSpringFitResult fit_springs_with_prior(const DisplacementFitData& data,
                                             const PriorSpringFitOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (options.prior.size() != data.network.springs.size())
-    throw nurbs::InputError("prior spring fit: one prior stiffness per spring expected");
+  if (options.prior.size() != data.network.springs.size() + data.network.volumes.size())
+    throw nurbs::InputError(
+        "prior spring fit: one prior stiffness per spring (and per volume term) expected");
   for (double k : options.prior)
     if (!(k > 0.0) || !std::isfinite(k))
       throw nurbs::InputError("prior spring fit: prior stiffnesses must be positive and finite");
@@ -186,15 +218,14 @@ PriorSpringFitResult fit_springs_with_prior(const DisplacementFitData& data,
   }
 
   PriorSpringFitResult result;
-  for (double t : theta) result.spring_stiffness.push_back(std::exp(t));
+  const size_t springs = data.network.springs.size();
+  for (size_t s = 0; s < theta.size(); ++s)
+    (s < springs ? result.spring_stiffness : result.volume_modulus).push_back(std::exp(theta[s]));
   // Final metrics at the returned parameters (Ceres' last evaluation may be a rejected trial).
-  DisplacementFitData final_data = data;
-  for (size_t s = 0; s < final_data.network.springs.size(); ++s)
-    final_data.network.springs[s].stiffness = result.spring_stiffness[s];
   const Grouping one = one_group_per_spring(data.network);
   Eigen::VectorXd residuals;
   if (!displacement_residuals(
-          final_data, one,
+          data, one,
           Eigen::Map<Eigen::VectorXd>(theta.data(), static_cast<Eigen::Index>(theta.size())),
           residuals, nullptr))
     throw std::runtime_error("prior spring fit: the fitted network is singular");

@@ -3,11 +3,13 @@
 #include "isospring/fitting/spring_mesh.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <set>
 #include <utility>
 
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/spring_volume.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
@@ -54,6 +56,39 @@ std::vector<int> merge_coincident(const std::vector<Eigen::Vector3d>& points, do
     result[a] = label[r];
   }
   return result;
+}
+
+// One volume term per net cell of every patch, corners in tensor order; cells whose |volume| is
+// below 1e-12 diagonal^dim (collapsed corners: round-off of a zero volume) are skipped.
+void add_cell_volume_terms(const analysis::Problem& problem, double diagonal, SpringMesh& mesh) {
+  auto& net = mesh.network;
+  const int dim = net.dimension;
+  int degenerate = 0;
+  for (size_t p = 0; p < problem.patches.size(); ++p) {
+    const nurbs::Patch& patch = problem.patches[p];
+    if (patch.param_dim() != dim)
+      throw nurbs::InputError("spring mesh: volume terms need patches of the model's dimension (" +
+                              std::to_string(dim) + "); patch " + std::to_string(p) + " has " +
+                              std::to_string(patch.param_dim()));
+    const int n[3] = {patch.num_points(0), patch.num_points(1), dim == 3 ? patch.num_points(2) : 2};
+    for (int k = 0; k + 1 < n[2]; ++k)
+      for (int j = 0; j + 1 < n[1]; ++j)
+        for (int i = 0; i + 1 < n[0]; ++i) {
+          analysis::VolumeTerm term;
+          for (int a = 0; a < analysis::volume_corners(dim); ++a)
+            term.particles[static_cast<size_t>(a)] = mesh.particle[p][patch.index(
+                i + (a & 1), j + ((a >> 1) & 1), dim == 3 ? k + ((a >> 2) & 1) : 0)];
+          term.rest_volume = analysis::rest_cell_volume(net, term);
+          if (!(std::abs(term.rest_volume) > 1e-12 * std::pow(diagonal, dim))) {
+            ++degenerate;
+            continue;
+          }
+          net.volumes.push_back(term);
+        }
+  }
+  if (degenerate > 0)
+    mesh.warnings.push_back("skipped the volume terms of " + std::to_string(degenerate) +
+                            " net cells of zero volume (collapsed corners)");
 }
 
 }  // namespace
@@ -165,6 +200,8 @@ SpringMesh build_spring_mesh(const analysis::Problem& problem, const SpringMeshO
     mesh.warnings.push_back("skipped " + std::to_string(collapsed) +
                             " zero-length corner pairs of degenerate (collapsed) net cells; they "
                             "have no direction and cannot carry a spring");
+  if (options.volume_terms)
+    add_cell_volume_terms(problem, bounding_box_diagonal(node_positions), mesh);
   return mesh;
 }
 

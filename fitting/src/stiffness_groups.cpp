@@ -10,27 +10,46 @@
 
 namespace isospring::fitting {
 
+namespace {
+
+// Sorted sweep: the smallest unassigned size opens a group that takes every size up to
+// (1 + gamma) times it. Appends groups to `grouping.centre` and returns the group per item.
+std::vector<int> group_sizes(const std::vector<double>& sizes, double gamma, Grouping& grouping) {
+  std::vector<int> order(sizes.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return sizes[a] < sizes[b]; });
+  std::vector<int> group(sizes.size(), -1);
+  const double window = std::max(gamma, 1e-12);
+  double limit = -1.0;
+  const int first = grouping.num_groups();
+  for (int s : order) {
+    if (grouping.num_groups() == first || sizes[s] > limit) {
+      grouping.centre.push_back(sizes[s]);
+      limit = sizes[s] * (1.0 + window);
+    }
+    group[s] = grouping.num_groups() - 1;
+  }
+  return group;
+}
+
+}  // namespace
+
+std::vector<bool> Grouping::volume_groups() const {
+  std::vector<bool> result(centre.size(), false);
+  for (int g : group_of_volume) result[static_cast<size_t>(g)] = true;
+  return result;
+}
+
 Grouping group_by_rest_length(const analysis::SpringNetwork& network, double gamma) {
   if (!(gamma >= 0.0 && gamma < 1.0))
     throw nurbs::InputError("calibration gamma = " + std::to_string(gamma) +
                             " is outside [0, 1); [S15] uses values such as 0.5, 0.2, 0.01");
-  const auto& springs = network.springs;
-  std::vector<int> order(springs.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return springs[a].rest_length < springs[b].rest_length; });
   Grouping grouping;
-  grouping.group_of_spring.assign(springs.size(), -1);
-  const double window = std::max(gamma, 1e-12);
-  double limit = -1.0;
-  for (int s : order) {
-    const double length = springs[s].rest_length;
-    if (grouping.centre.empty() || length > limit) {
-      grouping.centre.push_back(length);
-      limit = length * (1.0 + window);
-    }
-    grouping.group_of_spring[s] = grouping.num_groups() - 1;
-  }
+  std::vector<double> lengths, volumes;
+  for (const auto& s : network.springs) lengths.push_back(s.rest_length);
+  for (const auto& v : network.volumes) volumes.push_back(std::abs(v.rest_volume));
+  grouping.group_of_spring = group_sizes(lengths, gamma, grouping);
+  if (!volumes.empty()) grouping.group_of_volume = group_sizes(volumes, gamma, grouping);
   return grouping;
 }
 
@@ -39,6 +58,10 @@ Grouping one_group_per_spring(const analysis::SpringNetwork& network) {
   for (size_t s = 0; s < network.springs.size(); ++s) {
     grouping.group_of_spring.push_back(static_cast<int>(s));
     grouping.centre.push_back(network.springs[s].rest_length);
+  }
+  for (size_t v = 0; v < network.volumes.size(); ++v) {
+    grouping.group_of_volume.push_back(grouping.num_groups());
+    grouping.centre.push_back(std::abs(network.volumes[v].rest_volume));
   }
   return grouping;
 }

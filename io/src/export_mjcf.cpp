@@ -34,6 +34,13 @@ double suggested_timestep(const analysis::SpringNetwork& network) {
 std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOptions& options) {
   if (const std::string problem = check_spring_network(network); !problem.empty())
     throw nurbs::InputError("cannot export to MuJoCo: the spring model is invalid: " + problem);
+  if (!network.volumes.empty())
+    throw nurbs::InputError(
+        "cannot export to MuJoCo: the spring model has " + std::to_string(network.volumes.size()) +
+        " volume terms (calibration.volume_terms) and MuJoCo 2.2 tendons are central springs; it "
+        "has no volume-preservation element; export model.json (which carries "
+        "them, and which `isospring simulate` runs) or calibrate with volume_terms off for a "
+        "plain spring model");
   using detail::number;
   using detail::vector3;
   double radius = options.particle_radius;

@@ -106,6 +106,22 @@ std::string check_spring_network(const analysis::SpringNetwork& network) {
       return where + ".L0: must be finite and > 0 (got " + describe(spring.rest_length) + ")";
     if (spring.group < -1) return where + ".group: must be >= -1 (-1 means no group)";
   }
+  const int corners = network.dimension == 2 ? 4 : 8;
+  for (size_t v = 0; v < network.volumes.size(); ++v) {
+    const analysis::VolumeTerm& term = network.volumes[v];
+    const std::string where = "volumes[" + std::to_string(v) + "]";
+    for (int a = 0; a < corners; ++a) {
+      const int q = term.particles[static_cast<size_t>(a)];
+      if (q < 0 || q >= static_cast<int>(n))
+        return where + ".particles: particle index " + std::to_string(q) + " out of range [0, " +
+               std::to_string(n) + ")";
+    }
+    if (!std::isfinite(term.modulus) || term.modulus < 0)
+      return where + ".kappa: must be finite and >= 0 (got " + describe(term.modulus) + ")";
+    if (!std::isfinite(term.rest_volume) || term.rest_volume == 0)
+      return where + ".V0: must be finite and non-zero (got " + describe(term.rest_volume) + ")";
+    if (term.group < -1) return where + ".group: must be >= -1 (-1 means no group)";
+  }
   return {};
 }
 
@@ -126,21 +142,34 @@ json model_to_json(const analysis::SpringNetwork& network, const json& provenanc
                            {"c", s.damping},
                            {"L0", s.rest_length},
                            {"group", s.group}});
-  return json{{"format", kFormat},
-              {"version", kVersion},
-              {"units", units},
-              {"dimension", network.dimension},
-              {"particles", std::move(particles)},
-              {"springs", std::move(springs)},
-              {"provenance", provenance.is_null() ? json::object() : provenance}};
+  json document{{"format", kFormat},
+                {"version", kVersion},
+                {"units", units},
+                {"dimension", network.dimension},
+                {"particles", std::move(particles)},
+                {"springs", std::move(springs)},
+                {"provenance", provenance.is_null() ? json::object() : provenance}};
+  // Written only when present, so a plain spring model's file is unchanged.
+  if (!network.volumes.empty()) {
+    json volumes = json::array();
+    const size_t corners = network.dimension == 2 ? 4 : 8;
+    for (const analysis::VolumeTerm& v : network.volumes)
+      volumes.push_back(
+          json{{"particles", std::vector<int>(v.particles.begin(), v.particles.begin() + corners)},
+               {"kappa", v.modulus},
+               {"V0", v.rest_volume},
+               {"group", v.group}});
+    document["volumes"] = std::move(volumes);
+  }
+  return document;
 }
 
 SpringModel model_from_json(const json& document, const std::string& source) {
   const FieldReader reader(source);
   if (!document.is_object()) reader.fail("(document)", "must be a JSON object");
   check_keys(reader, document, "",
-             {"format", "version", "units", "dimension", "particles", "springs", "provenance",
-              "gravity", "load_cases"});
+             {"format", "version", "units", "dimension", "particles", "springs", "volumes",
+              "provenance", "gravity", "load_cases"});
   const json& format = reader.require(document, "format", "");
   if (format != kFormat)
     reader.fail("format", std::string("must be \"") + kFormat +
@@ -192,6 +221,30 @@ SpringModel model_from_json(const json& document, const std::string& source) {
     spring.rest_length = reader.number(reader.require(item, "L0", path), path + "L0");
     spring.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
     network.springs.push_back(spring);
+  }
+
+  if (document.contains("volumes")) {
+    const json& volumes = document["volumes"];
+    if (!volumes.is_array()) reader.fail("volumes", "must be an array");
+    const size_t corners = network.dimension == 2 ? 4 : 8;
+    for (size_t v = 0; v < volumes.size(); ++v) {
+      const std::string path = "volumes[" + std::to_string(v) + "].";
+      const json& item = volumes[v];
+      if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
+      check_keys(reader, item, path, {"particles", "kappa", "V0", "group"});
+      const json& particles_of = reader.require(item, "particles", path);
+      if (!particles_of.is_array() || particles_of.size() != corners)
+        reader.fail(path + "particles", "must list the " + std::to_string(corners) +
+                                            " corners of the cell in tensor order");
+      analysis::VolumeTerm term;
+      for (size_t a = 0; a < corners; ++a)
+        term.particles[a] =
+            reader.integer(particles_of[a], path + "particles[" + std::to_string(a) + "]");
+      term.modulus = reader.number(reader.require(item, "kappa", path), path + "kappa");
+      term.rest_volume = reader.number(reader.require(item, "V0", path), path + "V0");
+      term.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
+      network.volumes.push_back(term);
+    }
   }
 
   // The remaining range checks are shared with the writer.

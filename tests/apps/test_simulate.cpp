@@ -168,3 +168,65 @@ TEST(Simulate, BadInputExitsWithOne) {
   EXPECT_EQ(run.exit_code, 3) << run.output;
   EXPECT_NE(run.output.find("diverged"), std::string::npos) << run.output;
 }
+
+TEST(Simulate, VolumeTermsOfACalibratedModelRunToTheirStaticEquilibrium) {
+  // The hanging 2D ladder with an area term per cell (issue 14, model.json "volumes"): the
+  // damped implicit run ends at the Newton equilibrium of springs AND area terms, which differs
+  // measurably from the springs' alone.
+  const int rows = 4;
+  const double m = 0.1, k = 500.0, c = 0.5, h = 0.2, w = 0.3, kappa = 3000.0;
+  json model = {{"format", "isospring-spring-model"}, {"version", 1}, {"dimension", 2}};
+  auto id = [](int r, int side) { return 2 * r + side; };
+  for (int r = 0; r < rows; ++r)
+    for (int side = 0; side < 2; ++side)
+      model["particles"].push_back(
+          {{"x", {w * side, -h * r, 0.0}}, {"mass", m}, {"fixed", r == 0}});
+  for (int r = 1; r < rows; ++r) {
+    model["springs"].push_back({{"i", id(r, 0)}, {"j", id(r, 1)}, {"k", k}, {"c", c}, {"L0", w}});
+    for (int side = 0; side < 2; ++side)
+      model["springs"].push_back(
+          {{"i", id(r - 1, side)}, {"j", id(r, side)}, {"k", k}, {"c", c}, {"L0", h}});
+    for (int side = 0; side < 2; ++side)
+      model["springs"].push_back({{"i", id(r - 1, side)},
+                                  {"j", id(r, 1 - side)},
+                                  {"k", k},
+                                  {"c", c},
+                                  {"L0", std::hypot(w, h)}});
+    // Corners in tensor order (side, then row): the cell's parametric second axis points down,
+    // so its signed rest area is -w h.
+    model["volumes"].push_back({{"particles", {id(r - 1, 0), id(r - 1, 1), id(r, 0), id(r, 1)}},
+                                {"kappa", kappa},
+                                {"V0", -w * h}});
+  }
+  TemporaryFolder out;
+  std::ofstream(out / "model.json") << model.dump();
+  const auto run = run_isospring("simulate " + (out / "model.json") + " -o " + (out / "sim") +
+                                 " --dt 0.02 --steps 400 --every 400 --gravity 0,-9.81,0 -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::ifstream report_file(out / "sim/report.json");
+  const json report = json::parse(report_file);
+  ASSERT_FALSE(report["static"].is_null()) << run.output;
+  EXPECT_TRUE(report["static"]["converged"].get<bool>());
+  EXPECT_LT(report["static"]["final_minus_static_relative"].get<double>(), 1e-9);
+
+  using namespace isospring::analysis;
+  SpringNetwork net = isospring::io::model_from_json(model, "model.json").network;
+  ASSERT_EQ(net.volumes.size(), 3u);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * 2 * rows);
+  for (int i = 2; i < 2 * rows; ++i) f(2 * i + 1) = -m * 9.81;
+  auto largest = [](const Eigen::VectorXd& u) {
+    double m = 0.0;
+    for (Eigen::Index i = 0; i < u.size() / 2; ++i) m = std::max(m, u.segment(2 * i, 2).norm());
+    return m;
+  };
+  const SpringSolveResult with_volumes = solve_spring_newton(net, f);
+  ASSERT_TRUE(with_volumes.converged);
+  EXPECT_NEAR(report["static"]["max_displacement"].get<double>(),
+              largest(with_volumes.displacement), 1e-6 * largest(with_volumes.displacement));
+  // The area terms resist the rails' stretch (a cell that lengthens grows), so the ladder
+  // hangs measurably less far than with its springs alone.
+  net.volumes.clear();
+  const SpringSolveResult springs_only = solve_spring_newton(net, f);
+  ASSERT_TRUE(springs_only.converged);
+  EXPECT_LT(largest(with_volumes.displacement), 0.95 * largest(springs_only.displacement));
+}

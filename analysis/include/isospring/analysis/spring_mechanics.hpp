@@ -15,7 +15,8 @@ namespace isospring::analysis {
 /// Rest positions as a flat vector.
 Eigen::VectorXd flat_positions(const SpringNetwork& network);
 
-/// E = 1/2 sum_s k_s (|x_i - x_j| - L0_s)^2 at the configuration x.
+/// E = 1/2 sum_s k_s (|x_i - x_j| - L0_s)^2 at the configuration x, plus the volume terms'
+/// energy (spring_volume.hpp) when the network has any; so are the forces and stiffnesses below.
 double spring_energy(const SpringNetwork& network, const Eigen::VectorXd& x);
 
 /// Elastic forces -dE/dx (a zero-length spring contributes nothing: it has no direction).

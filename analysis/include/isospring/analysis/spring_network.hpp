@@ -2,6 +2,7 @@
 // A mass-spring network: the data a real-time engine needs. Built from a NURBS control net by the
 // fitting module; its mechanics (forces, stiffness, integrators) live in the analysis module.
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 namespace isospring::analysis {
@@ -15,12 +16,29 @@ struct Spring {
   int group = -1;            // calibration group (rest-length group), -1 when ungrouped
 };
 
+/// A volume (2D: area) term of one control-net cell (issue 14): energy
+///   E = 1/2 (modulus / |V0|) (V(x) - V0)^2,
+/// V(x) the volume of the trilinear (2D: bilinear) cell through its corners, V0 its rest value.
+/// Linearised at rest it adds (modulus / |V0|) b b^T with b = dV/dx (a rank-one block over the
+/// corners), which stiffens volume change only: it is the bulk term central springs lack (a cubic
+/// lattice of central springs has C12 = C44, i.e. nu = 1/4 when isotropic [W05]; a modulus
+/// kappa = C44 adds kappa to C11 and C12 and gives nu = 1/3). Rigid motions keep V, so the
+/// term has the rigid-body null space. Force: -(modulus / |V0|) (V - V0) dV/dx, per cell.
+struct VolumeTerm {
+  /// Corners in tensor order (corner a + 2b + 4c at parametric (a, b, c)); 2D uses the first 4.
+  std::array<int, 8> particles{};
+  double modulus = 0.0;      // kappa [Pa] (2D: [N/m], per unit thickness)
+  double rest_volume = 0.0;  // V0 [m^3] (2D: area [m^2]), signed by the corners' orientation
+  int group = -1;            // calibration group, -1 when ungrouped
+};
+
 struct SpringNetwork {
   std::vector<Eigen::Vector3d> positions;  // rest positions [m]
   std::vector<double> masses;              // [kg]
   std::vector<bool> fixed;                 // particle held in place
   std::vector<Spring> springs;
-  int dimension = 3;  // 2 for in-plane models (z ignored)
+  std::vector<VolumeTerm> volumes;  // usually empty: plain central springs
+  int dimension = 3;                // 2 for in-plane models (z ignored)
 };
 
 }  // namespace isospring::analysis

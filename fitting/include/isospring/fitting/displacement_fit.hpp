@@ -36,7 +36,9 @@ struct DisplacementFitData {
 };
 
 struct DisplacementFitOptions {
-  Grouping grouping;                 // parameters: one stiffness per group
+  /// Parameters: one stiffness per group (springs [N/m]; volume-term groups: the modulus kappa
+  /// [Pa], spring_volume.hpp, started at E / 4 when `initial` is empty).
+  Grouping grouping;
   std::vector<double> initial;       // per group; empty: a scaled E * L0 guess (see .cpp)
   std::vector<double> upper_bounds;  // per group; empty: none
   /// Every stiffness is bounded below by this fraction of the largest initial group stiffness
@@ -63,6 +65,7 @@ struct DisplacementFitOptions {
 struct DisplacementFitResult {
   std::vector<double> group_stiffness;   // per group
   std::vector<double> spring_stiffness;  // per spring
+  std::vector<double> volume_modulus;    // per volume term (network.volumes), when any
   std::vector<double> percent_e_rms;     // per case, control points
   std::vector<double> percent_e_max;     // per case, control points
   int groups_at_lower_bound = 0;         // groups the fit pushed onto min_stiffness_ratio
@@ -82,6 +85,10 @@ struct DisplacementFitResult {
 bool displacement_residuals(const DisplacementFitData& data, const Grouping& grouping,
                             const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
                             Eigen::MatrixXd* jacobian);
+
+/// spring_stiffness followed by volume_modulus: one value per parameter of one_group_per_spring()
+/// (the start of a per-spring fit).
+std::vector<double> per_element_values(const DisplacementFitResult& fit);
 
 /// Number of residuals of displacement_residuals().
 int num_displacement_residuals(const DisplacementFitData& data);

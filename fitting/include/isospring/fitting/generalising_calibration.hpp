@@ -25,6 +25,11 @@ struct GeneralisationOptions {
   /// Spring topologies (SpringMeshOptions::reach): 1, [S15]'s net cells; 2, also springs two
   /// net steps apart. Every gamma and weight is tried with each.
   std::vector<int> reaches = {1};
+  /// Model kinds (SpringMeshOptions::volume_terms): false, plain central springs; true, also a
+  /// volume (2D: area) term per net cell (analysis::VolumeTerm), its modulus grouped by rest
+  /// volume with the same gamma, or per cell in the per-spring candidates. Every reach, gamma
+  /// and weight is tried with each; cross-validation picks plain or richer.
+  std::vector<bool> volume_terms = {false};
   /// Training cases are dealt diagonally (case c to fold (c + c / folds) mod folds) into this many
   /// folds (at least 2, at most the number of training cases).
   int folds = 3;
@@ -34,6 +39,7 @@ struct GeneralisationOptions {
 
 struct CandidateScore {
   int reach = 1;
+  bool volume_terms = false;
   double gamma = 0.0;
   double prior_weight = 0.0;  // 0: the grouped model
   int parameters = 0;

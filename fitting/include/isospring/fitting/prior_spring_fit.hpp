@@ -22,15 +22,19 @@
 
 namespace isospring::fitting {
 
+// With volume terms (network.volumes, spring_volume.hpp) every term's modulus is one more
+// parameter like a spring's stiffness (rank-one element kappa/|V0| b b^T, S counts both).
 struct PriorSpringFitOptions {
-  std::vector<double> prior;  // per spring, > 0: the start and the target of the penalty
-  double weight = 1e-4;       // w >= 0
+  /// Per spring, then per volume term, > 0: the start and the target of the penalty.
+  std::vector<double> prior;
+  double weight = 1e-4;  // w >= 0
   int max_iterations = 400;
   double function_tolerance = 1e-9;  // relative change of F that ends the fit
 };
 
 struct PriorSpringFitResult {
   std::vector<double> spring_stiffness;
+  std::vector<double> volume_modulus;                // per volume term
   std::vector<double> percent_e_rms, percent_e_max;  // per fitted case, control points
   double cost = 0.0;                                 // F at the end
   int iterations = 0;

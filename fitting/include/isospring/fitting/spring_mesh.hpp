@@ -24,6 +24,10 @@ struct SpringMeshOptions {
   /// which the cell springs cannot represent: with reach 2 the model is still plain central
   /// springs (exports and real-time solvers unchanged), ~3x (2D) to ~5x (3D) more of them.
   int reach = 1;
+  /// Also one volume (2D: area) term per net cell (analysis::VolumeTerm, spring_volume.hpp):
+  /// stiffness against volume change that central springs lack (their lattice has a fixed
+  /// Poisson ratio). Cells of (near) zero volume (collapsed corners) get none. Off: plain springs.
+  bool volume_terms = false;
 };
 
 /// A spring network on the control nets of a model plus the map back to control points.

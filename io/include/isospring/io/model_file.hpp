@@ -20,6 +20,12 @@
 //   "gravity": [0, -9.81, 0],          // acceleration of every particle [m/s^2]: force m_i g
 //   "load_cases": [{"id": "L1", "forces": [[i, fx, fy, fz], ...]}, ...]   // external forces [N]
 // A load case's total load is its forces plus m_i g on every free particle.
+//
+// Optional volume terms (issue 14; written only when the model has them, readers that predate
+// them fail on the unknown key): one per control-net cell, energy 1/2 (kappa / |V0|) (V - V0)^2
+// with V the volume (2D: area) of the trilinear (bilinear) cell (analysis/spring_volume.hpp):
+//   "volumes": [{"particles": [8 corners in tensor order (2D: 4)], "kappa": 3500.0 [Pa; 2D N/m],
+//                "V0": 0.064 (signed by the corners' orientation, non-zero), "group": 5}, ...]
 // Every problem found by the
 // reader is an nurbs::InputError naming the file and the field, e.g.
 //   "model.json: springs[4].k: must be finite and >= 0 (got -3); fix the calibration output".
