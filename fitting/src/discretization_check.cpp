@@ -237,6 +237,18 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
     check_same_geometry(problem, *next, placements, size, description);
     check_same_point_conditions(problem, *next, description);
     const int dofs = analysis::DofMap(*next).num_dofs();
+    if (dofs > options.max_dofs && level == 1)
+      // Without one finer level there is no estimate at all, and nothing to widen the F-tests
+      // by: running on would silently treat the case as converged.
+      throw nurbs::InputError(
+          "the DOF budget (max_dofs " + std::to_string(options.max_dofs) +
+          ") allows no refinement of the case: its first refinement (" + description + ") has " +
+          std::to_string(dofs) +
+          " DOFs, so its discretisation error cannot be estimated; raise max_dofs "
+          "(measurements.max_dofs or --max-dofs) to at least " +
+          std::to_string(dofs) +
+          ", or turn the check off (measurements.discretization_check false or "
+          "--no-discretization-check) if the case is known to be converged");
     if (dofs > options.max_dofs) {
       check.budget_exhausted = true;
       check.note = "the next level (" + description + ", " + std::to_string(dofs) +

@@ -85,9 +85,10 @@ TEST(IdentifyCalculix, FindsTheSelfWeightInCalculixData) {
   // multiply the test's time; that candidate is tested in test_identify_nonlinear.cpp (found at
   // 14 % deflection, not added at 0.014 %) and the whole library in 3D by Identify3D.
   fitting::IdentifyOptions options;
-  // The data carry no noise, so no discretisation meets a target relative to it; a budget below
-  // the first refined level (32 x 6 x 6, 6,528 DOFs) keeps the test fast; the check says so.
-  options.discretization.max_dofs = 4000;
+  // The data carry no noise, so no discretisation meets a target relative to it, and the first
+  // refined level (32 x 6 x 6, 6,528 DOFs) would make the test slow: the check is off (a budget
+  // below the first refinement is an input error, since there would be no estimate at all).
+  options.discretization.enabled = false;
   options.candidates = {"gravity", "support_compliance", "stiffness_gradient", "rigid_offset",
                         "load_scale"};
   const fitting::IdentifyResult r = fitting::identify(nominal, markers, placed.placements, options);
@@ -109,8 +110,7 @@ TEST(IdentifyCalculix, FindsTheSelfWeightInCalculixData) {
   // The prior E is the truth; the fit must not move it to mimic the missing load.
   EXPECT_NEAR(r.youngs_modulus / 1e9, 1.0, 0.01);
   EXPECT_LT(r.after.rms, 0.05 * r.before.rms);
-  EXPECT_TRUE(r.discretization.done);
-  EXPECT_TRUE(r.discretization.budget_exhausted);
+  EXPECT_FALSE(r.discretization.done);
 }
 
 }  // namespace

@@ -42,6 +42,34 @@ TEST(IdentifyCommand, FindsTheHiddenEffectsOfTheExample) {
   EXPECT_TRUE(std::filesystem::exists(out.path() / "markers_L1_after.vtp"));
 }
 
+// Bad input of the measured-data loop: NaN in the data, a DOF budget that allows no refinement.
+// Exit 1 with a message that names the file, the field and the fix, and no output folder.
+TEST(IdentifyCommand, NaNDataAndAHopelessDofBudgetAreInputErrors) {
+  testing::TemporaryFolder out;
+  const std::filesystem::path folder = out.path() / "case";
+  std::filesystem::create_directories(folder);
+  std::filesystem::copy_file(kExample, folder / "case.json");
+  {
+    std::ifstream in(std::string(ISOSPRING_SOURCE_DIR) + "/examples/identify/markers.csv");
+    std::ofstream csv(folder / "markers.csv");
+    std::string line;
+    for (int row = 1; std::getline(in, line); ++row)
+      csv << (row == 5 ? line.substr(0, line.rfind(',')) + ",nan" : line) << "\n";
+  }
+  const auto nan_run = testing::run_isospring("identify " + (folder / "case.json").string() +
+                                              " -o " + (out.path() / "nan").string() + " --quiet");
+  EXPECT_EQ(nan_run.exit_code, 1) << nan_run.output;
+  EXPECT_NE(nan_run.output.find("markers.csv: row 5"), std::string::npos) << nan_run.output;
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "nan"));
+
+  const auto budget_run =
+      testing::run_isospring("identify " + kExample + " -o " + (out.path() / "budget").string() +
+                             " --quiet --max-dofs 10");
+  EXPECT_EQ(budget_run.exit_code, 1) << budget_run.output;
+  EXPECT_NE(budget_run.output.find("max_dofs 10"), std::string::npos) << budget_run.output;
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "budget"));
+}
+
 TEST(IdentifyCommand, MarkersOffTheModelFailUnlessDropped) {
   testing::TemporaryFolder out;
   const std::filesystem::path folder = out.path() / "case";

@@ -196,6 +196,26 @@ TEST(DiscretizationCheck, BudgetEndsTheLadderAndSaysSo) {
   EXPECT_EQ(check.marker_error.size(), markers.size());
 }
 
+TEST(DiscretizationCheck, BudgetBelowTheFirstRefinementIsAnInputError) {
+  // Without one finer level there is no estimate and nothing to widen the F-tests by: an input
+  // error naming the budget, the DOFs needed and both ways out, not a silent "converged".
+  const analysis::Problem coarse = bar(2, {6, 1, 1});
+  const std::vector<Marker> markers = surface_markers();
+  const auto placements = place_markers(coarse.patches, markers, 1e-12).placements;
+  DiscretizationOptions options;
+  options.ladder = bar_ladder(2, {6, 1, 1});
+  options.max_dofs = 300;  // the case has 8 x 3 x 3 x 3 = 216 DOFs, degree 3 needs 432
+  try {
+    check_discretization(coarse, markers, placements, 1e7, 0.3, 1e-12, options);
+    FAIL() << "expected an InputError";
+  } catch (const nurbs::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("max_dofs 300"), std::string::npos) << what;
+    EXPECT_NE(what.find("at least 432"), std::string::npos) << what;
+    EXPECT_NE(what.find("--no-discretization-check"), std::string::npos) << what;
+  }
+}
+
 TEST(DiscretizationCheck, DefaultLadderInsertsKnotsAndKeepsCornerConditions) {
   analysis::Problem problem = bar(2, {4, 1, 1});
   // A pin at the far top corner: a net corner interpolates the geometry, so it is the same
