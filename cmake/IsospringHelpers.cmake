@@ -25,16 +25,24 @@ function(isospring_warnings target)
     $<$<AND:$<CXX_COMPILER_ID:GNU>,$<VERSION_LESS:$<CXX_COMPILER_VERSION>,13>>:-Wno-restrict>)
 endfunction()
 
-# isospring_test_suite(NAME LIBS...): one GoogleTest program per module from tests/NAME/*.cpp,
-# registered with CTest (label NAME). Tests find the repository and ../shared through
-# compile definitions so they run from any build directory.
+# isospring_test_suite(NAME LIBS... [SOURCES files...] [LABELS labels...]): one GoogleTest program
+# test_NAME, from tests/NAME/*.cpp unless SOURCES are given, registered with CTest (label NAME
+# plus LABELS, e.g. `sanitize` for the subset of the sanitizer job, scripts/sanitize.sh). Tests
+# find the repository and ../shared through compile definitions so they run from any build
+# directory.
 function(isospring_test_suite name)
-  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LABELS" ${ARGN})
+  if(ARG_SOURCES)
+    set(sources ${ARG_SOURCES})
+  else()
+    file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  endif()
   if(NOT sources)
     return()
   endif()
   add_executable(test_${name} ${sources})
-  target_link_libraries(test_${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main)
+  target_link_libraries(test_${name} PRIVATE ${ARG_UNPARSED_ARGUMENTS} GTest::gtest
+                                              GTest::gtest_main)
   target_compile_definitions(test_${name} PRIVATE
     ISOSPRING_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ISOSPRING_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared"
@@ -42,5 +50,7 @@ function(isospring_test_suite name)
     ISOSPRING_EXECUTABLE="$<TARGET_FILE:isospring>")
   target_include_directories(test_${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/common)
   isospring_warnings(test_${name})
-  gtest_discover_tests(test_${name} PROPERTIES LABELS ${name} DISCOVERY_TIMEOUT 60)
+  # Several labels are one CTest list: escaped so that gtest_discover_tests keeps it whole.
+  string(REPLACE ";" "\\;" labels "${name};${ARG_LABELS}")
+  gtest_discover_tests(test_${name} PROPERTIES LABELS "${labels}" DISCOVERY_TIMEOUT 60)
 endfunction()

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The sanitizer job of CI (.ci/run, after scripts/test.sh): a clang RelWithDebInfo build with
+# AddressSanitizer + UndefinedBehaviorSanitizer (-fno-sanitize-recover=all, halt_on_error=1) in
+# ./build-asan of the libraries, the program, the tests CTest labels `sanitize` (the fast unit
+# tests and end-to-end runs of the program on good and bad inputs, README.md "Hardening") and the
+# libFuzzer harnesses; then runs those tests and a short fuzz run (scripts/fuzz.sh, FUZZ_SECONDS
+# per harness, default 30).
+#   bash scripts/sanitize.sh [extra ctest arguments]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${ISOSPRING_ASAN_BUILD_DIR:-$root/build-asan}"
+jobs="${ISOSPRING_JOBS:-$(nproc)}"
+cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DISOSPRING_SANITIZE=ON -DISOSPRING_BUILD_FUZZ=ON -DISOSPRING_BUILD_TESTS=ON \
+  -DISOSPRING_BUILD_BENCH=OFF >/dev/null
+cmake --build "$build" -j "$jobs" --target isospring test_nurbs test_geometry test_io test_apps_sanitize \
+  fuzz_case_file fuzz_patch_file fuzz_model_file fuzz_markers_csv fuzz_step fuzz_iges
+source "$root/scripts/sanitizer-options.sh"
+(cd "$build" && ctest --output-on-failure -j "$jobs" -L sanitize "$@")
+bash "$root/scripts/fuzz.sh" "${FUZZ_SECONDS:-30}"
