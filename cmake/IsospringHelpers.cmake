@@ -50,7 +50,15 @@ function(isospring_test_suite name)
     ISOSPRING_EXECUTABLE="$<TARGET_FILE:isospring>")
   target_include_directories(test_${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/common)
   isospring_warnings(test_${name})
-  # Several labels are one CTest list: escaped so that gtest_discover_tests keeps it whole.
-  string(REPLACE ";" "\\;" labels "${name};${ARG_LABELS}")
-  gtest_discover_tests(test_${name} PROPERTIES LABELS "${labels}" DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(test_${name} PROPERTIES LABELS ${name} DISCOVERY_TIMEOUT 60)
+  if(ARG_LABELS)
+    # gtest_discover_tests flattens a list of labels into separate property arguments; the extra
+    # labels are set after its discovered tests are included, through the list it defines.
+    set(labels_file "${CMAKE_CURRENT_BINARY_DIR}/test_${name}_labels.cmake")
+    file(WRITE "${labels_file}"
+         "if(test_${name}_TESTS)\n"
+         "  set_tests_properties(\${test_${name}_TESTS} PROPERTIES LABELS \"${name};${ARG_LABELS}\")\n"
+         "endif()\n")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${labels_file}")
+  endif()
 endfunction()
