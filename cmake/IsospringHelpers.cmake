@@ -25,16 +25,24 @@ function(isospring_warnings target)
     $<$<AND:$<CXX_COMPILER_ID:GNU>,$<VERSION_LESS:$<CXX_COMPILER_VERSION>,13>>:-Wno-restrict>)
 endfunction()
 
-# isospring_test_suite(NAME LIBS...): one GoogleTest program per module from tests/NAME/*.cpp,
-# registered with CTest (label NAME). Tests find the repository and ../shared through
-# compile definitions so they run from any build directory.
+# isospring_test_suite(NAME LIBS... [SOURCES files...] [LABELS labels...]): one GoogleTest program
+# test_NAME, from tests/NAME/*.cpp unless SOURCES are given, registered with CTest (label NAME
+# plus LABELS, e.g. `sanitize` for the subset of the sanitizer job, scripts/sanitize.sh). Tests
+# find the repository and ../shared through compile definitions so they run from any build
+# directory.
 function(isospring_test_suite name)
-  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LABELS" ${ARGN})
+  if(ARG_SOURCES)
+    set(sources ${ARG_SOURCES})
+  else()
+    file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  endif()
   if(NOT sources)
     return()
   endif()
   add_executable(test_${name} ${sources})
-  target_link_libraries(test_${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main)
+  target_link_libraries(test_${name} PRIVATE ${ARG_UNPARSED_ARGUMENTS} GTest::gtest
+                                              GTest::gtest_main)
   target_compile_definitions(test_${name} PRIVATE
     ISOSPRING_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ISOSPRING_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared"
@@ -43,4 +51,14 @@ function(isospring_test_suite name)
   target_include_directories(test_${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/common)
   isospring_warnings(test_${name})
   gtest_discover_tests(test_${name} PROPERTIES LABELS ${name} DISCOVERY_TIMEOUT 60)
+  if(ARG_LABELS)
+    # gtest_discover_tests flattens a list of labels into separate property arguments; the extra
+    # labels are set after its discovered tests are included, through the list it defines.
+    set(labels_file "${CMAKE_CURRENT_BINARY_DIR}/test_${name}_labels.cmake")
+    file(WRITE "${labels_file}"
+         "if(test_${name}_TESTS)\n"
+         "  set_tests_properties(\${test_${name}_TESTS} PROPERTIES LABELS \"${name};${ARG_LABELS}\")\n"
+         "endif()\n")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${labels_file}")
+  endif()
 endfunction()

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -19,6 +20,11 @@ void fail_if_it_crashes(const std::filesystem::path& file, const std::function<v
     throw std::runtime_error("cannot start a process to read '" + file.string() +
                              "': " + std::strerror(errno));
   if (child == 0) {
+    // Whatever handlers the process installed for fatal signals (AddressSanitizer's and
+    // libFuzzer's report a SEGV and then exit with a status, a crash reporter may do anything),
+    // the child must die *by* the signal for the parent to see the crash.
+    for (const int fatal : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS})
+      std::signal(fatal, SIG_DFL);
     int status = 0;
     try {
       work();

@@ -95,7 +95,10 @@ AnalyticSolution lame_cylinder(const Field& field, const analysis::Material& m,
   if (ro <= ri) field.at("outer_radius").fail(" must be larger than inner_radius");
   const double P = field.at("pressure").number();
   const Vector3d c = read_center(field, "center");
-  const auto [E, nu] = plane_stress_equivalent(m, formulation);
+  // Plain variables, not a structured binding: the lambdas below capture them, which clang
+  // before 16 does not allow for structured bindings (the sanitizer and fuzz builds use clang).
+  const std::pair<double, double> equivalent = plane_stress_equivalent(m, formulation);
+  const double E = equivalent.first, nu = equivalent.second;
   const double A = P * ri * ri / (ro * ro - ri * ri);
   AnalyticSolution s;
   s.displacement = [=](const Vector3d& x) {

@@ -10,6 +10,7 @@
 #include "isospring/geometry/plate_with_central_hole.hpp"
 #include "isospring/geometry/primitives.hpp"
 #include "isospring/geometry/specimen_shoulder.hpp"
+#include "isospring/io/json_text.hpp"
 #include "isospring/io/patch_file.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -62,9 +63,9 @@ class GeometryFields {
   int integer_or(const std::string& field, int fallback, std::initializer_list<int> allowed) const {
     if (!has(field)) return fallback;
     const nlohmann::json& v = object_.at(field);
-    if (v.is_number_integer())
+    if (const std::optional<int> x = json_int(v))
       for (int a : allowed)
-        if (v.get<int>() == a) return a;
+        if (*x == a) return a;
     std::ostringstream msg;
     msg << "must be one of";
     for (int a : allowed) msg << " " << a;
@@ -237,8 +238,9 @@ const std::map<std::string, Builder>& builders() {
            const nlohmann::json& list = f.object().at("faces");
            if (!list.is_array()) f.fail("faces", "must be a list of face indices (0-based)");
            for (const auto& v : list) {
-             if (!v.is_number_integer()) f.fail("faces", "must hold integers, got " + v.dump());
-             faces.push_back(v.get<int>());
+             const std::optional<int> index = json_int(v);
+             if (!index) f.fail("faces", "must hold integers, got " + v.dump());
+             faces.push_back(*index);
            }
          }
          std::vector<int> solids;
@@ -250,8 +252,9 @@ const std::map<std::string, Builder>& builders() {
            const nlohmann::json& list = f.object().at("solids");
            if (!list.is_array()) f.fail("solids", "must be a list of solid indices (0-based)");
            for (const auto& v : list) {
-             if (!v.is_number_integer()) f.fail("solids", "must hold integers, got " + v.dump());
-             solids.push_back(v.get<int>());
+             const std::optional<int> index = json_int(v);
+             if (!index) f.fail("solids", "must hold integers, got " + v.dump());
+             solids.push_back(*index);
            }
            return geometry::cad_solid_patches(geometry::read_cad(file), solids);
          }

@@ -3,6 +3,7 @@
 #include "isospring/io/json_text.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "isospring/nurbs/error.hpp"
@@ -129,6 +130,19 @@ json parse_json_text(const std::string& text, const std::string& source, const s
                             "in SI units as a finite number");
   throw nurbs::InputError(where + ": not valid JSON (" + parser.message() +
                           "); check commas, quotes and brackets there, or give a " + what);
+}
+
+std::optional<int> json_int(const json& value) {
+  constexpr auto largest = static_cast<json::number_unsigned_t>(std::numeric_limits<int>::max());
+  if (value.is_number_unsigned()) {
+    const auto x = value.get<json::number_unsigned_t>();
+    if (x <= largest) return static_cast<int>(x);
+  } else if (value.is_number_integer()) {
+    const auto x = value.get<json::number_integer_t>();
+    if (x >= std::numeric_limits<int>::min() && x <= std::numeric_limits<int>::max())
+      return static_cast<int>(x);
+  }
+  return std::nullopt;
 }
 
 }  // namespace isospring::io

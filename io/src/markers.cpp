@@ -35,8 +35,15 @@ std::vector<std::string> split(const std::string& line) {
 
 fitting::Measurements read_markers_csv(const std::filesystem::path& path,
                                        const MarkerFileOptions& options) {
-  const std::string text = read_text_file(path, "marker file");
+  std::string text = read_text_file(path, "marker file");
   const std::string name = path.string();
+  // A UTF-8 byte order mark (spreadsheet exports) is not part of the first column's name.
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  // strtod stops at a NUL, so "1.5<NUL>7" would silently read as 1.5: a text CSV has none.
+  if (const auto nul = text.find('\0'); nul != std::string::npos)
+    throw nurbs::InputError(
+        name + ": line " + std::to_string(1 + std::count(text.begin(), text.begin() + nul, '\n')) +
+        " holds a NUL byte: not a text CSV file (binary or corrupted); export the markers again");
   std::stringstream stream(text);
   std::string line;
   int line_number = 0;
@@ -88,7 +95,7 @@ fitting::Measurements read_markers_csv(const std::filesystem::path& path,
       const std::string& cell = cells[static_cast<size_t>(col)];
       char* end = nullptr;
       const double value = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || *end != '\0')
+      if (cell.empty() || end != cell.c_str() + cell.size())
         throw nurbs::InputError(where + ", column \"" + column_name + "\": \"" + cell +
                                 "\" is not a number");
       if (!std::isfinite(value))

@@ -46,7 +46,9 @@ class FieldReader {
 
   int integer(const json& value, const std::string& field) const {
     if (!value.is_number_integer()) fail(field, "must be an integer");
-    return value.get<int>();
+    const std::optional<int> x = json_int(value);
+    if (!x) fail(field, "is out of range (got " + value.dump() + ")");
+    return *x;
   }
 
   Eigen::Vector3d vector(const json& value, const std::string& field, int dimension) const {

@@ -55,9 +55,11 @@ nurbs::Patch patch_from_json(const json& item, const Where& where) {
     throw InputError(where("degrees") + " must be an array of 1 to 3 integers");
   std::vector<int> degrees;
   for (size_t d = 0; d < degrees_json.size(); ++d) {
-    if (!degrees_json[d].is_number_integer())
-      throw InputError(where("degrees[" + std::to_string(d) + "]") + " must be an integer");
-    degrees.push_back(degrees_json[d].get<int>());
+    const std::optional<int> degree = json_int(degrees_json[d]);
+    if (!degree)
+      throw InputError(where("degrees[" + std::to_string(d) + "]") + " must be an integer, got " +
+                       degrees_json[d].dump());
+    degrees.push_back(*degree);
   }
   const json& knots_json = item["knots"];
   if (!knots_json.is_array() || knots_json.size() != degrees.size())

@@ -88,14 +88,12 @@ TEST(CadRevolution, RevolvedTrapezoidAboutATiltedAxis) {
   const TopoDS_Shape part =
       BRepPrimAPI_MakeRevol(BRepBuilderAPI_MakeFace(polygon.Wire()).Face(), axis, 2 * M_PI).Shape();
   // Pappus: 2 pi x (centroid radius) x (area) of the trapezoid; for a polygon with vertices
-  // (r_i, z_i): A = sum (r_i z_{i+1} - r_{i+1} z_i) / 2, A r_c = sum (r_i + r_{i+1}) (...) / 6.
-  double area = 0.0, moment = 0.0;
+  // (r_i, z_i): A r_c = sum (r_i + r_{i+1}) (r_i z_{i+1} - r_{i+1} z_i) / 6.
+  double moment = 0.0;
   for (int i = 0; i < 4; ++i) {
     const double* a = corners[i];
     const double* b = corners[(i + 1) % 4];
-    const double cross = a[0] * b[1] - b[0] * a[1];
-    area += cross / 2;
-    moment += (a[0] + b[0]) * cross / 6;
+    moment += (a[0] + b[0]) * (a[0] * b[1] - b[0] * a[1]) / 6;
   }
   const double exact = 2 * M_PI * std::abs(moment);
   GProp_GProps props;

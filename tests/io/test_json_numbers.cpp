@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/case_geometry.hpp"
 #include "isospring/io/json_text.hpp"
 #include "isospring/io/model_file.hpp"
 #include "isospring/io/patch_file.hpp"
@@ -64,6 +65,52 @@ TEST(JsonNumbers, EveryInputFileReportsTheOverflowingField) {
   EXPECT_NE(
       input_error([&] { read_model_json(dir / "model.json"); }).find("particles[0].mass = 1e999"),
       std::string::npos);
+}
+
+TEST(JsonNumbers, IntegersOnlyWhenTheyFitAnInt) {
+  EXPECT_EQ(json_int(nlohmann::json::parse("2")), 2);
+  EXPECT_EQ(json_int(nlohmann::json::parse("-2147483648")), -2147483647 - 1);
+  EXPECT_EQ(json_int(nlohmann::json::parse("2147483647")), 2147483647);
+  EXPECT_FALSE(json_int(nlohmann::json::parse("2147483648")));
+  EXPECT_FALSE(json_int(nlohmann::json::parse("-2147483649")));
+  EXPECT_FALSE(json_int(nlohmann::json::parse("4294967298")));  // get<int>() gives 2
+  EXPECT_FALSE(json_int(nlohmann::json::parse("18446744073709551615")));
+  EXPECT_FALSE(json_int(nlohmann::json::parse("2.0")));
+  EXPECT_FALSE(json_int(nlohmann::json::parse("\"2\"")));
+}
+
+TEST(JsonNumbers, IntegersBeyondAnIntAreErrorsNotWrapped) {
+  // Each of these used to be read modulo 2^32: degree 2, particle 0, a 5-patch disk, face 0.
+  isospring::testing::TemporaryFolder dir;
+  std::ofstream(dir / "patches.json") << R"({"patches": [{"degrees": [4294967298],
+      "knots": [[0, 0, 0, 1, 1, 1]], "control_points": [[0, 0, 0], [1, 1, 0], [2, 0, 0]]}]})";
+  EXPECT_NE(input_error([&] {
+              read_patch_file(dir / "patches.json");
+            }).find("degrees[0] must be an integer, got 4294967298"),
+            std::string::npos);
+  std::ofstream(dir / "model.json") << R"({"format": "isospring-spring-model", "version": 1,
+      "dimension": 3, "particles": [{"x": [0, 0, 0], "mass": 1, "fixed": true},
+                                    {"x": [1, 0, 0], "mass": 1}],
+      "springs": [{"i": 4294967296, "j": 1, "k": 1, "L0": 1}]})";
+  EXPECT_NE(input_error([&] {
+              read_model_json(dir / "model.json");
+            }).find("springs[0].i: is out of range (got 4294967296)"),
+            std::string::npos);
+  const nlohmann::json disk = {{"type", "disk"}, {"radius", 1.0}, {"patches", 4294967301LL}};
+  EXPECT_NE(input_error([&] {
+              build_case_geometry(disk, dir.path(), "case.json");
+            }).find("geometry.patches must be one of 1 5 for a disk, got 4294967301"),
+            std::string::npos)
+      << input_error([&] { build_case_geometry(disk, dir.path(), "case.json"); });
+  const nlohmann::json cad = {
+      {"type", "cad"},
+      {"file", std::string(ISOSPRING_SOURCE_DIR) + "/examples/cad/block.step"},
+      {"faces", {4294967296LL}}};
+  EXPECT_NE(input_error([&] {
+              build_case_geometry(cad, dir.path(), "case.json");
+            }).find("must hold integers, got 4294967296"),
+            std::string::npos)
+      << input_error([&] { build_case_geometry(cad, dir.path(), "case.json"); });
 }
 
 }  // namespace

@@ -90,6 +90,24 @@ TEST(Markers, BadRowsNameFileRowAndColumn) {
   EXPECT_NE(e.find("no marker rows"), std::string::npos) << e;
 }
 
+TEST(Markers, NulByteIsAnErrorNotATruncatedNumber) {
+  // "0.5<NUL>7" used to read as 0.5 (strtod stops at the NUL).
+  const auto o = options_2d();
+  const std::string text =
+      std::string("load_case,x,y,ux,uy\nL1,0,0,0,0\nL1,1,0,0.5") + '\0' + "7,0\n";
+  const std::string e = error_of(write_csv("nul.csv", text), o);
+  EXPECT_NE(e.find("nul.csv: line 3 holds a NUL byte"), std::string::npos) << e;
+}
+
+TEST(Markers, Utf8ByteOrderMarkIsNotPartOfTheFirstColumn) {
+  // A spreadsheet's UTF-8 export starts with a byte order mark; it used to be reported as
+  // a missing "load_case" column.
+  const auto path = write_csv("bom.csv", "\xEF\xBB\xBFload_case,x,y,ux,uy\nL2,0,0,1e-6,0\n");
+  const fitting::Measurements m = read_markers_csv(path, options_2d());
+  ASSERT_EQ(m.markers.size(), 1u);
+  EXPECT_EQ(m.markers[0].load_case, "L2");
+}
+
 TEST(Markers, SettingsRejectUnknownFieldsAndEffects) {
   const auto folder = std::filesystem::temp_directory_path();
   EXPECT_THROW(read_measurement_settings({{"file", "a.csv"}, {"noise", 1}}, folder, 2, {"L1"}, "m"),
