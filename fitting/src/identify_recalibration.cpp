@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/dof_map.hpp"
@@ -77,7 +79,32 @@ Recalibration recalibrate_identified(const analysis::Problem& prior, const Ident
   settings.holdout_cases.clear();
   // m_i g equals the consistent self-weight sum_b M_ab g only for row-sum lumped masses.
   if (carried_gravity) settings.mass_model = MassModel::kLumpedIga;
-  out.calibration = calibrate(out.corrected, settings);
+  // A carry-through that fails only because the grouped fit did not converge within its
+  // iterations degrades to coarser groupings (fewer stiffnesses: larger gamma), saying so,
+  // before giving up: the identification's result should reach model.json on routine cases.
+  std::vector<double> gammas{settings.gamma};
+  for (const double g : {10 * settings.gamma, 0.1, 0.3, 0.5})
+    if (g > gammas.back() && g <= 0.5) gammas.push_back(g);
+  for (size_t k = 0; k < gammas.size(); ++k) {
+    CalibrationSettings attempt = settings;
+    if (k > 0) {
+      attempt.gamma = gammas[k];
+      attempt.gamma_sweep.clear();
+    }
+    try {
+      out.calibration = calibrate(out.corrected, attempt);
+      if (k > 0)
+        out.notes.push_back("recalibration: the grouped fit did not converge with gamma " +
+                            std::to_string(gammas[k - 1]) +
+                            "; recalibrated with the coarser grouping gamma " +
+                            std::to_string(gammas[k]) + " (fewer spring stiffnesses)");
+      break;
+    } catch (const std::runtime_error& e) {
+      if (k + 1 == gammas.size() ||
+          std::string(e.what()).find("did not converge") == std::string::npos)
+        throw;
+    }
+  }
 
   // The corrected loads without the carried gravity, on the particles (as calibrate builds them).
   const analysis::DofMap dofs(out.corrected);
