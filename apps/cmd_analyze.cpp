@@ -5,6 +5,7 @@
 #include <chrono>
 #include <memory>
 
+#include "cli_checks.hpp"
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/analysis/static_solver.hpp"
@@ -140,11 +141,11 @@ void setup_analyze(CLI::App& app) {
                   "cholesky (sparse direct, default) or cg (conjugate gradients)")
       ->check(CLI::IsMember({"cholesky", "cg"}));
   cmd->add_option("--threads", options->threads, "Threads for assembly (0 = all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd->add_option("--max-memory", options->max_memory_gb,
                   "Refuse (exit 1) a case whose solve needs more than this many GB (default: the "
                   "available memory)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_analyze(*options); });
 }

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 
+#include "cli_checks.hpp"
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
@@ -105,7 +106,7 @@ void setup_import(CLI::App& app) {
                   "Keep only these faces (0-based, as listed by --report or `isospring info`)");
   cmd->add_option("--thickness", options->thickness,
                   "Extrude the (planar) faces along their normal by this thickness [m]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd->add_option("--solids", options->solids,
                   "Keep only these solids as volumes (0-based, as listed by `isospring info`)")
       ->excludes("--faces")

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 
+#include "cli_checks.hpp"
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
@@ -177,17 +178,17 @@ void setup_refine(CLI::App& app) {
   cmd->add_option("IN", options->input, "Input patch file")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->output, "Output patch file")->required();
   cmd->add_option("--h", options->h, "Split every knot span into N equal spans")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--elevate", options->elevate,
                   "Raise the degree by T in all directions, or T_u T_v [T_w] per direction")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd->add_option("--insert", options->insert,
                   "Insert knots: DIRECTION=KNOTS, e.g. --insert u=0.3,0.3 --insert v=0.5 "
                   "(repeat a value to raise its multiplicity)");
   cmd->add_option("--max-memory", options->max_memory_gb,
                   "Refuse (exit 1) a refinement needing more than this many GB (default: the "
                   "available memory)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_flag("-q,--quiet", options->quiet, "Do not print the \"wrote ...\" line");
   cmd->footer("Order: --elevate, then --insert, then --h (k-refinement keeps C^(p-1)).");
   cmd->callback([options] {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 
+#include "cli_checks.hpp"
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/analysis/spring_dynamics.hpp"
@@ -162,10 +163,10 @@ void setup_simulate(CLI::App& app) {
   cmd->add_option("--dt", options->dt, "Time step [s]")->required();
   cmd->add_option("--steps", options->steps, "Number of time steps")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--every", options->every, "Write every K-th step as a frame (and the last)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--load-case", options->load_case,
                   "A load case of model.json (its forces plus the model's gravity)");
   cmd->add_option("--gravity", options->gravity,

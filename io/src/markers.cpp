@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <sstream>
@@ -176,9 +177,13 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
   };
   auto number_field = [&](const std::string& key, double lo, double hi) {
     const auto& v = m.at(key);
-    if (!v.is_number() || !(v.get<double>() > lo) || !(v.get<double>() < hi))
-      throw nurbs::InputError(where + "." + key + ": must be a number in (" + std::to_string(lo) +
-                              ", " + std::to_string(hi) + ")");
+    if (!v.is_number() || !(v.get<double>() > lo) || !(v.get<double>() < hi)) {
+      // %g: "(0, 1e+300)", not std::to_string's 300 digits.
+      char range[96];
+      std::snprintf(range, sizeof range, "(%g, %g)", lo, hi);
+      throw nurbs::InputError(where + "." + key + ": must be a number in " + range + ", got " +
+                              v.dump());
+    }
     return v.get<double>();
   };
   auto bool_field = [&](const std::string& key) {

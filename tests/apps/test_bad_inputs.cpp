@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 
@@ -122,6 +123,120 @@ void write_inputs(const fs::path& dir) {
   // Sizes beyond the machine.
   write("huge_mesh.json", box_case("0.1", "[100000, 1000, 1000]"));
   write("big_mesh.json", box_case("0.1", "[20, 4, 4]"));
+  // 7. Malformed and inconsistent files of every kind (bad/).
+  write("bad/syntax.json", R"BAD({"name": "box", "geometry": {"type": "box",, })BAD");
+  write("bad/empty.json", R"BAD()BAD");
+  write("bad/array.json", R"BAD([1,2,3])BAD");
+  write(
+      "bad/nu_half.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.5, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/nu_neg.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": -1.5, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/e_neg.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": -5, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/e_string.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": "fifty", "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/no_material.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/no_loads.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": []})BAD");
+  write(
+      "bad/no_boundary.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/bad_side.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "w7", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/bad_fix.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["q"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/bad_geom.json",
+      R"BAD({"name": "box", "geometry": {"type": "dodecahedron", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/neg_size.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [-0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/zero_elems.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [0, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/deg_zero.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [0, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/trac_dim.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, -100]}]}]})BAD");
+  write(
+      "bad/dup_ids.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}, {"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
+  write(
+      "bad/unknown_field.json",
+      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}], "materials": {}})BAD");
+  write(
+      "bad/patch_wrong_knots.json",
+      R"BAD({"patches": [{"degrees": [1], "knots": [[0, 0.5, 0, 1]], "control_points": [[0,0,0],[1,0,0]]}]})BAD");
+  write(
+      "bad/patch_neg_weight.json",
+      R"BAD({"patches": [{"degrees": [1], "knots": [[0, 0, 1, 1]], "control_points": [[0,0,0],[1,0,0]], "weights": [1, -1]}]})BAD");
+  write(
+      "bad/patch_zero_weight.json",
+      R"BAD({"patches": [{"degrees": [1], "knots": [[0, 0, 1, 1]], "control_points": [[0,0,0],[1,0,0]], "weights": [1, 0]}]})BAD");
+  write(
+      "bad/patch_count.json",
+      R"BAD({"patches": [{"degrees": [1], "knots": [[0, 0, 1, 1]], "control_points": [[0,0,0],[1,0,0],[2,0,0]]}]})BAD");
+  write(
+      "bad/patch_nan.json",
+      R"BAD({"patches": [{"degrees": [1], "knots": [[0, 0, 1, 1]], "control_points": [[0,0,0],[NaN,0,0]]}]})BAD");
+  write("bad/patch_empty.json", R"BAD({"patches": []})BAD");
+  write(
+      "bad/model_bad_index.json",
+      R"BAD({"format": "isospring-spring-model", "version": 1, "dimension": 3, "particles": [{"x": [0,0,0], "mass": 1, "fixed": true}], "springs": [{"i": 0, "j": 5, "k": 100, "c": 1, "L0": 0.1}]})BAD");
+  write(
+      "bad/model_neg_mass.json",
+      R"BAD({"format": "isospring-spring-model", "version": 1, "dimension": 3, "particles": [{"x": [0,0,0], "mass": 1, "fixed": true},{"x": [0,0,-0.1], "mass": -1, "fixed": false}], "springs": [{"i": 0, "j": 1, "k": 100, "c": 1, "L0": 0.1}]})BAD");
+  write("bad/model_format.json", R"BAD({"format": "something-else", "version": 1})BAD");
+  write(
+      "bad/model_version.json",
+      R"BAD({"format": "isospring-spring-model", "version": 99, "dimension": 3, "particles": [], "springs": []})BAD");
+  write("bad/badrow.csv", R"BAD(load_case,x,y,ux,uy
+L1,0.01,0.003,1e-6
+)BAD");
+  write("bad/far.csv", R"BAD(load_case,x,y,ux,uy
+L1,5.0,5.0,1e-6,1e-6
+)BAD");
+  // Measured-data cases (identify): the shipped example with one field broken.
+  const std::string markers = std::string(ISOSPRING_SOURCE_DIR) + "/examples/identify/markers.csv";
+  nlohmann::json id_case =
+      nlohmann::json::parse(file_contents(example("identify/plate_hidden_gravity.json")));
+  id_case["measurements"]["file"] = markers;
+  const auto id_variant = [&](const std::string& name, const std::string& key,
+                              const nlohmann::json& value) {
+    nlohmann::json c = id_case;
+    c["measurements"][key] = value;
+    write("bad/" + name, c.dump(1));
+  };
+  id_variant("id_missing_csv.json", "file", nlohmann::json::parse(R"BAD("missing.csv")BAD"));
+  id_variant("id_bad_effect.json", "effects", nlohmann::json::parse(R"BAD(["telekinesis"])BAD"));
+  id_variant("id_bad_units.json", "units", nlohmann::json::parse(R"BAD("furlong")BAD"));
+  id_variant("id_bad_sig.json", "significance", nlohmann::json::parse(R"BAD(2)BAD"));
+  id_variant("id_bad_weights.json", "component_weights", nlohmann::json::parse(R"BAD([1, -1])BAD"));
+  id_variant("id_bad_weights2.json", "component_weights",
+             nlohmann::json::parse(R"BAD("median")BAD"));
+  id_variant("id_bad_column.json", "columns",
+             nlohmann::json::parse(R"BAD({"ux": "displacement_x"})BAD"));
+  id_variant("id_neg_noise.json", "noise_sigma", nlohmann::json::parse(R"BAD(-1)BAD"));
+  id_variant("id_bad_lc.json", "load_case", nlohmann::json::parse(R"BAD("L7")BAD"));
+  id_variant("id_short_row.json", "file", nlohmann::json::parse(R"BAD("badrow.csv")BAD"));
+  id_variant("id_far.json", "file", nlohmann::json::parse(R"BAD("far.csv")BAD"));
+  id_variant("id_budget.json", "max_dofs", nlohmann::json::parse(R"BAD(10)BAD"));
+  {
+    nlohmann::json c = id_case;
+    c.erase("measurements");
+    write("bad/id_no_meas.json", c.dump(1));
+  }
 }
 
 // Every file and folder under `dir` with its contents (symlinks as their target).
@@ -271,7 +386,126 @@ INSTANTIATE_TEST_SUITE_P(
                  "(--max-memory 0.01 GB)"},
         BadInput{"StudyFinestLevelTooLarge", "study {d}/big_mesh.json -o {d}/out --levels 8",
                  "2560 x 512 x 512 elements"},
-        BadInput{"RefineHugeH", "refine {d}/p.json -o {d}/r.json --h 1000000", "control points"}),
+        BadInput{"RefineHugeH", "refine {d}/p.json -o {d}/r.json --h 1000000", "control points"},
+        // 7. Malformed and inconsistent files and options of every command.
+        BadInput{"InfoSyntaxError", "info {d}/bad/syntax.json",
+                 "syntax.json: line 1, column 38: not valid JSON"},
+        BadInput{"InfoEmptyFile", "info {d}/bad/empty.json",
+                 "empty.json: line 1, column 1: not valid JSON"},
+        BadInput{"InfoJsonArray", "info {d}/bad/array.json", "array.json: neither a patch file"},
+        BadInput{"AnalyzeIncompressible", "analyze {d}/bad/nu_half.json -o {d}/out",
+                 "material.nu must be in (-1, 0.5)"},
+        BadInput{"AnalyzePoissonBelowMinusOne", "analyze {d}/bad/nu_neg.json -o {d}/out",
+                 "got -1.5"},
+        BadInput{"AnalyzeNegativeModulus", "analyze {d}/bad/e_neg.json -o {d}/out",
+                 "material.E must be > 0"},
+        BadInput{"AnalyzeModulusAsText", "analyze {d}/bad/e_string.json -o {d}/out",
+                 "material.E must be a number, got string"},
+        BadInput{"AnalyzeNoMaterial", "analyze {d}/bad/no_material.json -o {d}/out",
+                 "material is missing"},
+        BadInput{"AnalyzeNoLoadCases", "analyze {d}/bad/no_loads.json -o {d}/out",
+                 "load_cases must not be empty"},
+        BadInput{"AnalyzeNoSupports", "analyze {d}/bad/no_boundary.json -o {d}/out",
+                 "boundary must not be empty"},
+        BadInput{"AnalyzeUnknownSide", "analyze {d}/bad/bad_side.json -o {d}/out",
+                 "unknown side 'w7'; did you mean 'w0'?"},
+        BadInput{"AnalyzeUnknownComponent", "analyze {d}/bad/bad_fix.json -o {d}/out",
+                 "boundary[0].fix[0]: 'q' is not a displacement component"},
+        BadInput{"AnalyzeUnknownGeometry", "analyze {d}/bad/bad_geom.json -o {d}/out",
+                 "geometry.type 'dodecahedron' is unknown"},
+        BadInput{"AnalyzeNegativeSize", "analyze {d}/bad/neg_size.json -o {d}/out",
+                 "size[0] must be a positive number"},
+        BadInput{"AnalyzeZeroElements", "analyze {d}/bad/zero_elems.json -o {d}/out",
+                 "discretization.elements must be >= 1"},
+        BadInput{"AnalyzeDegreeZero", "analyze {d}/bad/deg_zero.json -o {d}/out",
+                 "discretization.degree must be >= 1"},
+        BadInput{"AnalyzeTractionOfWrongSize", "analyze {d}/bad/trac_dim.json -o {d}/out",
+                 "tractions[0].value must be an array of 3 numbers"},
+        BadInput{"AnalyzeDuplicateLoadCase", "analyze {d}/bad/dup_ids.json -o {d}/out",
+                 "load case id 'L1' is used twice"},
+        BadInput{"AnalyzeMisspelledField", "analyze {d}/bad/unknown_field.json -o {d}/out",
+                 "materials: unknown field; did you mean 'material'?"},
+        BadInput{"StudySyntaxError", "study {d}/bad/syntax.json -o {d}/out",
+                 "syntax.json: line 1, column 38"},
+        BadInput{"CalibrateNoSupports", "calibrate {d}/bad/no_boundary.json -o {d}/out",
+                 "boundary must not be empty"},
+        BadInput{"CalculixBadPoisson", "export-calculix {d}/bad/nu_neg.json -o {d}/d.inp",
+                 "material.nu must be in (-1, 0.5)"},
+        BadInput{"AnalyzeAPatchFile", "analyze {d}/p.json -o {d}/out", "patches: unknown field"},
+        BadInput{"InfoDecreasingKnots", "info {d}/bad/patch_wrong_knots.json",
+                 "knots must not decrease"},
+        BadInput{"InfoNegativeWeight", "info {d}/bad/patch_neg_weight.json",
+                 "weights[1] = -1.000000 must be > 0"},
+        BadInput{"InfoZeroWeight", "info {d}/bad/patch_zero_weight.json",
+                 "weights[1] = 0.000000 must be > 0"},
+        BadInput{"InfoPointCountMismatch", "info {d}/bad/patch_count.json",
+                 "control_points has 3 points, but the knots give 2"},
+        BadInput{"InfoNaNLiteral", "info {d}/bad/patch_nan.json",
+                 "patch_nan.json: line 1, column 80: not valid JSON"},
+        BadInput{"InfoNoPatches", "info {d}/bad/patch_empty.json",
+                 "patches must be a non-empty array"},
+        BadInput{"RefineNaNLiteral", "refine {d}/bad/patch_nan.json -o {d}/r.json",
+                 "patch_nan.json: line 1"},
+        BadInput{"ExportStepNaNLiteral", "export-step {d}/bad/patch_nan.json -o {d}/x.step",
+                 "patch_nan.json: line 1"},
+        BadInput{"EvalOutsideTheParameterRange", "eval {d}/p.json --at 7,0.5",
+                 "parameter 7.000000 lies outside [0.000000, 1.000000]"},
+        BadInput{"EvalNotANumber", "eval {d}/p.json --at abc", "'abc' in 'abc' is not a number"},
+        BadInput{"RefineNegativeH",
+                 "refine {d}/p.json -o {d}/r.json --h -3",
+                 "--h: must be a positive finite number, got -3",
+                 {2}},
+        BadInput{"RefineHNotANumber",
+                 "refine {d}/p.json -o {d}/r.json --h abc",
+                 "--h: 'abc' is not a number",
+                 {2}},
+        BadInput{"AnalyzeNegativeMaxMemory",
+                 "analyze {d}/case.json -o {d}/out --max-memory -1",
+                 "--max-memory: must be a positive finite number",
+                 {2}},
+        BadInput{"InfoMissingFile", "info {d}/nonexistent.json", "File does not exist", {2}},
+        BadInput{"InfoAFolder", "info {d}/rep", "File is actually a directory", {2}},
+        BadInput{"ExportSpringOutOfRange", "export {d}/bad/model_bad_index.json -o {d}/m.xml",
+                 "springs[0].j: particle index 5 out of range"},
+        BadInput{"SimulateNegativeMass",
+                 "simulate {d}/bad/model_neg_mass.json -o {d}/out --dt 0.01",
+                 "particles[1].mass: must be finite and > 0"},
+        BadInput{"SimulateZeroTimeStep", "simulate {d}/model.json -o {d}/out --dt 0",
+                 "--dt: must be a positive time step"},
+        BadInput{"ExportNotAModel", "export {d}/bad/model_format.json -o {d}/m.xml",
+                 "format: must be \"isospring-spring-model\""},
+        BadInput{"ExportFutureVersion", "export {d}/bad/model_version.json -o {d}/m.xml",
+                 "version: unsupported version"},
+        BadInput{"ExportAPatchFile", "export {d}/p.json -o {d}/m.xml", "patches: unknown field"},
+        BadInput{"SimulateACsvFile", "simulate {d}/bad/badrow.csv -o {d}/out --dt 0.01",
+                 "badrow.csv: line 1, column 1: not valid JSON"},
+        BadInput{"IdentifyMissingCsv", "identify {d}/bad/id_missing_csv.json -o {d}/out",
+                 "measurements.file: 'missing.csv' does not exist"},
+        BadInput{"IdentifyUnknownEffect", "identify {d}/bad/id_bad_effect.json -o {d}/out",
+                 "\"telekinesis\" is not an effect"},
+        BadInput{"IdentifyUnknownUnits", "identify {d}/bad/id_bad_units.json -o {d}/out",
+                 "measurements.units: \"furlong\""},
+        BadInput{"IdentifySignificanceAboveHalf", "identify {d}/bad/id_bad_sig.json -o {d}/out",
+                 "measurements.significance: must be a number in (0, 0.5), got 2"},
+        BadInput{"IdentifyNegativeComponentWeight",
+                 "identify {d}/bad/id_bad_weights.json -o {d}/out",
+                 "component_weights[1]: must be a positive number"},
+        BadInput{"IdentifyUnknownWeighting", "identify {d}/bad/id_bad_weights2.json -o {d}/out",
+                 "must be \"mean_abs\" or a list of 2"},
+        BadInput{"IdentifyNoMeasurements", "identify {d}/bad/id_no_meas.json -o {d}/out",
+                 "no \"measurements\" object"},
+        BadInput{"IdentifyMissingColumn", "identify {d}/bad/id_bad_column.json -o {d}/out",
+                 "no column \"displacement_x\" in the header"},
+        BadInput{"IdentifyNegativeNoise", "identify {d}/bad/id_neg_noise.json -o {d}/out",
+                 "noise_sigma: must be a number in (0, 1e+300), got -1"},
+        BadInput{"IdentifyUnknownLoadCase", "identify {d}/bad/id_bad_lc.json -o {d}/out",
+                 "measurements.load_case: \"L7\" is not a load case"},
+        BadInput{"IdentifyShortRow", "identify {d}/bad/id_short_row.json -o {d}/out",
+                 "badrow.csv: row 2, column \"uy\": missing value"},
+        BadInput{"IdentifyMarkerFarOffTheModel", "identify {d}/bad/id_far.json -o {d}/out",
+                 "far.csv: 1 marker(s) lie farther than"},
+        BadInput{"IdentifyBudgetAllowsNoRefinement", "identify {d}/bad/id_budget.json -o {d}/out",
+                 "allows no refinement of the case"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
 
 }  // namespace
