@@ -177,8 +177,7 @@ void setup_refine(CLI::App& app) {
       "refine", "Refine a patch file exactly (degree elevation, knot insertion, uniform h)");
   cmd->add_option("IN", options->input, "Input patch file")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->output, "Output patch file")->required();
-  cmd->add_option("--h", options->h, "Split every knot span into N equal spans")
-      ->check(kPositive);
+  cmd->add_option("--h", options->h, "Split every knot span into N equal spans")->check(kPositive);
   cmd->add_option("--elevate", options->elevate,
                   "Raise the degree by T in all directions, or T_u T_v [T_w] per direction")
       ->check(kNonNegative);

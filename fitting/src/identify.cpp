@@ -155,6 +155,23 @@ Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
   return model;
 }
 
+// Starting values for a refit of `current`'s effects with effect e replaced by `replacement`
+// (dropped when null): the material's and the kept effects' fitted values from theta, the
+// replacement's own initial values.
+Eigen::VectorXd start_replacing(const Setup& setup, const Model& current,
+                                const Eigen::VectorXd& theta, size_t e, const Effect* replacement) {
+  Eigen::VectorXd start = theta.head(setup.material_parameters);
+  for (size_t k = 0; k < current.blocks.size(); ++k) {
+    const Eigen::VectorXd values =
+        k != e ? Eigen::VectorXd(theta.segment(current.blocks[k].first, current.blocks[k].second))
+        : replacement ? replacement->initial_values()
+                      : Eigen::VectorXd();
+    start.conservativeResize(start.size() + values.size());
+    start.tail(values.size()) = values;
+  }
+  return start;
+}
+
 Eigen::Index setup_rows(const std::vector<Eigen::VectorXd>& weights) {
   Eigen::Index rows = 0;
   for (const auto& w : weights) rows += w.size();
@@ -715,11 +732,13 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
         double worst_p = -1.0;
         std::vector<const Effect*> worst_effects;
         Fit worst_fit;
-        std::string worst_change;
+        std::string worst_change;   // for the progress line
+        std::string worst_removed;  // for round.removed: the effect's name, or the replacement
         auto consider = [&](const std::vector<const Effect*>& reduced, const Eigen::VectorXd& start,
-                            int d1, const std::string& change) {
+                            int d1, const std::string& change, const std::string& removed) {
+          if (d1 <= 0) return;
           const Fit fit = run_fit(setup, build_model(setup, reduced, start), weights);
-          if (!fit.ok || d1 <= 0) return;
+          if (!fit.ok) return;
           const int d2 = current_fit.rows - static_cast<int>(current_fit.theta.size());
           const double f =
               std::max(0.0, (fit.rss - current_fit.rss - allowance) / d1) / (current_fit.rss / d2);
@@ -729,28 +748,16 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
             worst_effects = reduced;
             worst_fit = fit;
             worst_change = change;
+            worst_removed = removed;
           }
         };
         for (size_t e = 0; e < chosen.size(); ++e) {
-          // The kept effects' fitted values start the refit; a replacement starts at its own.
-          auto start_for = [&](const Effect* replacement) {
-            Eigen::VectorXd start = current_fit.theta.head(setup.material_parameters);
-            for (size_t k = 0; k < chosen.size(); ++k) {
-              const Eigen::VectorXd values =
-                  k != e        ? Eigen::VectorXd(current_fit.theta.segment(current.blocks[k].first,
-                                                                            current.blocks[k].second))
-                  : replacement ? replacement->initial_values()
-                                : Eigen::VectorXd();
-              start.conservativeResize(start.size() + values.size());
-              start.tail(values.size()) = values;
-            }
-            return start;
-          };
           if (e + 1 < chosen.size() && chosen.size() > 1) {  // not the effect just added
             std::vector<const Effect*> reduced = chosen;
             reduced.erase(reduced.begin() + static_cast<std::ptrdiff_t>(e));
-            consider(reduced, start_for(nullptr), chosen[e]->num_parameters(),
-                     "dropped " + chosen[e]->name());
+            consider(reduced, start_replacing(setup, current, current_fit.theta, e, nullptr),
+                     chosen[e]->num_parameters(), "dropped " + chosen[e]->name(),
+                     chosen[e]->name());
           }
           const std::string simpler = chosen[e]->simpler();
           const auto it = std::find_if(library.begin(), library.end(),
@@ -759,15 +766,14 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
               std::find(chosen.begin(), chosen.end(), it->get()) == chosen.end()) {
             std::vector<const Effect*> replaced = chosen;
             replaced[e] = it->get();
-            consider(replaced, start_for(it->get()),
-                     chosen[e]->num_parameters() - (*it)->num_parameters(),
-                     "replaced " + chosen[e]->name() + " by " + simpler);
+            const std::string change = "replaced " + chosen[e]->name() + " by " + simpler;
+            consider(replaced, start_replacing(setup, current, current_fit.theta, e, it->get()),
+                     chosen[e]->num_parameters() - (*it)->num_parameters(), change, change);
           }
         }
         if (worst_p <= options.significance) break;
         say(worst_change + " (p = " + std::to_string(worst_p) + ")");
-        round.removed.push_back(worst_change.substr(0, 8) == "dropped " ? worst_change.substr(8)
-                                                                        : worst_change);
+        round.removed.push_back(worst_removed);
         chosen = worst_effects;
         current = build_model(setup, chosen, worst_fit.theta);
         current_fit = worst_fit;
@@ -804,18 +810,10 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           std::vector<const Effect*> swapped = chosen;
           swapped[e] = candidate.get();
           const Model model =
-              build_model(setup, swapped, current_fit.theta.head(setup.material_parameters));
+              build_model(setup, swapped,
+                          start_replacing(setup, current, current_fit.theta, e, candidate.get()));
           if (model.forward->nonlinear()) continue;  // Newton fits: the score test handled it
-          Eigen::VectorXd start = current_fit.theta.head(setup.material_parameters);
-          for (size_t k = 0; k < swapped.size(); ++k) {
-            const Eigen::VectorXd values =
-                k != e ? Eigen::VectorXd(current_fit.theta.segment(current.blocks[k].first,
-                                                                   current.blocks[k].second))
-                       : candidate->initial_values();
-            start.conservativeResize(start.size() + values.size());
-            start.tail(values.size()) = values;
-          }
-          const Fit fit = run_fit(setup, build_model(setup, swapped, start), weights);
+          const Fit fit = run_fit(setup, model, weights);
           if (!fit.ok) continue;
           const Alternative alternative{chosen[e]->name(), candidate->name(),
                                         bic(fit) - bic(current_fit), false};

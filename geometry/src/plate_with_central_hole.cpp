@@ -3,17 +3,17 @@
 #include <cmath>
 
 #include "parameter_checks.hpp"
+#include "single_span_knots.hpp"
 
 namespace isospring::geometry {
 
-using nurbs::KnotVector;
+using detail::kCos45;
+using detail::kLinear;
+using detail::kQuadratic;
+
 using nurbs::Patch;
 
 namespace {
-
-const KnotVector kLinear(1, {0.0, 0.0, 1.0, 1.0});
-const KnotVector kQuadratic(2, {0.0, 0.0, 0.0, 1.0, 1.0, 1.0});
-const double kCos45 = std::sqrt(0.5);
 
 Eigen::Vector3d polar(double radius, double angle) {
   return {radius * std::cos(angle), radius * std::sin(angle), 0.0};

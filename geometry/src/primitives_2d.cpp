@@ -5,20 +5,18 @@
 #include "isospring/geometry/primitives.hpp"
 #include "isospring/nurbs/refine.hpp"
 #include "parameter_checks.hpp"
+#include "single_span_knots.hpp"
 
 namespace isospring::geometry {
+
+using detail::kCos45;
+using detail::kLinear;
+using detail::kQuadratic;
 
 using detail::require_less;
 using detail::require_positive;
 using detail::require_sweep;
-using nurbs::KnotVector;
 using nurbs::Patch;
-
-namespace {
-const KnotVector kLinear(1, {0.0, 0.0, 1.0, 1.0});
-const KnotVector kQuadratic(2, {0.0, 0.0, 0.0, 1.0, 1.0, 1.0});
-const double kCos45 = std::sqrt(0.5);
-}  // namespace
 
 Patches rectangle(double lx, double ly) {
   require_positive(lx, "rectangle", "size[0]");

@@ -4,22 +4,15 @@
 #include <string>
 
 #include "parameter_checks.hpp"
+#include "single_span_knots.hpp"
 
 namespace isospring::geometry {
 
-using nurbs::KnotVector;
+using detail::kCos45;
+using detail::kLinear;
+using detail::kQuadratic;
+
 using nurbs::Patch;
-
-namespace {
-
-const KnotVector kLinear(1, {0.0, 0.0, 1.0, 1.0});
-const KnotVector kQuadratic(2, {0.0, 0.0, 0.0, 1.0, 1.0, 1.0});
-
-// plate_with_central_hole's weights along y (those of its ring patches' quarter arcs): copying
-// them is what makes the interfaces conform.
-const double kCos45 = std::sqrt(0.5);
-
-}  // namespace
 
 Patches add_specimen_shoulder(Patches test_section, double width,
                               const SpecimenShoulder& shoulder) {
@@ -40,6 +33,8 @@ Patches add_specimen_shoulder(Patches test_section, double width,
   if (test_section.empty()) throw nurbs::InputError(std::string(name) + ": no test section");
 
   const double ym = width / 2, x0 = -shoulder.straight_length;
+  // plate_with_central_hole's weights along y (its ring patches' quarter arcs): copying them is
+  // what makes the interfaces conform.
   const std::vector<double> row_weights{1, kCos45, 1};
   if (shoulder.straight_length > 0.0) {
     const std::vector<Eigen::Vector3d> points{{0, 0, 0},  {0, ym, 0},  {0, width, 0},

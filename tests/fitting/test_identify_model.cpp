@@ -77,6 +77,26 @@ TEST(IdentifyModel, NominalModelMatchesTheStaticSolver) {
   EXPECT_LT(worst, 1e-10 * scale);
 }
 
+// The observation operator of the first load case's 18 markers of grid_markers(problem, 6, 3)
+// (2D: 36 rows).
+Observation first_case_observation(const analysis::Problem& problem, const analysis::DofMap& dofs) {
+  const std::vector<Marker> markers = grid_markers(problem, 6, 3);
+  const PlacementResult placed = place_markers(problem.patches, markers, 1e-9);
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int m = 0; m < 18; ++m) {
+    const nurbs::RationalBasis basis =
+        problem.patches[0].basis(placed.placements[static_cast<size_t>(m)].param, 0);
+    for (int c = 0; c < 2; ++c)
+      for (size_t a = 0; a < basis.indices.size(); ++a)
+        triplets.emplace_back(2 * m + c, dofs.dof(0, basis.indices[a], c),
+                              basis.values[static_cast<Eigen::Index>(a)]);
+  }
+  Observation obs;
+  obs.operator_.resize(36, dofs.num_dofs());
+  obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+  return obs;
+}
+
 TEST(IdentifyModel, AnalyticJacobianMatchesCentralDifferences) {
   // K = t0 (lambda K_l + mu K_mu) + t0 t1 K_grad + exp(t2) k K_springs with the clamped side
   // released, f = f_1 + t3 f_g, y = H u + t4 g: every kind of term with a nonlinear coefficient.
@@ -109,20 +129,7 @@ TEST(IdentifyModel, AnalyticJacobianMatchesCentralDifferences) {
                          constant_coefficient(1.0)});
   terms.loads.push_back(
       {-1, analysis::assemble_load(problem, dofs, gravity), linear_coefficient(3)});
-  const std::vector<Marker> markers = grid_markers(problem, 6, 3);
-  const PlacementResult placed = place_markers(problem.patches, markers, 1e-9);
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int m = 0; m < 18; ++m) {  // the first load case's markers
-    const nurbs::RationalBasis basis =
-        problem.patches[0].basis(placed.placements[static_cast<size_t>(m)].param, 0);
-    for (int c = 0; c < 2; ++c)
-      for (size_t a = 0; a < basis.indices.size(); ++a)
-        triplets.emplace_back(2 * m + c, dofs.dof(0, basis.indices[a], c),
-                              basis.values[static_cast<Eigen::Index>(a)]);
-  }
-  Observation obs;
-  obs.operator_.resize(36, dofs.num_dofs());
-  obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+  const Observation obs = first_case_observation(problem, dofs);
   terms.offsets.push_back({0, Eigen::VectorXd::LinSpaced(36, -1.0, 1.0), linear_coefficient(4)});
   const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
   terms.released_dofs = constraints.dofs;
@@ -172,20 +179,7 @@ TEST(IdentifyModel, LowRankSpringUpdatesMatchFreshFactorisations) {
                                }});
   terms.loads.push_back({0, analysis::assemble_load(problem, dofs, problem.load_cases[0]),
                          constant_coefficient(1.0)});
-  const std::vector<Marker> markers = grid_markers(problem, 6, 3);
-  const PlacementResult placed = place_markers(problem.patches, markers, 1e-9);
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int m = 0; m < 18; ++m) {
-    const nurbs::RationalBasis basis =
-        problem.patches[0].basis(placed.placements[static_cast<size_t>(m)].param, 0);
-    for (int c = 0; c < 2; ++c)
-      for (size_t a = 0; a < basis.indices.size(); ++a)
-        triplets.emplace_back(2 * m + c, dofs.dof(0, basis.indices[a], c),
-                              basis.values[static_cast<Eigen::Index>(a)]);
-  }
-  Observation obs;
-  obs.operator_.resize(36, dofs.num_dofs());
-  obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+  const Observation obs = first_case_observation(problem, dofs);
   const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
   terms.released_dofs = constraints.dofs;
   const auto shared = make_factorization_cache();
