@@ -1,5 +1,6 @@
-// `isospring export-calculix CASE.json -o deck.inp`: the case's 3D problem as a CalculiX input
-// deck (20-node hexahedra on the exact geometry), for an independent check with `ccx -i deck`.
+// `isospring export-calculix CASE.json -o deck.inp`: the case's problem as a CalculiX input
+// deck (20-node hexahedra or, in 2D, 8-node quadrilaterals on the exact geometry), for an
+// independent check with `ccx -i deck`.
 #include <cctype>
 #include <memory>
 #include <sstream>
@@ -19,7 +20,7 @@ namespace {
 struct ExportCalculixOptions {
   std::string case_file;
   std::string output;
-  std::string element = "C3D20R";
+  std::string element;  // empty: the reduced-integration type of the case's formulation
   bool quiet = false;
 };
 
@@ -67,7 +68,7 @@ void run_export_calculix(const ExportCalculixOptions& options) {
   }
   io::write_file_atomically(output, deck.text);
   FileReport report("export-calculix", options.case_file, output);
-  report.json["element_type"] = options.element;
+  report.json["element_type"] = deck.element_type;
   report.json["nodes"] = deck.nodes.size();
   report.json["elements"] = deck.elements;
   report.json["load_cases"] = deck.load_case_ids;
@@ -78,7 +79,7 @@ void run_export_calculix(const ExportCalculixOptions& options) {
   report.markdown.heading(1, "isospring export-calculix: " + options.case_file);
   report.markdown.paragraph(
       "CalculiX deck " + options.output + ": " + std::to_string(deck.nodes.size()) + " nodes, " +
-      std::to_string(deck.elements) + " " + options.element + " elements (one per knot span, " +
+      std::to_string(deck.elements) + " " + deck.element_type + " elements (one per knot span, " +
       "nodes on the exact NURBS geometry), one *STEP per load case. Run `ccx -i " +
       output.stem().string() + "` in its folder; displacements are in " + output.stem().string() +
       ".dat. Node sets: " + sets["node_sets"].dump() +
@@ -89,7 +90,7 @@ void run_export_calculix(const ExportCalculixOptions& options) {
   report.markdown.table({"step", "load case"}, rows);
   report.write();
   progress("wrote " + options.output + ": " + std::to_string(deck.nodes.size()) + " nodes, " +
-           std::to_string(deck.elements) + " " + options.element + " elements, " +
+           std::to_string(deck.elements) + " " + deck.element_type + " elements, " +
            std::to_string(deck.load_case_ids.size()) + " step(s); run `ccx -i " +
            output.stem().string() + "` in its folder");
 }
@@ -97,20 +98,22 @@ void run_export_calculix(const ExportCalculixOptions& options) {
 void setup_export_calculix(CLI::App& app) {
   auto options = std::make_shared<ExportCalculixOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "export-calculix", "Write a 3D case as a CalculiX deck (20-node hexahedra) for cross-checks");
+      "export-calculix",
+      "Write a case as a CalculiX deck (20-node hexahedra, 8-node quads in 2D) for cross-checks");
   cmd->footer(
       "One element per knot span of the discretised patches; nodes are exact NURBS points at\n"
       "element corners and mid-edges. Supports become *BOUNDARY, tractions and pressures\n"
       "consistent nodal forces (*CLOAD), body force and gravity *DLOAD; one *STEP per load case\n"
       "printing U for all nodes. Point loads and single-control-point supports have no nodes and\n"
       "are rejected. Run: ccx -i DECK (without .inp); displacements are in DECK.dat.");
-  cmd->add_option("CASE", options->case_file, "Case file (.json), 3D")
+  cmd->add_option("CASE", options->case_file, "Case file (.json)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->output, "Deck to write (.inp)")->required();
   cmd->add_option("--element", options->element,
-                  "C3D20R (reduced integration, default: no locking in bending) or C3D20")
-      ->check(CLI::IsMember({"C3D20R", "C3D20"}));
+                  "3D: C3D20R (reduced integration, default: no locking in bending) or C3D20; "
+                  "plane stress: CPS8R (default) or CPS8; plane strain: CPE8R (default) or CPE8")
+      ->check(CLI::IsMember({"C3D20R", "C3D20", "CPS8R", "CPS8", "CPE8R", "CPE8"}));
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_export_calculix(*options); });
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <map>
 
@@ -62,6 +63,11 @@ class NodeRegistry {
 PatchNodes patch_nodes(const nurbs::Patch& patch, NodeRegistry& registry) {
   PatchNodes pn;
   for (int d = 0; d < 3; ++d) {
+    if (d >= patch.param_dim()) {  // a 2D patch: one layer of nodes in its plane
+      pn.params[d] = {0.0};
+      pn.size[d] = 1;
+      continue;
+    }
     const std::vector<double> knots = patch.knots(d).unique();
     for (size_t i = 0; i + 1 < knots.size(); ++i) {
       pn.params[d].push_back(knots[i]);
@@ -78,10 +84,11 @@ PatchNodes patch_nodes(const nurbs::Patch& patch, NodeRegistry& registry) {
         const Vector3d x = patch.point({pn.params[0][a], pn.params[1][b], pn.params[2][c]});
         pn.node[static_cast<size_t>(a + pn.size[0] * (b + pn.size[1] * c))] = registry.add(x);
       }
-  const nurbs::Param centre{0.5 * (patch.param_min(0) + patch.param_max(0)),
-                            0.5 * (patch.param_min(1) + patch.param_max(1)),
-                            0.5 * (patch.param_min(2) + patch.param_max(2))};
-  pn.flip = patch.derivatives(centre).first.determinant() < 0;
+  nurbs::Param centre{};
+  for (int d = 0; d < patch.param_dim(); ++d)
+    centre[d] = 0.5 * (patch.param_min(d) + patch.param_max(d));
+  const Eigen::Matrix3d J = patch.derivatives(centre).first;
+  pn.flip = (patch.param_dim() == 3 ? J.determinant() : J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0)) < 0;
   return pn;
 }
 
@@ -130,18 +137,31 @@ std::string where_support(size_t i) {
   return "support " + std::to_string(i) + " (boundary[" + std::to_string(i) + "])";
 }
 
+/// A normal (not unit, sign arbitrary) of the side at parameters (s, t) in [0, 1] of its
+/// tangential directions: the cross product of the two tangents (3D) or the in-plane
+/// perpendicular of the one tangent (2D).
+Vector3d side_normal(const nurbs::Patch& patch, const analysis::Side& side, double s, double t) {
+  nurbs::Param u{};
+  u[side.dir] = side.end ? patch.param_max(side.dir) : patch.param_min(side.dir);
+  auto along = [&](int d, double f) {
+    if (d < patch.param_dim())
+      u[d] = patch.param_min(d) + f * (patch.param_max(d) - patch.param_min(d));
+  };
+  const int a = (side.dir + 1) % 3, b = (side.dir + 2) % 3;
+  along(a, s);
+  along(b, t);
+  const Eigen::Matrix3d J = patch.derivatives(u).first;
+  if (patch.param_dim() == 3) return J.col(a).cross(J.col(b));
+  const Vector3d tangent = J.col(1 - side.dir);
+  return Vector3d(tangent.y(), -tangent.x(), 0.0);
+}
+
 /// Axis (0, 1, 2) the side's normal is parallel to, for symmetry supports.
 int symmetry_axis(const nurbs::Patch& patch, const analysis::Side& side, size_t index) {
-  const int a = (side.dir + 1) % 3, b = (side.dir + 2) % 3;
   int axis = -1;
   for (double s : {0.0, 0.5, 1.0})
     for (double t : {0.0, 0.5, 1.0}) {
-      nurbs::Param u{};
-      u[side.dir] = side.end ? patch.param_max(side.dir) : patch.param_min(side.dir);
-      u[a] = patch.param_min(a) + s * (patch.param_max(a) - patch.param_min(a));
-      u[b] = patch.param_min(b) + t * (patch.param_max(b) - patch.param_min(b));
-      const Eigen::Matrix3d J = patch.derivatives(u).first;
-      const Vector3d n = J.col(a).cross(J.col(b));
+      const Vector3d n = side_normal(patch, side, s, t);
       if (n.norm() == 0) continue;  // degenerate point
       int this_axis = 0;
       n.cwiseAbs().maxCoeff(&this_axis);
@@ -153,6 +173,43 @@ int symmetry_axis(const nurbs::Patch& patch, const analysis::Side& side, size_t 
       axis = this_axis;
     }
   return axis;
+}
+
+/// The element type for the case's formulation: the user's choice when it fits, else a clear
+/// error; empty means CalculiX's recommended reduced-integration type.
+std::string element_type_for(analysis::Formulation formulation, const std::string& requested) {
+  const char* stress_types[] = {"CPS8R", "CPS8"};
+  const char* strain_types[] = {"CPE8R", "CPE8"};
+  const char* solid_types[] = {"C3D20R", "C3D20"};
+  const char** allowed = formulation == analysis::Formulation::kSolid         ? solid_types
+                         : formulation == analysis::Formulation::kPlaneStress ? stress_types
+                                                                              : strain_types;
+  if (requested.empty()) return allowed[0];
+  if (requested == allowed[0] || requested == allowed[1]) return requested;
+  const char* what = formulation == analysis::Formulation::kSolid         ? "a 3D (solid)"
+                     : formulation == analysis::Formulation::kPlaneStress ? "a plane stress"
+                                                                          : "a plane strain";
+  throw nurbs::InputError("CalculiX element type '" + requested + "' does not fit " + what +
+                          " case; use " + allowed[0] + " or " + allowed[1]);
+}
+
+/// Writes element numbers as *ELSET data lines (at most 16 entries per line).
+void append_numbers(std::string& out, const std::vector<int>& numbers) {
+  for (size_t i = 0; i < numbers.size(); ++i)
+    out +=
+        std::to_string(numbers[i]) + ((i + 1) % 16 == 0 || i + 1 == numbers.size() ? "\n" : ", ");
+}
+
+/// A number as ccx reads it: ccx takes at most 20 characters of a field (a longer
+/// "2.0833333333333329e-05" is cut to an invalid "2.0833333333333329e-" and the deck rejected),
+/// so the most significant digits that fit, at most 17 (a double round-trips).
+std::string num(double x) {
+  char buffer[40];
+  for (int digits = 17; digits > 1; --digits) {
+    std::snprintf(buffer, sizeof(buffer), "%.*g", digits, x);
+    if (std::strlen(buffer) <= 20) break;
+  }
+  return buffer;
 }
 
 void append_line(std::string& out, const char* format, ...) __attribute__((format(printf, 2, 3)));
@@ -169,11 +226,10 @@ void append_line(std::string& out, const char* format, ...) {
 }  // namespace
 
 CalculixDeck make_calculix_deck(const analysis::Problem& problem, const CalculixOptions& options) {
-  if (problem.formulation != analysis::Formulation::kSolid)
-    throw nurbs::InputError("CalculiX export needs a 3D (solid) case; this one is 2D");
-  if (options.element_type != "C3D20" && options.element_type != "C3D20R")
-    throw nurbs::InputError("CalculiX element type '" + options.element_type +
-                            "' is not supported; use C3D20 or C3D20R");
+  const bool solid = problem.formulation == analysis::Formulation::kSolid;
+  const int dim = solid ? 3 : 2;
+  CalculixDeck deck;
+  deck.element_type = element_type_for(problem.formulation, options.element_type);
   // Tolerance for merging interface nodes: relative to the model size.
   Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
   for (const auto& patch : problem.patches) {
@@ -184,12 +240,12 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
   NodeRegistry registry(1e-9 * std::max((hi - lo).norm(), 1e-300));
   std::vector<PatchNodes> patch_nodes_list;
   for (const auto& patch : problem.patches) {
-    if (patch.param_dim() != 3)
-      throw nurbs::InputError("CalculiX export needs volume patches (parametric dimension 3)");
+    if (patch.param_dim() != dim)
+      throw nurbs::InputError(std::string("CalculiX export of a ") + (solid ? "3D" : "2D") +
+                              " case needs patches of parametric dimension " + std::to_string(dim));
     patch_nodes_list.push_back(patch_nodes(patch, registry));
   }
 
-  CalculixDeck deck;
   deck.nodes = registry.nodes();
   std::string& out = deck.text;
   out += "** CalculiX deck written by isospring export-calculix: " + options.title + "\n";
@@ -198,34 +254,64 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
   out += "*HEADING\n" + options.title + "\n";
   out += "*NODE, NSET=Nall\n";
   for (size_t n = 0; n < deck.nodes.size(); ++n)
-    append_line(out, "%zu, %.17g, %.17g, %.17g", n + 1, deck.nodes[n].x(), deck.nodes[n].y(),
-                deck.nodes[n].z());
+    append_line(out, "%zu, %s, %s, %s", n + 1, num(deck.nodes[n].x()).c_str(),
+                num(deck.nodes[n].y()).c_str(), num(deck.nodes[n].z()).c_str());
 
-  out += "*ELEMENT, TYPE=" + options.element_type + ", ELSET=Eall\n";
+  // Elements: one per knot span. A left-handed patch's elements are mirrored (w flipped in 3D,
+  // v in 2D) so that every element's Jacobian is positive, as ccx requires.
+  std::vector<Vector3d> centroids;  // of each element's corner nodes
+  out += "*ELEMENT, TYPE=" + deck.element_type + ", ELSET=Eall\n";
   for (const PatchNodes& pn : patch_nodes_list) {
-    for (int k = 0; k + 2 < pn.size[2]; k += 2)
+    const int corners = solid ? 8 : 4, count = solid ? 20 : 8;
+    for (int k = 0; k + 2 < pn.size[2] || (!solid && k == 0); k += 2)
       for (int j = 0; j + 2 < pn.size[1]; j += 2)
         for (int i = 0; i + 2 < pn.size[0]; i += 2) {
           std::string line = std::to_string(++deck.elements);
-          for (int a = 0; a < 20; ++a) {
-            const int dc = pn.flip ? 2 - kHex20[a][2] : kHex20[a][2];
+          Vector3d centroid = Vector3d::Zero();
+          for (int a = 0; a < count; ++a) {
+            const int node =
+                solid ? pn.at(i + kHex20[a][0], j + kHex20[a][1],
+                              k + (pn.flip ? 2 - kHex20[a][2] : kHex20[a][2]))
+                      : pn.at(i + kQuad8[a][0], j + (pn.flip ? 2 - kQuad8[a][1] : kQuad8[a][1]), 0);
+            if (a < corners) centroid += deck.nodes[static_cast<size_t>(node)] / corners;
             // ccx data lines hold at most 16 entries: 15 nodes, then a continuation line.
             line += a == 15 ? ",\n" : ", ";
-            line += std::to_string(pn.at(i + kHex20[a][0], j + kHex20[a][1], k + dc) + 1);
+            line += std::to_string(node + 1);
           }
           out += line + "\n";
+          centroids.push_back(centroid);
         }
   }
-  // A left-handed patch's elements are mirrored by flipping w; then the first four nodes are
-  // the top face. That keeps every element's Jacobian positive, as ccx requires.
 
-  out += "*MATERIAL, NAME=MATERIAL\n*ELASTIC\n";
-  append_line(out, "%.17g, %.17g", problem.material.youngs_modulus, problem.material.poisson_ratio);
-  if (problem.material.density > 0) {
-    out += "*DENSITY\n";
-    append_line(out, "%.17g", problem.material.density);
+  // Materials: one, or one per distinct Young's modulus when it varies with position.
+  std::map<double, std::vector<int>> elements_by_modulus;
+  for (int e = 0; e < deck.elements; ++e) {
+    const double E = options.youngs_modulus_at
+                         ? options.youngs_modulus_at(centroids[static_cast<size_t>(e)])
+                         : problem.material.youngs_modulus;
+    if (!(E > 0) || !std::isfinite(E))
+      throw nurbs::InputError("CalculiX export: Young's modulus " + std::to_string(E) +
+                              " at element " + std::to_string(e + 1) + " is not positive");
+    elements_by_modulus[E].push_back(e + 1);
   }
-  out += "*SOLID SECTION, ELSET=Eall, MATERIAL=MATERIAL\n";
+  int material = 0;
+  for (const auto& [E, elements] : elements_by_modulus) {
+    const std::string name =
+        elements_by_modulus.size() == 1 ? "MATERIAL" : "M" + std::to_string(++material);
+    const std::string set = elements_by_modulus.size() == 1 ? "Eall" : name;
+    if (set != "Eall") {
+      out += "*ELSET, ELSET=" + set + "\n";
+      append_numbers(out, elements);
+    }
+    out += "*MATERIAL, NAME=" + name + "\n*ELASTIC\n";
+    append_line(out, "%s, %s", num(E).c_str(), num(problem.material.poisson_ratio).c_str());
+    if (problem.material.density > 0) {
+      out += "*DENSITY\n";
+      append_line(out, "%s", num(problem.material.density).c_str());
+    }
+    out += "*SOLID SECTION, ELSET=" + set + ", MATERIAL=" + name + "\n";
+    if (!solid) append_line(out, "%s", num(problem.material.thickness).c_str());  // plane elements
+  }
 
   // Supports: one *BOUNDARY line per node and component (values may vary from node to node).
   std::string boundary = "*BOUNDARY, OP=NEW\n";
@@ -252,9 +338,9 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
         const Vector3d value = support.symmetry         ? Vector3d::Zero()
                                : support.value_function ? support.value_function(x)
                                                         : support.value;
-        for (int c = 0; c < 3; ++c)
-          if (fixed[c])
-            append_line(boundary, "%d, %d, %d, %.17g", node + 1, c + 1, c + 1, value[c]);
+        for (int c = 0; c < dim; ++c)
+          if (fixed[static_cast<size_t>(c)])
+            append_line(boundary, "%d, %d, %d, %s", node + 1, c + 1, c + 1, num(value[c]).c_str());
       }
   }
 
@@ -272,6 +358,51 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
                              double pressure, bool is_pressure) {
       const nurbs::Patch& patch = problem.patches[static_cast<size_t>(side.patch)];
       const PatchNodes& pn = patch_nodes_list[static_cast<size_t>(side.patch)];
+      if (!solid) {
+        // 3-node edges along the other parametric direction; forces per unit length times the
+        // thickness, as the plane elements carry it.
+        const int along = 1 - side.dir;
+        for (int s0 = 0; s0 + 2 < pn.size[along]; s0 += 2) {
+          int nodes[3];
+          Vector3d x[3];
+          for (int q = 0; q < 3; ++q) {
+            std::array<int, 3> idx{0, 0, 0};
+            idx[side.dir] = side.end ? pn.size[side.dir] - 1 : 0;
+            idx[along] = s0 + q;
+            nodes[q] = pn.at(idx[0], idx[1], idx[2]);
+            x[q] = deck.nodes[static_cast<size_t>(nodes[q])];
+          }
+          nurbs::Param mid{};
+          mid[side.dir] =
+              pn.params[side.dir][static_cast<size_t>(side.end ? pn.size[side.dir] - 1 : 0)];
+          mid[along] = pn.params[along][static_cast<size_t>(s0 + 1)];
+          const Vector3d outward_ref =
+              patch.derivatives(mid).first.col(side.dir) * (side.end ? 1 : -1);
+          for (size_t i = 0; i < rule.points.size(); ++i) {
+            const double r = rule.points[i];
+            const double N[3] = {-0.5 * r * (1 - r), 1 - r * r, 0.5 * r * (1 + r)};
+            const double dN[3] = {r - 0.5, -2 * r, r + 0.5};
+            Vector3d xq = Vector3d::Zero(), xs = Vector3d::Zero();
+            for (int q = 0; q < 3; ++q) {
+              xq += N[q] * x[q];
+              xs += dN[q] * x[q];
+            }
+            const double length = xs.norm();
+            if (length == 0) continue;
+            Vector3d n(xs.y() / length, -xs.x() / length, 0.0);
+            if (n.dot(outward_ref) < 0) n = -n;
+            const Vector3d traction = is_pressure ? Vector3d(-pressure * n)
+                                      : f         ? f(xq, n)
+                                                  : constant;
+            const double w = rule.weights[i] * length * problem.material.thickness;
+            for (int q = 0; q < 3; ++q) {
+              auto [it, inserted] = forces.try_emplace(nodes[q], Vector3d::Zero());
+              it->second += w * N[q] * traction;
+            }
+          }
+        }
+        return;
+      }
       const int a = std::min((side.dir + 1) % 3, (side.dir + 2) % 3);
       const int b = std::max((side.dir + 1) % 3, (side.dir + 2) % 3);
       for (int t0 = 0; t0 + 2 < pn.size[b]; t0 += 2)
@@ -321,19 +452,22 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
     for (const auto& pr : lc.pressures)
       add_side_load(pr.side, Vector3d::Zero(), {}, pr.value, true);
 
-    out += "**\n** load case " + lc.id + "\n*STEP\n*STATIC\n" + boundary;
+    out += "**\n** load case " + lc.id + (options.nonlinear ? "\n*STEP, NLGEOM" : "\n*STEP") +
+           "\n*STATIC\n" + boundary;
     out += "*CLOAD, OP=NEW\n";
     for (const auto& [node, f] : forces)
-      for (int c = 0; c < 3; ++c)
-        if (f[c] != 0) append_line(out, "%d, %d, %.17g", node + 1, c + 1, f[c]);
+      for (int c = 0; c < dim; ++c)
+        if (f[c] != 0) append_line(out, "%d, %d, %s", node + 1, c + 1, num(f[c]).c_str());
     out += "*DLOAD, OP=NEW\n";
     const char* body[3] = {"BX", "BY", "BZ"};
-    for (int c = 0; c < 3; ++c)
-      if (lc.body_force[c] != 0) append_line(out, "Eall, %s, %.17g", body[c], lc.body_force[c]);
+    for (int c = 0; c < dim; ++c)
+      if (lc.body_force[c] != 0)
+        append_line(out, "Eall, %s, %s", body[c], num(lc.body_force[c]).c_str());
     const double g = lc.gravity.norm();
     if (g > 0)
-      append_line(out, "Eall, GRAV, %.17g, %.17g, %.17g, %.17g", g, lc.gravity.x() / g,
-                  lc.gravity.y() / g, lc.gravity.z() / g);
+      append_line(out, "Eall, GRAV, %s, %s, %s, %s", num(g).c_str(),
+                  num(lc.gravity.x() / g).c_str(), num(lc.gravity.y() / g).c_str(),
+                  num(lc.gravity.z() / g).c_str());
     out += "*NODE PRINT, NSET=Nall\nU\n*NODE FILE\nU\n*END STEP\n";
   }
   return deck;

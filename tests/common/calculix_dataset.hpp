@@ -50,13 +50,10 @@ inline CalculixDataset make_calculix_dataset(const CalculixDatasetSpec& spec,
                                              const std::filesystem::path& folder) {
   CalculixDataset out;
   std::filesystem::create_directories(folder);
-  const io::CalculixDeck deck = io::make_calculix_deck(spec.truth);
-  std::string text = deck.text;
-  if (spec.nonlinear)
-    for (size_t at = text.find("*STEP\n"); at != std::string::npos;
-         at = text.find("*STEP\n", at + 1))
-      text.replace(at, 6, "*STEP, NLGEOM\n");
-  std::ofstream(folder / "deck.inp") << text;
+  io::CalculixOptions options;
+  options.nonlinear = spec.nonlinear;
+  const io::CalculixDeck deck = io::make_calculix_deck(spec.truth, options);
+  std::ofstream(folder / "deck.inp") << deck.text;
   const std::string command = "cd '" + folder.string() + "' && ccx -i deck > ccx.log 2>&1";
   if (std::system(command.c_str()) != 0) {
     out.error = "ccx failed; see " + (folder / "ccx.log").string();

@@ -1,15 +1,18 @@
 #pragma once
-// CalculiX (ccx) input decks for a 3D case and the displacements ccx prints to its .dat file.
+// CalculiX (ccx) input decks for a case and the displacements ccx prints to its .dat file.
 //
-// The deck solves the same problem as the IGA analysis with 20-node serendipity hexahedra: each
-// knot span of each (discretised) patch becomes one element whose corner and mid-edge nodes are
-// points of the exact NURBS geometry, so "matched refinement" means the same element grid.
+// The deck solves the same problem as the IGA analysis with 20-node serendipity hexahedra (3D) or
+// 8-node serendipity quadrilaterals (plane stress CPS8, plane strain CPE8, with the case's
+// thickness): each knot span of each (discretised) patch becomes one element whose corner and
+// mid-edge nodes are points of the exact NURBS geometry, so "matched refinement" means the same
+// element grid.
 // Loads become consistent nodal forces (tractions, pressures: quadrature of the face shape
 // functions over the quadratic face) or *DLOAD (body force, gravity); supports become *BOUNDARY
 // on the nodes of the supported sides. Each load case is one *STEP that replaces the loads of the
 // previous one (OP=NEW) and prints U for every node.
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -19,9 +22,15 @@
 namespace isospring::io {
 
 struct CalculixOptions {
-  /// C3D20R (reduced 2x2x2 integration; CalculiX's recommended structural hexahedron: free of
-  /// the shear and volumetric locking of full integration in bending) or C3D20 (full 3x3x3).
-  std::string element_type = "C3D20R";
+  /// 3D: C3D20R (reduced 2x2x2 integration; CalculiX's recommended structural hexahedron: free
+  /// of the shear and volumetric locking of full integration in bending) or C3D20 (full 3x3x3).
+  /// Plane stress: CPS8R or CPS8; plane strain: CPE8R or CPE8. Empty: the reduced type.
+  std::string element_type;
+  /// Young's modulus of each element from its centroid (the mean of its corner nodes), for
+  /// materials that vary in space (graded specimens, soft layers); empty: the case's E.
+  std::function<double(const Eigen::Vector3d&)> youngs_modulus_at;
+  /// Geometrically nonlinear steps (*STEP, NLGEOM): large displacements and rotations.
+  bool nonlinear = false;
   /// Gauss points per direction for the consistent face loads (4 integrates curved faces and
   /// smooth traction functions well; flat faces with constant tractions are exact from 2).
   int face_quadrature = 4;
@@ -32,12 +41,13 @@ struct CalculixDeck {
   std::string text;                    // the .inp file
   std::vector<Eigen::Vector3d> nodes;  // node n (1-based in the deck) is nodes[n - 1]
   int elements = 0;
+  std::string element_type;                // as written in *ELEMENT
   std::vector<std::string> load_case_ids;  // step s is load case load_case_ids[s - 1]
 };
 
-/// The deck for a solid (3D) problem. Throws nurbs::InputError for what a deck cannot express:
-/// 2D problems, supports or loads on single control points, symmetry on a side whose normal is
-/// not a coordinate axis.
+/// The deck for a problem. Throws nurbs::InputError for what a deck cannot express: supports or
+/// loads on single control points, symmetry on a side whose normal is not a coordinate axis, an
+/// element type that does not fit the formulation.
 CalculixDeck make_calculix_deck(const analysis::Problem& problem,
                                 const CalculixOptions& options = {});
 
