@@ -27,6 +27,8 @@ struct CalculixDatasetSpec {
   double noise_fraction = 0.0;  // noise sigma / largest displacement of the data
   unsigned seed = 1;
   bool nonlinear = false;  // ccx NLGEOM: large deformation (undeclared geometric nonlinearity)
+  /// Young's modulus per element from its centroid (graded material, soft layers); empty: uniform.
+  std::function<double(const Eigen::Vector3d&)> youngs_modulus_at;
   /// Measuring-frame motion added to every marker of a load case (all load cases alike):
   /// translation [m] and small rotation [rad] about `rotation_centre`.
   Eigen::Vector3d frame_translation = Eigen::Vector3d::Zero();
@@ -52,6 +54,7 @@ inline CalculixDataset make_calculix_dataset(const CalculixDatasetSpec& spec,
   std::filesystem::create_directories(folder);
   io::CalculixOptions options;
   options.nonlinear = spec.nonlinear;
+  options.youngs_modulus_at = spec.youngs_modulus_at;
   const io::CalculixDeck deck = io::make_calculix_deck(spec.truth, options);
   std::ofstream(folder / "deck.inp") << deck.text;
   const std::string command = "cd '" + folder.string() + "' && ccx -i deck > ccx.log 2>&1";

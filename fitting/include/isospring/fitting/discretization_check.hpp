@@ -7,7 +7,9 @@
 // from the next level, e_k ~ |u_{k+1} - u_k| (rms over marker components), divided by (1 - r)
 // where the ladder shows geometric convergence with ratio r = e_k / e_{k-1} < 1 (Richardson
 // extrapolation of the error: sum of the remaining differences). The first level with e_k below
-// `target_fraction` x noise is the model the identification uses. When the DOF budget stops the
+// `target_fraction` x noise is the model the identification uses. The finest level solved may be
+// chosen on its extrapolated error alone, without solving the next (largest) level, when a
+// convergence ratio is known and that error is at most half the target. When the DOF budget stops the
 // ladder first, the finest level solved is used, the check says so, and the identification widens
 // its significance test by the estimated error (identify.cpp) instead of adding effects to absorb
 // it.
