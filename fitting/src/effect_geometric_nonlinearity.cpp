@@ -78,6 +78,7 @@ class GeometricNonlinearity : public Effect {
   explicit GeometricNonlinearity(const EffectContext& context)
       : parts_(std::make_shared<SvkParts>(*context.problem, *context.dofs)) {}
   std::string name() const override { return "geometric_nonlinearity"; }
+  bool expensive() const override { return true; }
   std::vector<std::string> parameter_names() const override { return {"w"}; }
   std::vector<std::string> parameter_units() const override { return {"1 (1 = SVK, 0 = linear)"}; }
   Eigen::VectorXd initial_values() const override { return Eigen::VectorXd::Ones(1); }

@@ -657,10 +657,17 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
     double best_p = 2.0, best_bic = 0.0;
     const Effect* best = nullptr;
     Fit best_fit;
-    for (const auto& effect : library) {
-      if (std::find(chosen.begin(), chosen.end(), effect.get()) != chosen.end()) continue;
+    // The expensive candidates last, so that the linear ones' best improvement is known when
+    // their score test is read.
+    std::vector<const Effect*> order;
+    for (const auto& effect : library)
+      if (!effect->expensive()) order.push_back(effect.get());
+    for (const auto& effect : library)
+      if (effect->expensive()) order.push_back(effect.get());
+    for (const Effect* effect : order) {
+      if (std::find(chosen.begin(), chosen.end(), effect) != chosen.end()) continue;
       std::vector<const Effect*> trial = chosen;
-      trial.push_back(effect.get());
+      trial.push_back(effect);
       const Model model = build_model(setup, trial, current_fit.theta);
       say("trying " + effect->name());
       const auto fit_start = std::chrono::steady_clock::now();
@@ -682,6 +689,22 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           test.note = "screened out by a score test at the current fit (F = " +
                       std::to_string(score.f_statistic) + ", p = " + std::to_string(score.p_value) +
                       "; fitted only when p < 10 x the threshold)";
+          test.seconds =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+          round.candidates.push_back(test);
+          continue;
+        }
+        // Significant, but explaining far less than a candidate already fitted this round: it
+        // cannot be this round's choice (the score test's reduction is the first-order estimate
+        // of its fit's, 10x below the best); the next round screens it again.
+        const double best_reduction = best ? current_fit.rss - best_fit.rss : 0.0;
+        if (score.done && best && best_p < threshold && score.reduction < 0.1 * best_reduction) {
+          test.f_statistic = score.f_statistic;
+          test.p_value = score.p_value;
+          test.rss = current_fit.rss - score.reduction;
+          test.note = "deferred: a score test at the current fit estimates an RSS reduction of " +
+                      std::to_string(score.reduction) + ", below a tenth of " + best->name() +
+                      "'s " + std::to_string(best_reduction) + "; screened again next round";
           test.seconds =
               std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
           round.candidates.push_back(test);
@@ -713,7 +736,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       if (test.p_value < best_p || (test.p_value == best_p && best && test.delta_bic < best_bic)) {
         best_p = test.p_value;
         best_bic = test.delta_bic;
-        best = effect.get();
+        best = effect;
         best_fit = fit;
       }
     }

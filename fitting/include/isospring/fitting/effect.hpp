@@ -70,6 +70,9 @@ class Effect {
   /// rigid_offset), or empty: the backward step of the selection tries the simpler one in its
   /// place.
   virtual std::string simpler() const { return {}; }
+  /// True for an effect whose model needs Newton solves (geometric_nonlinearity): the selection
+  /// tries it after the linear candidates and only when a score test says it may matter.
+  virtual bool expensive() const { return false; }
   /// Adds the effect's terms; its parameters are theta[first .. first + num_parameters()).
   virtual void add_terms(const EffectContext& context, int first, ModelTerms& terms) const = 0;
   /// Reportable values from the fitted parameters (e.g. k = k_ref exp(p)): name -> value.
