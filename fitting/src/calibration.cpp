@@ -187,7 +187,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
   if (settings.matrix_approach && !mesh.network.volumes.empty())
     throw nurbs::InputError(
         "calibration: the matrix approach fits central springs only; turn off "
-        "calibration.volume_terms or matrix_approach");
+        "calibration.volume_terms / shear_terms or matrix_approach");
   auto fit_with = [&](double gamma, Grouping& grouping) {
     const Grouping groups = group_by_rest_length(mesh.network, gamma);
     DisplacementFitOptions options;
