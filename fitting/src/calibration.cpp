@@ -233,6 +233,13 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
         b = std::max(b, bounds[s]);
       }
       for (int g : options.grouping.group_of_volume) options.upper_bounds[g] = volume_bound;
+    } else if (std::any_of(mesh.network.volumes.begin(), mesh.network.volumes.end(),
+                           [](auto& t) { return t.kind == analysis::CellEnergy::kShear; })) {
+      // Models with shear terms bound every cell modulus even without upper_bounds: a grouped
+      // fit of a small model can otherwise trade springs for cells that run off towards rigid
+      // (measured: mu ~ 1e12 Pa on a 3-element cantilever, which no time step can integrate).
+      options.upper_bounds.assign(static_cast<size_t>(options.grouping.num_groups()), INFINITY);
+      for (int g : options.grouping.group_of_volume) options.upper_bounds[g] = volume_bound;
     }
     grouping = options.grouping;
     return fit_displacements(data, options);

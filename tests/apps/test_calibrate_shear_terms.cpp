@@ -38,6 +38,7 @@ TEST(CalibrateShearTerms, ModelCarriesThemAndItsHeldOutErrorIsTheWrittenModels) 
   c["calibration"] = {{"grouping", {{"gamma", 0.2}}},
                       {"volume_terms", true},
                       {"shear_terms", true},
+                      {"max_iterations", 1000},
                       {"holdout_load_cases", {"tip_side"}}};
   std::ofstream(out / "case.json") << c.dump();
   auto run = run_isospring("calibrate " + (out / "case.json") + " -o " + (out / "cal") + " -q");
@@ -86,6 +87,18 @@ TEST(CalibrateShearTerms, ModelCarriesThemAndItsHeldOutErrorIsTheWrittenModels) 
               1e-6 * recomputed);
   // The shear terms carry load: the same file without them predicts a different displacement.
   EXPECT_GT(std::abs(without_shear - recomputed), 1e-3 * recomputed);
+
+  // Every cell modulus is bounded (10 times the constrained modulus): no cell runs off to rigid.
+  const double e = cs.problem.material.youngs_modulus, nu = cs.problem.material.poisson_ratio;
+  for (const auto& v : model.network.volumes)
+    EXPECT_LE(v.modulus, 10.0 * e * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) * (1 + 1e-9));
+  // `simulate` runs the model with both integrators (forces and tangent of the shear terms).
+  for (const char* integrator : {"implicit", "verlet"}) {
+    run = run_isospring("simulate " + (out / "cal/model.json") + " -o " + (out / integrator) +
+                        " --dt 1e-4 --steps 300 --every 300 --gravity 0,0,-9.81 --integrator " +
+                        integrator + " -q");
+    EXPECT_EQ(run.exit_code, 0) << integrator << ": " << run.output;
+  }
 
   // MuJoCo and SOFA have no such element: refused, with the reason.
   for (const char* target : {"model.xml", "model.scn"}) {
