@@ -9,8 +9,11 @@
 
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/fitting/displacement_fit.hpp"
+#include "isospring/fitting/generalising_calibration.hpp"
+#include "isospring/fitting/load_suite.hpp"
 #include "isospring/fitting/prior_spring_fit.hpp"
 #include "isospring/fitting/spring_mesh.hpp"
+#include "isospring/nurbs/error.hpp"
 #include "nmsm_test_models.hpp"
 
 namespace isospring::fitting {
@@ -155,6 +158,39 @@ TEST(ShearTerms, PriorFitPerElementPredictsAnUnfittedLoad) {
   const double before = holdout_percent(start), after = holdout_percent(fitted);
   EXPECT_GT(before, 2.0);
   EXPECT_LT(after, 0.15 * before);
+}
+
+// The generalising calibration offers springs + volume terms with and without shear terms on an
+// IGA box; the chosen candidate is the lowest cross-validated worst, and its refit carries the
+// shear terms exactly when the chosen kind has them.
+TEST(ShearTerms, CrossValidationChoosesBetweenModelKindsAndTheRefitFollowsTheChoice) {
+  analysis::Problem problem = testing::grid_problem({4, 4, 4}, {2, 1, 1});
+  problem.material.poisson_ratio = 0.4;
+  const LoadSuite suite = generate_load_suite(problem, LoadSuiteOptions{});
+  problem.load_cases = suite.cases;
+  CalibrationSettings settings;
+  settings.fit_cases = suite.training;
+  settings.holdout_cases = suite.validation;
+  settings.field_metrics = false;
+  GeneralisationOptions options;
+  options.gammas = {0.2};
+  options.prior_weights = {};
+  options.volume_terms = {true};
+  options.shear_terms = {false, true};
+  const GeneralisationResult g = calibrate_for_generalisation(problem, settings, options);
+  ASSERT_EQ(g.candidates.size(), 2u);
+  EXPECT_FALSE(g.candidates[0].shear_terms);
+  EXPECT_TRUE(g.candidates[1].shear_terms);
+  EXPECT_GT(g.candidates[1].parameters, g.candidates[0].parameters);
+  const int best = g.candidates[1].worst < g.candidates[0].worst ? 1 : 0;
+  EXPECT_EQ(g.chosen, best) << "without " << g.candidates[0].worst << ", with "
+                            << g.candidates[1].worst;
+  long shear = 0;
+  for (const auto& t : g.calibration.mesh.network.volumes)
+    shear += t.kind == analysis::CellEnergy::kShear ? 1 : 0;
+  EXPECT_EQ(shear, g.candidates[static_cast<size_t>(g.chosen)].shear_terms ? 27 : 0);
+  options.shear_terms.clear();
+  EXPECT_THROW(calibrate_for_generalisation(problem, settings, options), nurbs::InputError);
 }
 
 }  // namespace
