@@ -122,8 +122,8 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
                           CalibrationRequest& request) {
   if (!g.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
   const Fields f(g, where);
-  f.expect_only({"load_suite", "gammas", "prior_weights", "reaches", "volume_terms", "folds",
-                 "prior_iterations"});
+  f.expect_only({"load_suite", "gammas", "prior_weights", "reaches", "volume_terms", "shear_terms",
+                 "folds", "prior_iterations"});
   fitting::GeneralisationOptions o;
   request.load_suite = f.boolean("load_suite", !fit_given);
   if (f.has("gammas")) o.gammas = numbers(f, "gammas", 0.0, 0.999);
@@ -138,18 +138,20 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
       o.reaches.push_back(static_cast<int>(r));
     }
   }
-  if (f.has("volume_terms")) {
-    const auto& v = f.at("volume_terms");
-    if (!v.is_array() || v.empty()) f.fail("volume_terms", "must be a non-empty list of booleans");
-    o.volume_terms.clear();
+  // Model kinds: lists of booleans, cross-validation picks; default: the calibration's own.
+  auto kinds = [&f](const char* key, bool fallback) {
+    if (!f.has(key)) return std::vector<bool>{fallback};
+    const auto& v = f.at(key);
+    if (!v.is_array() || v.empty()) f.fail(key, "must be a non-empty list of booleans");
+    std::vector<bool> out;
     for (const auto& x : v) {
-      if (!x.is_boolean())
-        f.fail("volume_terms", "entries must be true or false (got " + x.dump() + ")");
-      o.volume_terms.push_back(x.get<bool>());
+      if (!x.is_boolean()) f.fail(key, "entries must be true or false (got " + x.dump() + ")");
+      out.push_back(x.get<bool>());
     }
-  } else {
-    o.volume_terms = {request.settings.mesh.volume_terms};
-  }
+    return out;
+  };
+  o.volume_terms = kinds("volume_terms", request.settings.mesh.volume_terms);
+  o.shear_terms = kinds("shear_terms", request.settings.mesh.shear_terms);
   o.folds = f.integer("folds", o.folds, 2);
   request.settings.prior_max_iterations =
       f.integer("prior_iterations", request.settings.prior_max_iterations, 1);
@@ -168,7 +170,7 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
                  "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
                  "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
-                 "target_percent_e_rms", "generalisation", "volume_terms"});
+                 "target_percent_e_rms", "generalisation", "volume_terms", "shear_terms"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)
@@ -197,14 +199,16 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   s.upper_bounds = f.boolean("upper_bounds", false);
   s.mesh.merge_coincident = f.boolean("merge_coincident", false);
   s.mesh.volume_terms = f.boolean("volume_terms", false);
+  s.mesh.shear_terms = f.boolean("shear_terms", false);
   s.max_iterations = f.integer("max_iterations", s.max_iterations, 1);
   s.field_samples = f.integer("field_samples", s.field_samples, 2);
-  // The matrix approach fits central springs only: off by default with volume terms.
-  request.matrix_approach = f.boolean("matrix_approach", !s.mesh.volume_terms);
-  if (request.matrix_approach && s.mesh.volume_terms)
+  // The matrix approach fits central springs only: off by default with cell terms.
+  const bool cell_terms = s.mesh.volume_terms || s.mesh.shear_terms;
+  request.matrix_approach = f.boolean("matrix_approach", !cell_terms);
+  if (request.matrix_approach && cell_terms)
     f.fail("matrix_approach",
-           "fits central springs only and cannot compare a model with volume_terms; set it to "
-           "false");
+           "fits central springs only and cannot compare a model with volume_terms or "
+           "shear_terms; set it to false");
   request.acceleration_objective = f.boolean("acceleration_objective", true);
   request.target_percent_e_rms = f.number("target_percent_e_rms", 0.0, 0.0, false);
   if (f.has("generalisation")) {

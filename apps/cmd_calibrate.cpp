@@ -146,6 +146,7 @@ void run_calibrate(const CalibrateOptions& options) {
     settings.prior_weight = chosen.prior_weight;
     settings.mesh.reach = chosen.reach;
     settings.mesh.volume_terms = chosen.volume_terms;
+    settings.mesh.shear_terms = chosen.shear_terms;
   }
   fitting::CalibrationResult computed = generalisation ? std::move(generalisation->calibration)
                                                        : fitting::calibrate(c.problem, settings);
@@ -166,7 +167,7 @@ void run_calibrate(const CalibrateOptions& options) {
   if (request.acceleration_objective && !result.mesh.network.volumes.empty())
     progress(
         "acceleration objective skipped: it fits central springs only and the calibrated "
-        "model has volume terms");
+        "model has volume or shear terms");
   else if (request.acceleration_objective) {
     progress("acceleration objective [S15 4.1-4.5] on the same springs (baseline)");
     acceleration = fitting::acceleration_baseline(c.problem, settings, result);
@@ -180,7 +181,12 @@ void run_calibrate(const CalibrateOptions& options) {
   report["protocol"] = protocol_text(settings, result);
   report["particles"] = network.positions.size();
   report["springs"] = network.springs.size();
-  report["volume_terms"] = network.volumes.size();
+  report["volume_terms"] =
+      std::count_if(network.volumes.begin(), network.volumes.end(),
+                    [](const auto& t) { return t.kind == analysis::CellEnergy::kVolume; });
+  report["shear_terms"] =
+      std::count_if(network.volumes.begin(), network.volumes.end(),
+                    [](const auto& t) { return t.kind == analysis::CellEnergy::kShear; });
   report["groups"] = result.parameters;
   report["groups_at_lower_bound"] = result.fit_result.groups_at_lower_bound;
   report["warnings"] = result.mesh.warnings;
@@ -211,6 +217,7 @@ void run_calibrate(const CalibrateOptions& options) {
     const auto& chosen = generalisation->candidates[static_cast<size_t>(generalisation->chosen)];
     nlohmann::json g = {{"reach", chosen.reach},
                         {"volume_terms", chosen.volume_terms},
+                        {"shear_terms", chosen.shear_terms},
                         {"gamma", chosen.gamma},
                         {"prior_weight", chosen.prior_weight},
                         {"cross_validation_worst", chosen.worst},
@@ -219,6 +226,7 @@ void run_calibrate(const CalibrateOptions& options) {
     for (const auto& cand : generalisation->candidates)
       g["candidates"].push_back({{"reach", cand.reach},
                                  {"volume_terms", cand.volume_terms},
+                                 {"shear_terms", cand.shear_terms},
                                  {"gamma", cand.gamma},
                                  {"prior_weight", cand.prior_weight},
                                  {"parameters", cand.parameters},

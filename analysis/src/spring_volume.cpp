@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <array>
 #include <cmath>
 
 namespace isospring::analysis {
@@ -88,6 +89,85 @@ double cell_volume_fixed(const double* corner_x, Eigen::VectorXd* gradient,
   return volume;
 }
 
+// Orthonormal basis of the symmetric deviatoric d x d tensors (5 in 3D, 2 in 2D).
+template <int Dim>
+std::vector<Eigen::Matrix<double, Dim, Dim>> deviatoric_basis() {
+  using M = Eigen::Matrix<double, Dim, Dim>;
+  std::vector<M> basis;
+  const double r2 = 1.0 / std::sqrt(2.0);
+  for (int i = 0; i < Dim; ++i)
+    for (int j = i + 1; j < Dim; ++j) {
+      M m = M::Zero();
+      m(i, j) = m(j, i) = r2;
+      basis.push_back(m);
+    }
+  M m = M::Zero();
+  m(0, 0) = r2;
+  m(1, 1) = -r2;
+  basis.push_back(m);
+  if constexpr (Dim == 3) {
+    M n = M::Zero();
+    n(0, 0) = n(1, 1) = 1.0 / std::sqrt(6.0);
+    n(2, 2) = -2.0 / std::sqrt(6.0);
+    basis.push_back(n);
+  }
+  return basis;
+}
+
+// Shear term at the corners' coordinates x (corner-major): energy mu |V0| |dev G|^2 with
+// F = sum_a x_a h_a^T, h_a = b_a / V0 (b: the rest volume gradient), G = (F^T F - I) / 2;
+// gradient and Hessian with respect to x when not null.
+template <int Dim>
+double shear_energy_fixed(const double* corner_x, const Eigen::VectorXd& rest_b, double v0,
+                          double mu, Eigen::VectorXd* gradient, Eigen::MatrixXd* hessian) {
+  using M = Eigen::Matrix<double, Dim, Dim>;
+  using V = Eigen::Matrix<double, Dim, 1>;
+  constexpr int corners = 1 << Dim;
+  std::array<V, corners> h;
+  M f = M::Zero();
+  for (int a = 0; a < corners; ++a) {
+    h[a] = rest_b.segment<Dim>(a * Dim) / v0;
+    f += Eigen::Map<const V>(corner_x + a * Dim) * h[a].transpose();
+  }
+  const M identity = M::Identity();
+  auto dev = [&](const M& m) { return M(m - m.trace() / Dim * identity); };
+  const M g = 0.5 * (f.transpose() * f - identity);
+  const M dg = dev(g);
+  const double scale = mu * std::abs(v0);
+  if (gradient) {
+    const M p = 2.0 * scale * f * dg;  // dE/dF
+    gradient->resize(corners * Dim);
+    for (int a = 0; a < corners; ++a) gradient->segment<Dim>(a * Dim) = p * h[a];
+  }
+  if (hessian) {
+    hessian->resize(corners * Dim, corners * Dim);
+    for (int b = 0; b < corners; ++b)
+      for (int j = 0; j < Dim; ++j) {
+        const M df = V::Unit(j) * h[b].transpose();
+        const M dsym = 0.5 * (f.transpose() * df + df.transpose() * f);
+        const M dp = 2.0 * scale * (df * dg + f * dev(dsym));
+        for (int a = 0; a < corners; ++a) hessian->block<Dim, 1>(a * Dim, b * Dim + j) = dp * h[a];
+      }
+  }
+  return scale * dg.squaredNorm();
+}
+
+template <int Dim>
+std::vector<Eigen::VectorXd> shear_columns_fixed(const Eigen::VectorXd& b, double factor) {
+  constexpr int corners = 1 << Dim;
+  std::vector<Eigen::VectorXd> columns;
+  for (const auto& d : deviatoric_basis<Dim>()) {
+    Eigen::VectorXd g(corners * Dim);
+    for (int a = 0; a < corners; ++a) {
+      const Eigen::Matrix<double, Dim, 1> b_a = b.segment<Dim>(a * Dim);
+      const Eigen::Matrix<double, Dim, 1> column = factor * (d * b_a);
+      for (int i = 0; i < Dim; ++i) g[a * Dim + i] = column[i];
+    }
+    columns.push_back(g);
+  }
+  return columns;
+}
+
 }  // namespace
 
 int volume_corners(int dimension) {
@@ -124,9 +204,51 @@ std::vector<int> volume_dofs(const VolumeTerm& term, int dimension) {
   return dofs;
 }
 
+namespace {
+
+// The corners' coordinates of a term at x, corner-major.
+void corner_coordinates(const VolumeTerm& term, const Eigen::VectorXd& x, int dimension,
+                        double* corner_x) {
+  for (int a = 0; a < volume_corners(dimension); ++a)
+    for (int c = 0; c < dimension; ++c)
+      corner_x[a * dimension + c] =
+          x[static_cast<Eigen::Index>(term.particles[static_cast<size_t>(a)]) * dimension + c];
+}
+
+}  // namespace
+
+double cell_shear_energy(const SpringNetwork& network, const VolumeTerm& term,
+                         const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
+                         Eigen::MatrixXd* hessian) {
+  Eigen::VectorXd b;
+  const double v0 = rest_cell_volume(network, term, &b);
+  double corner_x[24];
+  corner_coordinates(term, x, network.dimension, corner_x);
+  return network.dimension == 2
+             ? shear_energy_fixed<2>(corner_x, b, v0, term.modulus, gradient, hessian)
+             : shear_energy_fixed<3>(corner_x, b, v0, term.modulus, gradient, hessian);
+}
+
+std::vector<Eigen::VectorXd> rest_stiffness_columns(const SpringNetwork& network,
+                                                    const VolumeTerm& term) {
+  const int dim = network.dimension;
+  Eigen::VectorXd b;
+  const double v0 = std::abs(rest_cell_volume(network, term, &b));
+  if (term.kind == CellEnergy::kVolume) return {b / std::sqrt(v0)};
+  // E = mu |V0| sum_k eps_k^2 with eps_k = D_k : eps = sum_a u_a . D_k b_a / V0 (D_k an
+  // orthonormal deviatoric basis), so K = 2 mu |V0| sum_k c_k c_k^T = mu sum_k g_k g_k^T with
+  // g_k = sqrt(2 / |V0|) (D_k b_a)_a.
+  const double factor = std::sqrt(2.0 / v0);
+  return dim == 2 ? shear_columns_fixed<2>(b, factor) : shear_columns_fixed<3>(b, factor);
+}
+
 double volume_energy(const SpringNetwork& network, const Eigen::VectorXd& x) {
   double energy = 0.0;
   for (const VolumeTerm& t : network.volumes) {
+    if (t.kind == CellEnergy::kShear) {
+      energy += cell_shear_energy(network, t, x);
+      continue;
+    }
     const double change = cell_volume(t, x, network.dimension) - t.rest_volume;
     energy += 0.5 * t.modulus / std::abs(t.rest_volume) * change * change;
   }
@@ -136,9 +258,14 @@ double volume_energy(const SpringNetwork& network, const Eigen::VectorXd& x) {
 void add_volume_forces(const SpringNetwork& network, const Eigen::VectorXd& x, Eigen::VectorXd& f) {
   Eigen::VectorXd b;
   for (const VolumeTerm& t : network.volumes) {
+    const std::vector<int> dofs = volume_dofs(t, network.dimension);
+    if (t.kind == CellEnergy::kShear) {
+      cell_shear_energy(network, t, x, &b);
+      for (size_t e = 0; e < dofs.size(); ++e) f[dofs[e]] -= b[static_cast<Eigen::Index>(e)];
+      continue;
+    }
     const double change = cell_volume(t, x, network.dimension, &b) - t.rest_volume;
     const double scale = -t.modulus / std::abs(t.rest_volume) * change;
-    const std::vector<int> dofs = volume_dofs(t, network.dimension);
     for (size_t e = 0; e < dofs.size(); ++e) f[dofs[e]] += scale * b[static_cast<Eigen::Index>(e)];
   }
 }
@@ -150,7 +277,16 @@ void add_volume_stiffness(const SpringNetwork& network, const Eigen::VectorXd& x
   for (const VolumeTerm& t : network.volumes) {
     const double factor = t.modulus / std::abs(t.rest_volume);
     Eigen::MatrixXd block;
-    if (at_rest) {
+    if (t.kind == CellEnergy::kShear) {
+      if (at_rest) {
+        block = Eigen::MatrixXd::Zero(volume_corners(network.dimension) * network.dimension,
+                                      volume_corners(network.dimension) * network.dimension);
+        for (const Eigen::VectorXd& g : rest_stiffness_columns(network, t))
+          block += t.modulus * g * g.transpose();
+      } else {
+        cell_shear_energy(network, t, x, nullptr, &block);
+      }
+    } else if (at_rest) {
       rest_cell_volume(network, t, &b);
       block = factor * b * b.transpose();
     } else {

@@ -187,7 +187,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
   if (settings.matrix_approach && !mesh.network.volumes.empty())
     throw nurbs::InputError(
         "calibration: the matrix approach fits central springs only; turn off "
-        "calibration.volume_terms or matrix_approach");
+        "calibration.volume_terms / shear_terms or matrix_approach");
   auto fit_with = [&](double gamma, Grouping& grouping) {
     const Grouping groups = group_by_rest_length(mesh.network, gamma);
     DisplacementFitOptions options;
@@ -232,6 +232,13 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
         double& b = options.upper_bounds[options.grouping.group_of_spring[s]];
         b = std::max(b, bounds[s]);
       }
+      for (int g : options.grouping.group_of_volume) options.upper_bounds[g] = volume_bound;
+    } else if (std::any_of(mesh.network.volumes.begin(), mesh.network.volumes.end(),
+                           [](auto& t) { return t.kind == analysis::CellEnergy::kShear; })) {
+      // Models with shear terms bound every cell modulus even without upper_bounds: a grouped
+      // fit of a small model can otherwise trade springs for cells that run off towards rigid
+      // (measured: mu ~ 1e12 Pa on a 3-element cantilever, which no time step can integrate).
+      options.upper_bounds.assign(static_cast<size_t>(options.grouping.num_groups()), INFINITY);
       for (int g : options.grouping.group_of_volume) options.upper_bounds[g] = volume_bound;
     }
     grouping = options.grouping;

@@ -114,12 +114,13 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     throw nurbs::InputError("calibration: the stiffness grouping does not cover every volume term");
   for (size_t v = 0; v < net.volumes.size(); ++v) {
     const analysis::VolumeTerm& term = net.volumes[v];
-    Eigen::VectorXd b;
-    analysis::rest_cell_volume(net, term, &b);
     const int g = grouping.group_of_volume[v];
     if (g < 0 || g >= groups_)
       throw nurbs::InputError("calibration: a volume term's group is out of range");
-    add_element(analysis::volume_dofs(term, dim_), b / std::sqrt(std::abs(term.rest_volume)), g);
+    // A volume term is one rank-one element; a shear term one per deviatoric strain mode, all
+    // sharing its parameter.
+    for (const Eigen::VectorXd& column : analysis::rest_stiffness_columns(net, term))
+      add_element(analysis::volume_dofs(term, dim_), column, g);
   }
 
   // Upper-triangle entries of every element, g_a g_b at (f_a, f_b) with f_a <= f_b. Entries with

@@ -105,61 +105,67 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
       settings.progress(
           "cross-validation: reach " + std::to_string(candidate.reach) +
           (candidate.volume_terms ? " with volume terms" : "") +
+          (candidate.shear_terms ? " with shear terms" : "") +
           format(", gamma %g, prior weight %g", candidate.gamma, candidate.prior_weight) +
           (candidate.failure.empty() ? format(": worst held-out %%e_rms %.3g over %g cases",
                                               candidate.worst, static_cast<double>(training.size()))
                                      : ": failed"));
   };
 
-  if (options.volume_terms.empty())
-    throw nurbs::InputError("generalisation: give at least one model kind (volume_terms)");
+  if (options.volume_terms.empty() || options.shear_terms.empty())
+    throw nurbs::InputError(
+        "generalisation: give at least one model kind (volume_terms, shear_terms)");
   GeneralisationResult result;
   for (int reach : options.reaches)
-    for (bool volume_terms : options.volume_terms) {
-      base.mesh.reach = reach;
-      base.mesh.volume_terms = volume_terms;
-      // Grouped candidates; the per-spring ones start from the best grouping's fold optima.
-      int best_grouped = -1;
-      for (double gamma : options.gammas) {
-        CandidateScore candidate;
-        candidate.reach = reach;
-        candidate.volume_terms = volume_terms;
-        candidate.gamma = gamma;
-        score(candidate, [gamma](CalibrationSettings& s, int) { s.gamma = gamma; });
-        result.candidates.push_back(candidate);
-        if (candidate.failure.empty() &&
-            (best_grouped < 0 || candidate.worst < result.candidates[best_grouped].worst))
-          best_grouped = static_cast<int>(result.candidates.size()) - 1;
-      }
-      if (best_grouped < 0 || options.prior_weights.empty()) continue;
-      const double gamma = result.candidates[static_cast<size_t>(best_grouped)].gamma;
-      std::vector<std::vector<double>> prior(static_cast<size_t>(folds));
-      std::string failure;
-      for (int f = 0; f < folds && failure.empty(); ++f) {
-        CalibrationSettings s = fold_settings(f);
-        s.gamma = gamma;
-        try {
-          prior[static_cast<size_t>(f)] = per_element_values(calibrate(problem, s).fit_result);
-        } catch (const std::runtime_error& e) {
-          failure = e.what();
+    for (bool volume_terms : options.volume_terms)
+      for (bool shear_terms : options.shear_terms) {
+        base.mesh.reach = reach;
+        base.mesh.volume_terms = volume_terms;
+        base.mesh.shear_terms = shear_terms;
+        // Grouped candidates; the per-spring ones start from the best grouping's fold optima.
+        int best_grouped = -1;
+        for (double gamma : options.gammas) {
+          CandidateScore candidate;
+          candidate.reach = reach;
+          candidate.volume_terms = volume_terms;
+          candidate.shear_terms = shear_terms;
+          candidate.gamma = gamma;
+          score(candidate, [gamma](CalibrationSettings& s, int) { s.gamma = gamma; });
+          result.candidates.push_back(candidate);
+          if (candidate.failure.empty() &&
+              (best_grouped < 0 || candidate.worst < result.candidates[best_grouped].worst))
+            best_grouped = static_cast<int>(result.candidates.size()) - 1;
+        }
+        if (best_grouped < 0 || options.prior_weights.empty()) continue;
+        const double gamma = result.candidates[static_cast<size_t>(best_grouped)].gamma;
+        std::vector<std::vector<double>> prior(static_cast<size_t>(folds));
+        std::string failure;
+        for (int f = 0; f < folds && failure.empty(); ++f) {
+          CalibrationSettings s = fold_settings(f);
+          s.gamma = gamma;
+          try {
+            prior[static_cast<size_t>(f)] = per_element_values(calibrate(problem, s).fit_result);
+          } catch (const std::runtime_error& e) {
+            failure = e.what();
+          }
+        }
+        for (double w : options.prior_weights) {
+          CandidateScore candidate;
+          candidate.reach = reach;
+          candidate.volume_terms = volume_terms;
+          candidate.shear_terms = shear_terms;
+          candidate.gamma = gamma;
+          candidate.prior_weight = w;
+          candidate.failure = failure;
+          score(candidate, [&](CalibrationSettings& s, int f) {
+            s.gamma = gamma;
+            s.per_spring = true;
+            s.prior_weight = w;
+            s.per_spring_start = prior[static_cast<size_t>(f)];
+          });
+          result.candidates.push_back(candidate);
         }
       }
-      for (double w : options.prior_weights) {
-        CandidateScore candidate;
-        candidate.reach = reach;
-        candidate.volume_terms = volume_terms;
-        candidate.gamma = gamma;
-        candidate.prior_weight = w;
-        candidate.failure = failure;
-        score(candidate, [&](CalibrationSettings& s, int f) {
-          s.gamma = gamma;
-          s.per_spring = true;
-          s.prior_weight = w;
-          s.per_spring_start = prior[static_cast<size_t>(f)];
-        });
-        result.candidates.push_back(candidate);
-      }
-    }
 
   // The best candidate on every training case, measured on the validation cases; should its
   // refit fail (a singular network), the next best.
@@ -177,6 +183,7 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
     CalibrationSettings final_settings = base;
     final_settings.mesh.reach = chosen.reach;
     final_settings.mesh.volume_terms = chosen.volume_terms;
+    final_settings.mesh.shear_terms = chosen.shear_terms;
     final_settings.fit_cases = training;
     final_settings.gamma = chosen.gamma;
     try {

@@ -40,6 +40,7 @@ class PriorObjective final : public ceres::FirstOrderFunction {
         value_.push_back(g[static_cast<Eigen::Index>(a)]);
       }
       begin_.push_back(static_cast<int>(dof_.size()));
+      parameter_.push_back(parameters_);
     };
     for (const auto& s : net.springs) {
       Eigen::Vector3d n =
@@ -58,11 +59,14 @@ class PriorObjective final : public ceres::FirstOrderFunction {
         g[dim_ + d] = n[d];
       }
       add(dofs, g);
+      ++parameters_;
     }
+    // A cell term's columns (one for a volume term, one per deviatoric mode for a shear term)
+    // share its parameter.
     for (const auto& term : net.volumes) {
-      Eigen::VectorXd b;
-      analysis::rest_cell_volume(net, term, &b);
-      add(analysis::volume_dofs(term, dim_), b / std::sqrt(std::abs(term.rest_volume)));
+      for (const Eigen::VectorXd& column : analysis::rest_stiffness_columns(net, term))
+        add(analysis::volume_dofs(term, dim_), column);
+      ++parameters_;
     }
     const int nodes = static_cast<int>(data.particle_of_node.size());
     for (const auto& ref : data.references) {
@@ -78,7 +82,7 @@ class PriorObjective final : public ceres::FirstOrderFunction {
     solver_.analyzePattern(pattern_);
   }
 
-  int NumParameters() const override { return static_cast<int>(begin_.size()) - 1; }
+  int NumParameters() const override { return parameters_; }
 
   bool Evaluate(const double* theta, double* cost, double* gradient) const override {
     const auto springs = static_cast<size_t>(NumParameters());
@@ -113,7 +117,7 @@ class PriorObjective final : public ceres::FirstOrderFunction {
       data_term += 0.5 * sum / cases;
       if (!gradient) continue;
       const Eigen::VectorXd lambda = free_.expand(solver_.solve(free_.restrict(adjoint)));
-      for (size_t s = 0; s < springs; ++s) {
+      for (size_t s = 0; s + 1 < begin_.size(); ++s) {
         double gu = 0.0, gl = 0.0;
         if (s < direction_.size()) {  // a spring: g^T v = n . (v_j - v_i)
           const auto& spring = data_.network.springs[s];
@@ -122,13 +126,14 @@ class PriorObjective final : public ceres::FirstOrderFunction {
           const Eigen::VectorXd n = direction_[s].head(dim_);
           gu = n.dot(u.segment(j, dim_) - u.segment(i, dim_));
           gl = n.dot(lambda.segment(j, dim_) - lambda.segment(i, dim_));
-        } else {  // a volume term: g^T v over its corners
+        } else {  // a cell term's column: g^T v over its corners
           for (int a = begin_[s]; a < begin_[s + 1]; ++a) {
             gu += value_[a] * u[dof_[a]];
             gl += value_[a] * lambda[dof_[a]];
           }
         }
-        gradient[s] -= k[s] * gl * gu / cases;  // d/dtheta = k d/dk
+        const int p = parameter_[s];
+        gradient[p] -= k[p] * gl * gu / cases;  // d/dtheta = k d/dk
       }
     }
     double penalty = 0.0;
@@ -154,7 +159,7 @@ class PriorObjective final : public ceres::FirstOrderFunction {
         if (row < 0) continue;
         for (int b = begin_[s]; b < begin_[s + 1]; ++b) {
           const int col = free_.free_index(dof_[b]);
-          if (col >= 0) entries.emplace_back(row, col, k[s] * value_[a] * value_[b]);
+          if (col >= 0) entries.emplace_back(row, col, k[parameter_[s]] * value_[a] * value_[b]);
         }
       }
     Eigen::SparseMatrix<double> K(free_.num_free(), free_.num_free());
@@ -168,7 +173,9 @@ class PriorObjective final : public ceres::FirstOrderFunction {
   double weight_;
   std::vector<double> log_prior_, scale_;
   std::vector<Eigen::Vector3d> direction_;  // per spring: unit (x_j - x_i)
-  std::vector<int> begin_, dof_;  // element s: entries [begin_[s], begin_[s + 1]) of dof_, value_
+  std::vector<int> begin_, dof_;  // column s: entries [begin_[s], begin_[s + 1]) of dof_, value_
+  std::vector<int> parameter_;    // column -> parameter (springs, then cell terms)
+  int parameters_ = 0;
   std::vector<double> value_;
   std::vector<Eigen::VectorXd> load_;
   Eigen::SparseMatrix<double> pattern_;

@@ -60,7 +60,8 @@ std::vector<int> merge_coincident(const std::vector<Eigen::Vector3d>& points, do
 
 // One volume term per net cell of every patch, corners in tensor order; cells whose |volume| is
 // below 1e-12 diagonal^dim (collapsed corners: round-off of a zero volume) are skipped.
-void add_cell_volume_terms(const analysis::Problem& problem, double diagonal, SpringMesh& mesh) {
+void add_cell_volume_terms(const analysis::Problem& problem, double diagonal,
+                           analysis::CellEnergy kind, SpringMesh& mesh) {
   auto& net = mesh.network;
   const int dim = net.dimension;
   int degenerate = 0;
@@ -75,6 +76,7 @@ void add_cell_volume_terms(const analysis::Problem& problem, double diagonal, Sp
       for (int j = 0; j + 1 < n[1]; ++j)
         for (int i = 0; i + 1 < n[0]; ++i) {
           analysis::VolumeTerm term;
+          term.kind = kind;
           for (int a = 0; a < analysis::volume_corners(dim); ++a)
             term.particles[static_cast<size_t>(a)] = mesh.particle[p][patch.index(
                 i + (a & 1), j + ((a >> 1) & 1), dim == 3 ? k + ((a >> 2) & 1) : 0)];
@@ -87,7 +89,9 @@ void add_cell_volume_terms(const analysis::Problem& problem, double diagonal, Sp
         }
   }
   if (degenerate > 0)
-    mesh.warnings.push_back("skipped the volume terms of " + std::to_string(degenerate) +
+    mesh.warnings.push_back(std::string("skipped the ") +
+                            (kind == analysis::CellEnergy::kShear ? "shear" : "volume") +
+                            " terms of " + std::to_string(degenerate) +
                             " net cells of zero volume (collapsed corners)");
 }
 
@@ -201,7 +205,11 @@ SpringMesh build_spring_mesh(const analysis::Problem& problem, const SpringMeshO
                             " zero-length corner pairs of degenerate (collapsed) net cells; they "
                             "have no direction and cannot carry a spring");
   if (options.volume_terms)
-    add_cell_volume_terms(problem, bounding_box_diagonal(node_positions), mesh);
+    add_cell_volume_terms(problem, bounding_box_diagonal(node_positions),
+                          analysis::CellEnergy::kVolume, mesh);
+  if (options.shear_terms)
+    add_cell_volume_terms(problem, bounding_box_diagonal(node_positions),
+                          analysis::CellEnergy::kShear, mesh);
   return mesh;
 }
 

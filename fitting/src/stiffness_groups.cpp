@@ -45,11 +45,24 @@ Grouping group_by_rest_length(const analysis::SpringNetwork& network, double gam
     throw nurbs::InputError("calibration gamma = " + std::to_string(gamma) +
                             " is outside [0, 1); [S15] uses values such as 0.5, 0.2, 0.01");
   Grouping grouping;
-  std::vector<double> lengths, volumes;
+  std::vector<double> lengths;
   for (const auto& s : network.springs) lengths.push_back(s.rest_length);
-  for (const auto& v : network.volumes) volumes.push_back(std::abs(v.rest_volume));
   grouping.group_of_spring = group_sizes(lengths, gamma, grouping);
-  if (!volumes.empty()) grouping.group_of_volume = group_sizes(volumes, gamma, grouping);
+  // Cell terms by rest |volume|, each kind in groups of its own (a bulk modulus is not a shear
+  // modulus): volume terms first, then shear terms.
+  grouping.group_of_volume.assign(network.volumes.size(), -1);
+  for (auto kind : {analysis::CellEnergy::kVolume, analysis::CellEnergy::kShear}) {
+    std::vector<double> volumes;
+    std::vector<size_t> index;
+    for (size_t v = 0; v < network.volumes.size(); ++v)
+      if (network.volumes[v].kind == kind) {
+        volumes.push_back(std::abs(network.volumes[v].rest_volume));
+        index.push_back(v);
+      }
+    if (volumes.empty()) continue;
+    const std::vector<int> group = group_sizes(volumes, gamma, grouping);
+    for (size_t i = 0; i < index.size(); ++i) grouping.group_of_volume[index[i]] = group[i];
+  }
   return grouping;
 }
 

@@ -36,10 +36,11 @@ std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOpti
     throw nurbs::InputError("cannot export to MuJoCo: the spring model is invalid: " + problem);
   if (!network.volumes.empty())
     throw nurbs::InputError(
-        "cannot export to MuJoCo: the spring model has " + std::to_string(network.volumes.size()) +
-        " volume terms (calibration.volume_terms) and MuJoCo 2.2 tendons are central springs; it "
-        "has no volume-preservation element; export model.json (which carries "
-        "them, and which `isospring simulate` runs) or calibrate with volume_terms off for a "
+        "cannot export to MuJoCo: the spring model has " + detail::cell_terms(network) +
+        " (calibration.volume_terms, shear_terms) and MuJoCo 2.2 tendons are central springs; it "
+        "has no volume-preservation or cell-strain element; export model.json (which carries "
+        "them, and which `isospring simulate` runs) or calibrate with volume_terms and shear_terms "
+        "off for a "
         "plain spring model");
   using detail::number;
   using detail::vector3;

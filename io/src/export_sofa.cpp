@@ -17,11 +17,13 @@ std::string sofa_scene(const analysis::SpringNetwork& network, const SofaOptions
     throw nurbs::InputError("cannot export to SOFA: the spring model is invalid: " + problem);
   if (!network.volumes.empty())
     throw nurbs::InputError(
-        "cannot export to SOFA: the spring model has " + std::to_string(network.volumes.size()) +
-        " volume terms (calibration.volume_terms) and SOFA v22.12 has no force field for the "
-        "volume energy of a trilinear cell (StiffSpringForceField is central springs only); export "
+        "cannot export to SOFA: the spring model has " + detail::cell_terms(network) +
+        " (calibration.volume_terms, shear_terms) and SOFA v22.12 has no force field for the "
+        "volume or mean-strain shear energy of a trilinear cell (StiffSpringForceField is central "
+        "springs only); export "
         "model.json (which carries "
-        "them, and which `isospring simulate` runs) or calibrate with volume_terms off for a "
+        "them, and which `isospring simulate` runs) or calibrate with volume_terms and shear_terms "
+        "off for a "
         "plain spring model");
   using detail::number;
   const bool planar = network.dimension == 2;

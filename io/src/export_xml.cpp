@@ -10,6 +10,15 @@ std::string number(double value) {
   return buffer;
 }
 
+std::string cell_terms(const analysis::SpringNetwork& network) {
+  size_t volume = 0, shear = 0;
+  for (const auto& t : network.volumes) ++(t.kind == analysis::CellEnergy::kShear ? shear : volume);
+  std::string text;
+  if (volume > 0) text = std::to_string(volume) + " volume terms";
+  if (shear > 0) text += (text.empty() ? "" : " and ") + std::to_string(shear) + " shear terms";
+  return text;
+}
+
 std::string vector3(const Eigen::Vector3d& v) {
   return number(v.x()) + " " + number(v.y()) + " " + number(v.z());
 }

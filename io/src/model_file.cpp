@@ -119,7 +119,8 @@ std::string check_spring_network(const analysis::SpringNetwork& network) {
                std::to_string(n) + ")";
     }
     if (!std::isfinite(term.modulus) || term.modulus < 0)
-      return where + ".kappa: must be finite and >= 0 (got " + describe(term.modulus) + ")";
+      return where + (term.kind == analysis::CellEnergy::kShear ? ".mu" : ".kappa") +
+             ": must be finite and >= 0 (got " + describe(term.modulus) + ")";
     if (!std::isfinite(term.rest_volume) || term.rest_volume == 0)
       return where + ".V0: must be finite and non-zero (got " + describe(term.rest_volume) + ")";
     if (term.group < -1) return where + ".group: must be >= -1 (-1 means no group)";
@@ -158,7 +159,7 @@ json model_to_json(const analysis::SpringNetwork& network, const json& provenanc
     for (const analysis::VolumeTerm& v : network.volumes)
       volumes.push_back(
           json{{"particles", std::vector<int>(v.particles.begin(), v.particles.begin() + corners)},
-               {"kappa", v.modulus},
+               {v.kind == analysis::CellEnergy::kShear ? "mu" : "kappa", v.modulus},
                {"V0", v.rest_volume},
                {"group", v.group}});
     document["volumes"] = std::move(volumes);
@@ -233,7 +234,11 @@ SpringModel model_from_json(const json& document, const std::string& source) {
       const std::string path = "volumes[" + std::to_string(v) + "].";
       const json& item = volumes[v];
       if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
-      check_keys(reader, item, path, {"particles", "kappa", "V0", "group"});
+      check_keys(reader, item, path, {"particles", "kappa", "mu", "V0", "group"});
+      // "kappa": a volume term; "mu": a shear term (deviatoric energy of the mean strain).
+      if (item.contains("kappa") == item.contains("mu"))
+        reader.fail(path.substr(0, path.size() - 1),
+                    "give either \"kappa\" (a volume term) or \"mu\" (a shear term)");
       const json& particles_of = reader.require(item, "particles", path);
       if (!particles_of.is_array() || particles_of.size() != corners)
         reader.fail(path + "particles", "must list the " + std::to_string(corners) +
@@ -242,7 +247,9 @@ SpringModel model_from_json(const json& document, const std::string& source) {
       for (size_t a = 0; a < corners; ++a)
         term.particles[a] =
             reader.integer(particles_of[a], path + "particles[" + std::to_string(a) + "]");
-      term.modulus = reader.number(reader.require(item, "kappa", path), path + "kappa");
+      const char* key = item.contains("mu") ? "mu" : "kappa";
+      if (item.contains("mu")) term.kind = analysis::CellEnergy::kShear;
+      term.modulus = reader.number(item[key], path + key);
       term.rest_volume = reader.number(reader.require(item, "V0", path), path + "V0");
       term.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
       network.volumes.push_back(term);

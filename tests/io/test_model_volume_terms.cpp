@@ -111,3 +111,56 @@ TEST(ModelVolumeTerms, EnginesWithoutAVolumeElementRefuseAndSaySo) {
 
 }  // namespace
 }  // namespace isospring::io
+
+// Shear terms (CellEnergy::kShear) are written with "mu" instead of "kappa" and read back as
+// shear terms; an entry with both or neither is refused by name.
+namespace isospring::io {
+namespace {
+
+TEST(ModelVolumeTerms, ShearTermsRoundTripAsMuAndKindsAreNotMixedUp) {
+  analysis::SpringNetwork n = cube_cell();
+  analysis::VolumeTerm shear = n.volumes[0];
+  shear.kind = analysis::CellEnergy::kShear;
+  shear.modulus = 1234.5678901234567;
+  shear.group = 2;
+  n.volumes.push_back(shear);
+  const json document = model_to_json(n);
+  EXPECT_TRUE(document["volumes"][0].contains("kappa"));
+  EXPECT_FALSE(document["volumes"][0].contains("mu"));
+  EXPECT_TRUE(document["volumes"][1].contains("mu"));
+  EXPECT_FALSE(document["volumes"][1].contains("kappa"));
+  const SpringModel m = model_from_json(json::parse(document.dump()), "model.json");
+  ASSERT_EQ(m.network.volumes.size(), 2u);
+  EXPECT_EQ(m.network.volumes[0].kind, analysis::CellEnergy::kVolume);
+  EXPECT_EQ(m.network.volumes[1].kind, analysis::CellEnergy::kShear);
+  EXPECT_EQ(m.network.volumes[1].modulus, shear.modulus);
+  EXPECT_EQ(m.network.volumes[1].group, 2);
+  EXPECT_EQ((Eigen::MatrixXd(analysis::rest_stiffness(n)) -
+             Eigen::MatrixXd(analysis::rest_stiffness(m.network)))
+                .norm(),
+            0.0);
+  for (bool both : {true, false}) {
+    json bad = document;
+    if (both)
+      bad["volumes"][1]["kappa"] = 1.0;
+    else
+      bad["volumes"][1].erase("mu");
+    try {
+      model_from_json(bad, "model.json");
+      FAIL() << "no InputError";
+    } catch (const nurbs::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("volumes[1]"), std::string::npos) << e.what();
+    }
+  }
+  json negative = document;
+  negative["volumes"][1]["mu"] = -1.0;
+  try {
+    model_from_json(negative, "model.json");
+    FAIL() << "no InputError";
+  } catch (const nurbs::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("volumes[1].mu"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace isospring::io

@@ -24,10 +24,22 @@ struct Spring {
 /// lattice of central springs has C12 = C44, i.e. nu = 1/4 when isotropic [W05]; a modulus
 /// kappa = C44 adds kappa to C11 and C12 and gives nu = 1/3). Rigid motions keep V, so the
 /// term has the rigid-body null space. Force: -(modulus / |V0|) (V - V0) dV/dx, per cell.
+///
+/// The same cell data carries a second energy (issue 14), `kind == CellEnergy::kShear`: the
+/// deviatoric (shear) energy of the cell's mean deformation gradient,
+///   E = modulus |V0| |dev G|^2,  G = 1/2 (F^T F - I),  F = (1/V0) sum_a x_a (dV0/dx_a)^T,
+/// (F is the cell's volume average of dx/dX, exact for affine motions; G its Green strain, so
+/// the term is invariant under rigid motions of any size). Linearised at rest it is mu |V0|
+/// |dev eps|^2 with modulus = mu [Pa]: a cell with a volume term kappa = lambda + 2 mu / d and a
+/// shear term mu reproduces an isotropic solid exactly under every uniform strain. It sees only
+/// the cell's mean strain (rank 5 in 3D, 2 in 2D), so the springs keep the cell's other modes.
+enum class CellEnergy { kVolume, kShear };
+
 struct VolumeTerm {
   /// Corners in tensor order (corner a + 2b + 4c at parametric (a, b, c)); 2D uses the first 4.
   std::array<int, 8> particles{};
-  double modulus = 0.0;      // kappa [Pa] (2D: [N/m], per unit thickness)
+  CellEnergy kind = CellEnergy::kVolume;
+  double modulus = 0.0;      // kappa or mu [Pa] (2D: [N/m], per unit thickness)
   double rest_volume = 0.0;  // V0 [m^3] (2D: area [m^2]), signed by the corners' orientation
   int group = -1;            // calibration group, -1 when ungrouped
 };

@@ -30,6 +30,10 @@ struct GeneralisationOptions {
   /// volume with the same gamma, or per cell in the per-spring candidates. Every reach, gamma
   /// and weight is tried with each; cross-validation picks plain or richer.
   std::vector<bool> volume_terms = {false};
+  /// Shear terms (SpringMeshOptions::shear_terms): false, none; true, also one deviatoric term
+  /// per net cell (analysis::CellEnergy::kShear), grouped like the volume terms. Every reach,
+  /// volume kind, gamma and weight is tried with each.
+  std::vector<bool> shear_terms = {false};
   /// Training cases are dealt diagonally (case c to fold (c + c / folds) mod folds) into this many
   /// folds (at least 2, at most the number of training cases).
   int folds = 3;
@@ -40,6 +44,7 @@ struct GeneralisationOptions {
 struct CandidateScore {
   int reach = 1;
   bool volume_terms = false;
+  bool shear_terms = false;
   double gamma = 0.0;
   double prior_weight = 0.0;  // 0: the grouped model
   int parameters = 0;

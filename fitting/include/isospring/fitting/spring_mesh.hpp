@@ -28,6 +28,10 @@ struct SpringMeshOptions {
   /// stiffness against volume change that central springs lack (their lattice has a fixed
   /// Poisson ratio). Cells of (near) zero volume (collapsed corners) get none. Off: plain springs.
   bool volume_terms = false;
+  /// Also one shear term per net cell (analysis::CellEnergy::kShear): the deviatoric energy of
+  /// the cell's mean strain, after the volume terms in SpringNetwork::volumes. With volume terms
+  /// a cell holds a full isotropic small-strain energy (bulk and shear moduli fitted apart).
+  bool shear_terms = false;
 };
 
 /// A spring network on the control nets of a model plus the map back to control points.

@@ -24,7 +24,8 @@ struct Grouping {
 /// relative). Throws nurbs::InputError unless 0 <= gamma < 1.
 Grouping group_by_rest_length(const analysis::SpringNetwork& network, double gamma);
 
-/// Volume terms are grouped the same way by their rest |volume|, in groups after the springs'.
+/// Volume terms are grouped the same way by their rest |volume|, in groups after the springs';
+/// shear terms (analysis::CellEnergy::kShear) likewise, in groups after the volume terms'.
 
 /// One parameter per spring (and per volume term).
 Grouping one_group_per_spring(const analysis::SpringNetwork& network);

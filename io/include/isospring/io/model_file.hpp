@@ -26,6 +26,8 @@
 // with V the volume (2D: area) of the trilinear (bilinear) cell (analysis/spring_volume.hpp):
 //   "volumes": [{"particles": [8 corners in tensor order (2D: 4)], "kappa": 3500.0 [Pa; 2D N/m],
 //                "V0": 0.064 (signed by the corners' orientation, non-zero), "group": 5}, ...]
+// An entry with "mu" [Pa; 2D N/m] instead of "kappa" is a shear term (issue 14): energy
+// mu |V0| |dev G|^2 of the cell's mean Green strain G (analysis::CellEnergy::kShear).
 // Every problem found by the
 // reader is an nurbs::InputError naming the file and the field, e.g.
 //   "model.json: springs[4].k: must be finite and >= 0 (got -3); fix the calibration output".
