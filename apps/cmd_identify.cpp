@@ -536,6 +536,7 @@ void run_identify(const IdentifyCommandOptions& options) {
   }
   write_markers(out_dir, c.problem, kept, r);
   write_residual_plot(out_dir, kept, r);
+  io::add_warnings(report, md, progress);
   io::write_json_report(out_dir / "report.json", report);
   md.write(out_dir / "report.md");
   progress("rms " + io::format_number(r.before.rms, 3) + " m -> " +

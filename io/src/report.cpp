@@ -114,6 +114,17 @@ nlohmann::json report_header(const std::string& command, const std::string& isos
   return header;
 }
 
+void add_warnings(nlohmann::json& report, MarkdownReport& markdown, const Progress& progress) {
+  if (!report.contains("warnings") || !report["warnings"].is_array())
+    report["warnings"] = nlohmann::json::array();
+  std::vector<std::string> items;
+  for (const std::string& warning : progress.warnings()) {
+    report["warnings"].push_back(warning);
+    items.push_back("Warning: " + warning);
+  }
+  if (!items.empty()) markdown.bullets(items);
+}
+
 void write_json_report(const std::filesystem::path& path, const nlohmann::json& report) {
   // nlohmann::json writes doubles in the shortest round-trip form and NaN/inf as null.
   write_file_atomically(path, report.dump(2) + "\n");

@@ -61,5 +61,24 @@ TEST(Progress, QuietKeepsWarningsAndEveryWarningIsKept) {
   EXPECT_EQ(progress.warnings()[0], "2 of 14 stiffness groups sit at the lower bound");
 }
 
+TEST(Progress, WarningsGoIntoBothReports) {
+  std::ostringstream out;
+  const Progress progress("study", false, out, false);
+  nlohmann::json report = {{"warnings", {"from the computation"}}};
+  MarkdownReport md;
+  md.heading(1, "study");
+  add_warnings(report, md, progress);  // none printed: the report keeps its own
+  EXPECT_EQ(report["warnings"], nlohmann::json({"from the computation"}));
+  EXPECT_EQ(md.text().find("Warning"), std::string::npos);
+  progress.warn("gnuplot is not installed");
+  add_warnings(report, md, progress);
+  EXPECT_EQ(report["warnings"],
+            nlohmann::json({"from the computation", "gnuplot is not installed"}));
+  EXPECT_NE(md.text().find("- Warning: gnuplot is not installed\n"), std::string::npos);
+  nlohmann::json fresh = nlohmann::json::object();
+  add_warnings(fresh, md, progress);
+  EXPECT_EQ(fresh["warnings"], nlohmann::json({"gnuplot is not installed"}));
+}
+
 }  // namespace
 }  // namespace isospring::io

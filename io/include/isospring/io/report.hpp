@@ -79,6 +79,10 @@ class MarkdownReport {
   std::string text_;
 };
 
+/// The progress's warnings into a report: appended to report["warnings"] (created as an array)
+/// and, when there are any, as "Warning: ..." bullets at the end of the Markdown report.
+void add_warnings(nlohmann::json& report, MarkdownReport& markdown, const Progress& progress);
+
 /// A number for people: `significant` digits, general format ("0.000123457", "1.5e+06").
 std::string format_number(double value, int significant = 6);
 
