@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "calibration_outputs.hpp"
 #include "calibration_settings.hpp"
@@ -197,9 +198,12 @@ void run_demo(const DemoOptions& options) {
   io::write_spring_model_json(out / "model.json", model);
   io::MjcfOptions mjcf;
   mjcf.comment = "isospring demo: " + c.name;
+  // -z for a solid, in-plane -y for a flat (2D) case, whose particles move in x-y only.
+  mjcf.gravity = io::engine_gravity(model.network, Eigen::Vector3d::Zero(), std::nullopt);
   io::write_mjcf(out / "model_mujoco.xml", calibration.mesh.network, mjcf);
   io::SofaOptions sofa;
   sofa.comment = mjcf.comment;
+  sofa.gravity = mjcf.gravity;
   io::write_sofa_scene(out / "model_sofa.scn", calibration.mesh.network, sofa);
   progress("6/6 exports: model.json, model_mujoco.xml (MuJoCo), model_sofa.scn (SOFA)");
   step_done("exports", seconds_since(t),

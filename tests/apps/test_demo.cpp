@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "run_program.hpp"
 
@@ -135,5 +136,27 @@ TEST(Demo, PrintsReadableMilestonesAndReportsItsWarnings) {
     for (const json& f : load["forces"]) fz += f[3].get<double>();
     const double weight = 1143.0 * 0.1 * 0.02 * 0.02 * 9.81;  // rho V g
     EXPECT_NEAR(fz, -weight, 1e-9 * weight);
+  }
+}
+
+// A flat (2D) case through the demo: its engine exports carry in-plane gravity (-y), since the
+// particles of a flat model move in x and y only (issue 18: a -z gravity never moved them).
+TEST(Demo, FlatCaseExportsInPlaneGravity) {
+  const TemporaryFolder dir;
+  const auto run =
+      run_isospring("demo -q --case " + isospring::testing::example("calibrate_square.json") +
+                    " -o " + dir / "out");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* file : {"model_mujoco.xml", "model_sofa.scn"}) {
+    std::ifstream in(dir.path() / "out" / file);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    const size_t at = text.find("gravity=\"");
+    ASSERT_NE(at, std::string::npos) << file;
+    std::istringstream g(text.substr(at + 9));
+    double gx = NAN, gy = NAN, gz = NAN;
+    g >> gx >> gy >> gz;
+    EXPECT_EQ(gx, 0.0) << file;
+    EXPECT_NEAR(gy, -9.81, 1e-12) << file;
+    EXPECT_EQ(gz, 0.0) << file;
   }
 }
