@@ -86,7 +86,7 @@ std::vector<std::string> write_calibration_figures(const std::filesystem::path& 
     figures.push_back("errors_histogram.png");
   options.title = "Control-point error against position, one panel per load case";
   options.xlabel = "x [m]";
-  options.ylabel = "100 |u_nmsm - u_ref| / o_max [%]";
+  options.ylabel = "error / o_max [%]";
   if (io::plot_xy_panels(out_dir / "errors_vs_position.png", by_position, options))
     figures.push_back("errors_vs_position.png");
   return figures;

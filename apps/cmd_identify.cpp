@@ -407,8 +407,8 @@ void run_identify(const IdentifyCommandOptions& options) {
     rows.push_back({lc.id, std::to_string(lc.markers), io::format_number(lc.before.rms, 4),
                     io::format_number(lc.after.rms, 4), io::format_number(lc.before.max_norm, 4),
                     io::format_number(lc.after.max_norm, 4)});
-  md.table({"load case", "markers", "rms before [m]", "rms after [m]", "max |r| before [m]",
-            "max |r| after [m]"},
+  md.table({"load case", "markers", "rms before [m]", "rms after [m]", "max \\|r\\| before [m]",
+            "max \\|r\\| after [m]"},
            rows);
   md.paragraph(
       "rms: over every component of every marker; max |r|: the longest residual vector, as in "

@@ -3,6 +3,7 @@
 // per load case in residuals.svg (issue 18), consistent with residuals.csv and report.json.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -85,6 +86,19 @@ TEST(IdentifyFigure, BeforeAfterBarsAreWrittenAndLinked) {
       "/examples/identify/plate_hidden_gravity.json -o " + out.path().string() + " --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   check_residual_map(out.path());
+  // report.md's error table keeps its six columns: the "|r|" in its header is escaped.
+  {
+    std::ifstream md_file(out.path() / "report.md");
+    std::string line;
+    bool found = false;
+    while (std::getline(md_file, line))
+      if (line.rfind("| load case | markers |", 0) == 0) {
+        found = true;
+        const std::string unescaped = std::regex_replace(line, std::regex("\\\\\\|"), "");
+        EXPECT_EQ(std::count(unescaped.begin(), unescaped.end(), '|'), 7) << line;
+      }
+    EXPECT_TRUE(found);
+  }
   if (!isospring::io::gnuplot_available()) GTEST_SKIP() << "gnuplot not installed";
   std::ifstream png(out.path() / "errors_before_after.png", std::ios::binary);
   char magic[8] = {};
