@@ -84,10 +84,10 @@ std::vector<std::string> write_calibration_figures(const std::filesystem::path& 
   options.ylabel = "control points";
   if (io::plot_histogram(out_dir / "errors_histogram.png", all_errors, 20, options))
     figures.push_back("errors_histogram.png");
-  options.title = "Control-point error against position";
+  options.title = "Control-point error against position, one panel per load case";
   options.xlabel = "x [m]";
-  options.ylabel = "100 |u_nmsm - u_ref| / o_max [%]";
-  if (io::plot_xy_scatter(out_dir / "errors_vs_position.png", by_position, options))
+  options.ylabel = "error / o_max [%]";
+  if (io::plot_xy_panels(out_dir / "errors_vs_position.png", by_position, options))
     figures.push_back("errors_vs_position.png");
   return figures;
 }

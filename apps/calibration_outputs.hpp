@@ -9,7 +9,7 @@
 //   OUT/errors_histogram.png      relative control-point errors 100 |e| / o_max of every load
 //       case (fitted and held out), 20 bins.
 //   OUT/errors_vs_position.png    the same errors against the control point's x coordinate, one
-//       series per load case.
+//       panel per load case (io::plot_xy_panels).
 #include <filesystem>
 #include <string>
 #include <vector>

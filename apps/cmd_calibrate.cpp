@@ -115,7 +115,12 @@ void run_calibrate(const CalibrateOptions& options) {
   CalibrationRequest request = parse_calibration(c.calibration, options.case_file);
   fitting::CalibrationSettings& settings = request.settings;
   settings.matrix_approach = request.matrix_approach;
-  if (!options.quiet) settings.progress = [&progress](const std::string& line) { progress(line); };
+  if (!options.quiet) {
+    settings.progress = [&progress](const std::string& line) { progress(line); };
+    settings.iteration = [&progress](const std::string& stage, int iteration, double cost) {
+      progress.update(stage, iteration, cost);
+    };
+  }
 
   // The load suite (issue 14): its training cases are fitted beside the case's own, its
   // validation cases and the case's unfitted ones measured.
@@ -288,7 +293,15 @@ void run_calibrate(const CalibrateOptions& options) {
     provenance["damping"] = {{"ratio", settings.damping_ratio}};
   else
     provenance["damping"] = nullptr;
-  io::write_model_json(out_dir / "model.json", network, provenance);
+  // With its load cases (the loads it was fitted and evaluated under): `simulate` runs from it.
+  io::SpringModel model;
+  model.network = network;
+  model.provenance = provenance;
+  model.units = io::default_model_units();
+  for (size_t l = 0; l < result.particle_loads.size(); ++l)
+    model.load_cases.push_back(
+        io::model_load_case(result.load_ids[l], result.particle_loads[l], network.dimension));
+  io::write_spring_model_json(out_dir / "model.json", model);
   const analysis::DofMap dofs(c.problem);
   std::vector<io::PointVectors> vectors;
   for (const auto* cases : {&result.fit, &result.holdout})

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "calibration_outputs.hpp"
 #include "calibration_settings.hpp"
@@ -117,8 +118,15 @@ void run_demo(const DemoOptions& options) {
   // 4. NMSM calibration, settings from the case's "calibration" object.
   t = std::chrono::steady_clock::now();
   CalibrationRequest request = parse_calibration(c.calibration, case_path.string());
-  if (!options.quiet)
+  if (!options.quiet) {
     request.settings.progress = [&](const std::string& line) { progress("   " + line); };
+    request.settings.iteration = [&](const std::string& stage, int iteration, double cost) {
+      progress.update("4/6 " + stage, iteration, cost);
+    };
+  }
+  // The reference of step 3 (the calibration would solve the same problem again).
+  for (const auto& r : reference.load_cases)
+    request.settings.reference_displacements.push_back(r.displacement);
   const fitting::CalibrationResult calibration = fitting::calibrate(problem, request.settings);
   auto summary = [](const std::vector<fitting::CaseErrors>& cases) {
     nlohmann::json list = nlohmann::json::array();
@@ -131,6 +139,7 @@ void run_demo(const DemoOptions& options) {
   progress("4/6 NMSM calibration: " + std::to_string(calibration.mesh.network.springs.size()) +
            " springs, " + std::to_string(calibration.parameters) + " stiffness groups, fitted in " +
            io::format_number(calibration.fit_seconds, 3) + " s");
+  for (const auto& warning : calibration.mesh.warnings) progress.warn(warning);
   for (const auto& warning : calibration.warnings) progress.warn(warning);
   for (const auto& e : calibration.fit)
     progress("   fitted  " + e.id + ": %e_rms " + io::format_number(e.control.percent_e_rms, 3) +
@@ -179,12 +188,22 @@ void run_demo(const DemoOptions& options) {
                                      {"isospring_version", ISOSPRING_VERSION},
                                      {"fit", summary(calibration.fit)},
                                      {"holdout", summary(calibration.holdout)}};
-  io::write_model_json(out / "model.json", calibration.mesh.network, provenance);
+  io::SpringModel model;
+  model.network = calibration.mesh.network;
+  model.provenance = provenance;
+  model.units = io::default_model_units();
+  for (size_t l = 0; l < calibration.particle_loads.size(); ++l)
+    model.load_cases.push_back(io::model_load_case(
+        calibration.load_ids[l], calibration.particle_loads[l], model.network.dimension));
+  io::write_spring_model_json(out / "model.json", model);
   io::MjcfOptions mjcf;
   mjcf.comment = "isospring demo: " + c.name;
+  // -z for a solid, in-plane -y for a flat (2D) case, whose particles move in x-y only.
+  mjcf.gravity = io::engine_gravity(model.network, Eigen::Vector3d::Zero(), std::nullopt);
   io::write_mjcf(out / "model_mujoco.xml", calibration.mesh.network, mjcf);
   io::SofaOptions sofa;
   sofa.comment = mjcf.comment;
+  sofa.gravity = mjcf.gravity;
   io::write_sofa_scene(out / "model_sofa.scn", calibration.mesh.network, sofa);
   progress("6/6 exports: model.json, model_mujoco.xml (MuJoCo), model_sofa.scn (SOFA)");
   step_done("exports", seconds_since(t),
@@ -195,6 +214,7 @@ void run_demo(const DemoOptions& options) {
   report["steps"] = steps;
   report["total_seconds"] = total;
   report["figures"] = figures;
+  report["warnings"] = progress.warnings();
   io::write_json_report(out / "report.json", report);
 
   io::MarkdownReport md;
@@ -215,6 +235,11 @@ void run_demo(const DemoOptions& options) {
     rows.push_back({e.id, "held out", io::format_number(e.control.percent_e_rms, 3),
                     io::format_number(e.control.percent_e_max, 3)});
   md.table({"load case", "use", "%e_rms", "%e_max"}, rows);
+  if (!progress.warnings().empty()) {
+    std::vector<std::string> items;
+    for (const auto& w : progress.warnings()) items.push_back("Warning: " + w);
+    md.bullets(items);
+  }
   for (const std::string& figure : figures) md.paragraph("![" + figure + "](" + figure + ")");
   md.paragraph(
       "Open `result.vtm` in ParaView (raise *Nonlinear Subdivision Level* to see the exact "

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli_util.hpp"
 #include "command.hpp"
@@ -21,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct ExportOptions {
-  std::string input, output, format, gravity = "0,0,-9.81";
+  std::string input, output, format, gravity;  // gravity: empty = io::engine_gravity default
   double timestep = 0.0;
   bool quiet = false;
 };
@@ -39,10 +40,16 @@ std::string format_of(const ExportOptions& options) {
                           "json|mjcf|sofa|vtk (or use .json, .xml, .scn, .vtp, .vtm)");
 }
 
-Eigen::Vector3d parse_gravity(const std::string& text) {
-  const std::vector<double> g = parse_number_list(text, "--gravity");
-  if (g.size() != 3) throw nurbs::InputError("--gravity: give three numbers gx,gy,gz in m/s^2");
-  return {g[0], g[1], g[2]};
+// --gravity, or the default for the model (io::engine_gravity: the model's own, else -z in 3D
+// and -y for a flat model); a z gravity for a flat model is refused.
+Eigen::Vector3d export_gravity(const std::string& text, const io::SpringModel& model) {
+  std::optional<Eigen::Vector3d> given;
+  if (!text.empty()) {
+    const std::vector<double> g = parse_number_list(text, "--gravity");
+    if (g.size() != 3) throw nurbs::InputError("--gravity: give three numbers gx,gy,gz in m/s^2");
+    given = Eigen::Vector3d(g[0], g[1], g[2]);
+  }
+  return io::engine_gravity(model.network, model.gravity, given);
 }
 
 // <stem>.report.json / .md beside the export: what the engine receives (counts, mass, stiffness
@@ -76,7 +83,7 @@ void write_export_report(const ExportOptions& options, const std::string& format
   j["load_cases"] = model.load_cases.size();
   j["units"] = model.units;
   if (format == "mjcf" || format == "sofa") {
-    const Eigen::Vector3d g = parse_gravity(options.gravity);
+    const Eigen::Vector3d g = export_gravity(options.gravity, model);
     j["gravity"] = {g.x(), g.y(), g.z()};
     j["timestep"] = options.timestep;
   }
@@ -100,17 +107,17 @@ void run_export(const ExportOptions& options) {
       (model.provenance.empty() ? std::string() : "; provenance " + model.provenance.dump());
   if (options.timestep < 0) throw nurbs::InputError("--timestep: must be >= 0 (0 = automatic)");
   if (format == "json") {
-    io::write_model_json(output, model.network, model.provenance, model.units);
+    io::write_spring_model_json(output, model);  // with its gravity and load cases
   } else if (format == "mjcf") {
     io::MjcfOptions o;
     o.model_name = fs::path(options.input).stem().string();
-    o.gravity = parse_gravity(options.gravity);
+    o.gravity = export_gravity(options.gravity, model);
     o.timestep = options.timestep;
     o.comment = provenance;
     io::write_mjcf(output, model.network, o);
   } else if (format == "sofa") {
     io::SofaOptions o;
-    o.gravity = parse_gravity(options.gravity);
+    o.gravity = export_gravity(options.gravity, model);
     o.timestep = options.timestep;
     o.comment = provenance;
     io::write_sofa_scene(output, model.network, o);
@@ -140,8 +147,9 @@ void setup_export(CLI::App& app) {
                   "json | mjcf (MuJoCo 2.2 XML) | sofa (SOFA v22.12 .scn) | vtk (.vtp, or .vtm "
                   "multiblock); default from the output's extension")
       ->check(CLI::IsMember({"json", "mjcf", "sofa", "vtk"}));
-  cmd->add_option("--gravity", options->gravity, "Gravity gx,gy,gz [m/s^2] for mjcf and sofa")
-      ->capture_default_str();
+  cmd->add_option("--gravity", options->gravity,
+                  "Gravity gx,gy,gz [m/s^2] for mjcf and sofa; default: the model's gravity, else "
+                  "0,0,-9.81 (3D) or 0,-9.81,0 (a flat 2D model moves in x-y only)");
   cmd->add_option("--timestep", options->timestep,
                   "Time step [s] for mjcf and sofa; 0 = 0.2 x the explicit stability limit");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");

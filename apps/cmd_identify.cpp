@@ -3,7 +3,8 @@
 // for (fitting/identify.hpp), recalibrates the spring model against the corrected reference
 // (fitting/identify_recalibration.hpp) and writes OUTDIR/report.json, report.md, model.json (with
 // the carried gravity and load cases), markers_*.vtp (measured, model and residual per load case,
-// before and after), residuals.svg and errors_before_after.png (gnuplot, when present).
+// before and after), residuals.svg (our own SVG: one row per load case) and
+// errors_before_after.png (gnuplot, when present).
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -26,6 +27,7 @@
 #include "isospring/io/report.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/io/report_discretization.hpp"
+#include "isospring/io/svg_scatter.hpp"
 #include "isospring/io/vtk_markers.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -42,7 +44,7 @@ struct IdentifyCommandOptions {
 };
 
 nlohmann::json errors_json(const fitting::ErrorSummary& e) {
-  return {{"rms", e.rms}, {"max", e.max}};
+  return {{"rms", e.rms}, {"max", e.max}, {"max_norm", e.max_norm}};
 }
 
 nlohmann::json vector_json(const Eigen::Vector3d& v, int dim) {
@@ -101,10 +103,11 @@ double model_diagonal(const std::vector<nurbs::Patch>& patches) {
   return (hi - lo).norm();
 }
 
-// Residual magnitude at every marker before and after, as two scatter plots (gnuplot SVG).
+// Residual magnitude at every marker before and after: residuals.csv and residuals.svg (markers
+// at their x and y positions; a 3D case shows its markers projected on x-y).
 void write_residual_plot(const std::filesystem::path& out_dir,
                          const std::vector<fitting::Marker>& markers,
-                         const fitting::IdentifyResult& r, const io::Progress& progress) {
+                         const fitting::IdentifyResult& r) {
   const std::filesystem::path data = out_dir / "residuals.csv";
   io::write_file_atomically(data, [&](std::ostream& out) {
     out << "load_case,x,y,z,residual_before,residual_after\n";
@@ -115,28 +118,36 @@ void write_residual_plot(const std::filesystem::path& out_dir,
           << io::format_exact((markers[m].displacement - r.model_before[m]).norm()) << ","
           << io::format_exact((markers[m].displacement - r.model_after[m]).norm()) << "\n";
   });
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    progress.warn("gnuplot not found: residuals.svg not written (residuals.csv has the data)");
-    return;
+  // Small multiples (io/svg_scatter.hpp): one row per load case (its own colour scale, so a
+  // case with small residuals is not hidden by one with large ones), before and after side by
+  // side; the colour is |residual|, the column of residuals.csv.
+  std::vector<io::ScatterRow> rows;
+  for (const auto& lc : r.load_cases) {
+    io::ScatterRow row;
+    row.name = lc.id;
+    for (const char* stage : {"before", "after"}) {
+      const bool before = std::string(stage) == "before";
+      const auto& model = before ? r.model_before : r.model_after;
+      const fitting::ErrorSummary& e = before ? lc.before : lc.after;
+      io::ScatterPanel panel;
+      panel.column = stage;
+      panel.title = lc.id + (before ? ", nominal model" : ", with effects") + ": rms " +
+                    io::format_number(e.rms, 2) + " m, max |r| " +
+                    io::format_number(e.max_norm, 2) + " m";
+      for (size_t m = 0; m < markers.size(); ++m) {
+        if (markers[m].load_case != lc.id) continue;
+        panel.x.push_back(markers[m].position.x());
+        panel.y.push_back(markers[m].position.y());
+        panel.value.push_back((markers[m].displacement - model[m]).norm());
+      }
+      row.panels.push_back(std::move(panel));
+    }
+    rows.push_back(std::move(row));
   }
-  io::write_via_temporary(out_dir / "residuals.svg", [&](const std::filesystem::path& svg) {
-    const std::filesystem::path script = out_dir / "residuals.gp";
-    std::ofstream gp(script);
-    gp << "set terminal svg size 1000,420 dynamic\nset output '" << svg.string() << "'\n"
-       << "set datafile separator ','\nset multiplot layout 1,2\nset size ratio -1\n"
-       << "set xlabel 'x [m]'\nset ylabel 'y [m]'\nset cblabel '|residual| [m]'\n"
-       << "set cbrange [0:" << io::format_exact(std::max(r.before.max, 1e-300) * std::sqrt(3.0))
-       << "]\nset title 'before: nominal model (rms " << io::format_number(r.before.rms, 3)
-       << " m)'\nplot '" << data.string()
-       << "' skip 1 using 2:3:5 with points pt 7 ps 0.6 lc palette notitle\n"
-       << "set title 'after: with effects (rms " << io::format_number(r.after.rms, 3)
-       << " m)'\nplot '" << data.string()
-       << "' skip 1 using 2:3:6 with points pt 7 ps 0.6 lc palette notitle\nunset multiplot\n";
-    gp.close();
-    const std::string command = "gnuplot '" + script.string() + "' 2>/dev/null";
-    if (std::system(command.c_str()) != 0) progress.warn("gnuplot failed: residuals.svg missing");
-    std::filesystem::remove(script);
-  });
+  io::ScatterGridOptions options;
+  options.title = "Marker residuals per load case: before and after the identified effects";
+  options.value_label = "|residual| [m]";
+  io::write_scatter_grid_svg(out_dir / "residuals.svg", rows, options);
 }
 
 void write_markers(const std::filesystem::path& out_dir, const analysis::Problem& problem,
@@ -280,6 +291,8 @@ void run_identify(const IdentifyCommandOptions& options) {
   report["rms_after"] = r.after.rms;
   report["max_before"] = r.before.max;
   report["max_after"] = r.after.max;
+  report["max_norm_before"] = r.before.max_norm;
+  report["max_norm_after"] = r.after.max_norm;
   report["noise_estimate"] = r.noise_estimate;
   report["noise_given"] = r.noise_given;
   report["chi2_per_dof_before"] = r.chi2_before;
@@ -388,15 +401,19 @@ void run_identify(const IdentifyCommandOptions& options) {
   md.heading(2, "Errors");
   rows.clear();
   rows.push_back({"all", std::to_string(kept.size()), io::format_number(r.before.rms, 4),
-                  io::format_number(r.after.rms, 4), io::format_number(r.before.max, 4),
-                  io::format_number(r.after.max, 4)});
+                  io::format_number(r.after.rms, 4), io::format_number(r.before.max_norm, 4),
+                  io::format_number(r.after.max_norm, 4)});
   for (const auto& lc : r.load_cases)
     rows.push_back({lc.id, std::to_string(lc.markers), io::format_number(lc.before.rms, 4),
-                    io::format_number(lc.after.rms, 4), io::format_number(lc.before.max, 4),
-                    io::format_number(lc.after.max, 4)});
-  md.table({"load case", "markers", "rms before [m]", "rms after [m]", "max before [m]",
-            "max after [m]"},
+                    io::format_number(lc.after.rms, 4), io::format_number(lc.before.max_norm, 4),
+                    io::format_number(lc.after.max_norm, 4)});
+  md.table({"load case", "markers", "rms before [m]", "rms after [m]", "max \\|r\\| before [m]",
+            "max \\|r\\| after [m]"},
            rows);
+  md.paragraph(
+      "rms: over every component of every marker; max |r|: the longest residual vector, as in "
+      "residuals.csv, residuals.svg and the marker .vtp files (report.json also has `max`, the "
+      "largest single component).");
   md.paragraph("chi^2 per degree of freedom: " + io::format_number(r.chi2_before, 4) + " before, " +
                io::format_number(r.chi2_after, 4) + " after (1 is the noise level).");
   {
@@ -518,7 +535,8 @@ void run_identify(const IdentifyCommandOptions& options) {
     io::write_spring_model_json(out_dir / "model.json", model);
   }
   write_markers(out_dir, c.problem, kept, r);
-  write_residual_plot(out_dir, kept, r, progress);
+  write_residual_plot(out_dir, kept, r);
+  io::add_warnings(report, md, progress);
   io::write_json_report(out_dir / "report.json", report);
   md.write(out_dir / "report.md");
   progress("rms " + io::format_number(r.before.rms, 3) + " m -> " +

@@ -23,6 +23,9 @@ namespace isospring::apps {
 namespace {
 namespace fs = std::filesystem;
 
+// The last frame is "settled" within this fraction of the static solution's largest displacement.
+constexpr double kSettledTolerance = 1e-3;
+
 struct SimulateOptions {
   std::string model, output, load_case, gravity, integrator = "implicit";
   double dt = 0.0;
@@ -30,9 +33,13 @@ struct SimulateOptions {
   bool quiet = false;
 };
 
-/// The constant external force: the chosen load case's forces (with the model's gravity) or,
-/// without --load-case, the gravity forces alone; --gravity replaces the model's gravity.
-Eigen::VectorXd external_force(io::SpringModel& model, const SimulateOptions& options) {
+/// The constant external force: the chosen load case's forces (with the model's gravity); without
+/// --load-case and --gravity, the model's first load case (calibrate and demo store the loads the
+/// springs were fitted under); with --gravity alone, the gravity forces alone. --gravity replaces
+/// the model's gravity.
+Eigen::VectorXd external_force(io::SpringModel& model, SimulateOptions& options) {
+  if (options.load_case.empty() && options.gravity.empty() && !model.load_cases.empty())
+    options.load_case = model.load_cases.front().id;
   if (!options.gravity.empty()) {
     const std::vector<double> g = parse_number_list(options.gravity, "--gravity");
     if (g.size() != 3) throw nurbs::InputError("--gravity: give three numbers gx,gy,gz in m/s^2");
@@ -72,7 +79,7 @@ double max_norm(const Eigen::VectorXd& flat, int dim) {
   return m;
 }
 
-void run_simulate(const SimulateOptions& options) {
+void run_simulate(SimulateOptions options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("simulate", options.quiet);
   const std::filesystem::path out_dir =
@@ -91,6 +98,13 @@ void run_simulate(const SimulateOptions& options) {
   const Eigen::VectorXd rest = state.x;
   const bool implicit = options.integrator == "implicit";
 
+  if (!options.load_case.empty()) {
+    std::string others;
+    for (const auto& lc : model.load_cases)
+      if (lc.id != options.load_case) others += (others.empty() ? "" : ", ") + lc.id;
+    progress("load case " + options.load_case +
+             (others.empty() ? std::string() : " (others, --load-case: " + others + ")"));
+  }
   progress(std::to_string(options.steps) + " " + options.integrator + " steps of " +
            io::format_number(options.dt) + " s on " + std::to_string(net.positions.size()) +
            " particles");
@@ -128,6 +142,14 @@ void run_simulate(const SimulateOptions& options) {
   } catch (const std::runtime_error& e) {
     progress.warn(std::string("no static equilibrium to compare with: ") + e.what());
   }
+  // A run meant to settle that has not: say how to make it (the series is still written).
+  if (!comparison.is_null() && comparison["converged"].get<bool>() &&
+      comparison["final_minus_static_relative"].get<double>() > kSettledTolerance)
+    progress.warn(
+        "the last frame has not settled: it is " +
+        io::format_number(100 * comparison["final_minus_static_relative"].get<double>(), 3) +
+        " % (of the static max |u|) from the static equilibrium; run longer (--steps) "
+        "or, with --integrator implicit, with a larger --dt (more numerical damping)");
   nlohmann::json report = io::report_header("simulate", ISOSPRING_VERSION, options.model);
   report["integrator"] = options.integrator;
   report["dt"] = options.dt;
@@ -140,6 +162,7 @@ void run_simulate(const SimulateOptions& options) {
   report["final_max_displacement"] = max_norm(final_u, dim);
   report["final_max_speed"] = max_norm(state.v, dim);
   report["static"] = comparison;
+  report["warnings"] = progress.warnings();
   report["series_file"] = "series.pvd";
   report["total_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -168,7 +191,8 @@ void setup_simulate(CLI::App& app) {
       ->capture_default_str()
       ->check(kPositive);
   cmd->add_option("--load-case", options->load_case,
-                  "A load case of model.json (its forces plus the model's gravity)");
+                  "A load case of model.json (its forces plus the model's gravity; default: the "
+                  "first, unless --gravity is given)");
   cmd->add_option("--gravity", options->gravity,
                   "Gravity gx,gy,gz [m/s^2]; replaces the model's (default: the model's)");
   cmd->add_option("--integrator", options->integrator,

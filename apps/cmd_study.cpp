@@ -329,6 +329,7 @@ void run_study(const StudyOptions& options) {
   md.bullets(fits);
   md.paragraph("![convergence](convergence.png)");
   io::write_file_atomically(out_dir / "study.csv", csv);
+  io::add_warnings(report, md, progress);
   io::write_json_report(out_dir / "report.json", report);
   md.write(out_dir / "report.md");
   plot(out_dir, rows, analytic, progress);

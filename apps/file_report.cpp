@@ -8,7 +8,7 @@ namespace isospring::apps {
 namespace fs = std::filesystem;
 
 fs::path file_report_path(const fs::path& output, const std::string& extension) {
-  return output.parent_path() / (output.stem().string() + ".report" + extension);
+  return output.parent_path() / (output.filename().string() + ".report" + extension);
 }
 
 FileReport::FileReport(const std::string& command, const fs::path& input, const fs::path& output)

@@ -1,8 +1,10 @@
 #pragma once
 // Reports of the commands that write ONE file (import, refine, export, export-calculix,
-// export-step): beside the output, <dir>/<stem>.report.json and <dir>/<stem>.report.md, e.g.
-// `-o out/part.json` -> out/part.report.json and out/part.report.md. The commands that write a
-// folder put report.json / report.md into it instead (docs/outputs.md).
+// export-step): beside the output, <dir>/<file name>.report.json and .report.md, the output's
+// whole name with its extension, e.g. `-o out/part.json` -> out/part.json.report.json and
+// out/part.json.report.md, so `part.step` and `part.igs` beside `part.json` each keep their own
+// report. The commands that write a folder put report.json / report.md into it instead
+// (docs/outputs.md).
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -14,7 +16,7 @@
 
 namespace isospring::apps {
 
-/// out/part.json -> out/part.report.json (extension ".json") or out/part.report.md (".md").
+/// out/part.json -> out/part.json.report.json (extension ".json") or out/part.json.report.md.
 std::filesystem::path file_report_path(const std::filesystem::path& output,
                                        const std::string& extension);
 

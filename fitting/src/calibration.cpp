@@ -122,7 +122,8 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
                               "' in the case file");
 
   CalibrationResult result;
-  if (settings.progress) settings.progress("IGA reference: solving the load cases");
+  if (settings.progress && settings.reference_displacements.empty())
+    settings.progress("IGA reference: solving the load cases");
   auto start = std::chrono::steady_clock::now();
   const analysis::DofMap dofs(problem);
   analysis::StaticResult reference;
@@ -171,6 +172,9 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     loads[c] =
         particle_load(analysis::assemble_load(problem, dofs, problem.load_cases[c]),
                       particle_of_node_map, static_cast<int>(mesh.network.positions.size()), dim);
+  for (size_t c = 0; c < problem.load_cases.size(); ++c)
+    result.load_ids.push_back(problem.load_cases[c].id);
+  result.particle_loads = loads;
   for (int c : fitted) {
     data.loads.push_back(loads[c]);
     data.references.push_back(reference.load_cases[c].displacement);
@@ -194,7 +198,13 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     options.max_iterations = settings.max_iterations;
     options.min_stiffness_ratio = settings.min_stiffness_ratio;
     options.youngs_modulus = problem.material.youngs_modulus;
-    if (settings.progress)
+    if (settings.iteration) {
+      char stage[64];
+      std::snprintf(stage, sizeof stage, "fit (gamma %g)", gamma);
+      options.on_iteration = [&settings, stage = std::string(stage)](int iteration, double cost) {
+        settings.iteration(stage, iteration, cost);
+      };
+    } else if (settings.progress)
       options.on_iteration = [&settings, gamma](int iteration, double cost) {
         char line[160];
         std::snprintf(line, sizeof line, "fit (gamma %g): iteration %d, cost %.6g", gamma,

@@ -362,13 +362,15 @@ ErrorSummary summarize(const std::vector<Eigen::Vector3d>& residuals, const std:
   ErrorSummary s;
   double sum = 0.0;
   int count = 0;
-  for (int m : rows)
+  for (int m : rows) {
     for (int c = 0; c < dim; ++c) {
       const double r = residuals[static_cast<size_t>(m)][c];
       sum += r * r;
       s.max = std::max(s.max, std::abs(r));
       ++count;
     }
+    s.max_norm = std::max(s.max_norm, residuals[static_cast<size_t>(m)].head(dim).norm());
+  }
   s.rms = count > 0 ? std::sqrt(sum / count) : 0.0;
   return s;
 }

@@ -17,6 +17,24 @@ std::string name(const char* prefix, size_t index) {
 }
 }  // namespace
 
+Eigen::Vector3d engine_gravity(const analysis::SpringNetwork& network,
+                               const Eigen::Vector3d& model_gravity,
+                               const std::optional<Eigen::Vector3d>& given) {
+  const bool flat = network.dimension == 2;
+  if (given) {
+    if (flat && given->z() != 0.0)
+      throw nurbs::InputError(
+          "--gravity: the model is flat (2D, \"dimension\": 2): its particles move in the x-y "
+          "plane only, so a gravity with a z component (" +
+          std::to_string(given->z()) +
+          " m/s^2) would never move it; give an in-plane gravity such as --gravity 0,-9.81,0 (the "
+          "default for 2D models)");
+    return *given;
+  }
+  if (!model_gravity.isZero(0.0)) return model_gravity;
+  return flat ? Eigen::Vector3d(0.0, -9.81, 0.0) : Eigen::Vector3d(0.0, 0.0, -9.81);
+}
+
 double suggested_timestep(const analysis::SpringNetwork& network) {
   std::vector<double> stiffness_sum(network.positions.size(), 0.0);
   for (const analysis::Spring& s : network.springs) {
@@ -42,6 +60,11 @@ std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOpti
         "them, and which `isospring simulate` runs) or calibrate with volume_terms and shear_terms "
         "off for a "
         "plain spring model");
+  if (network.dimension == 2 && options.gravity.z() != 0.0)
+    throw nurbs::InputError(
+        "cannot export a flat (2D) spring model to MuJoCo with gravity along z: its particles "
+        "have slide joints in x and y only and would never move; give an in-plane gravity (e.g. "
+        "0,-9.81,0, the default of `isospring export` for 2D models)");
   using detail::number;
   using detail::vector3;
   double radius = options.particle_radius;

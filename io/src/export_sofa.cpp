@@ -25,6 +25,11 @@ std::string sofa_scene(const analysis::SpringNetwork& network, const SofaOptions
         "them, and which `isospring simulate` runs) or calibrate with volume_terms and shear_terms "
         "off for a "
         "plain spring model");
+  if (network.dimension == 2 && options.gravity.z() != 0.0)
+    throw nurbs::InputError(
+        "cannot export a flat (2D) spring model to SOFA with gravity along z: its Vec2d particles "
+        "move in x and y only and would never move; give an in-plane gravity (e.g. 0,-9.81,0, the "
+        "default of `isospring export` for 2D models)");
   using detail::number;
   const bool planar = network.dimension == 2;
   const double timestep = options.timestep > 0 ? options.timestep : suggested_timestep(network);

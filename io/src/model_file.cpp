@@ -351,6 +351,18 @@ void write_spring_model_json(const std::filesystem::path& path, const SpringMode
   write_file_atomically(path, spring_model_to_json(model).dump(2) + "\n");
 }
 
+ModelLoadCase model_load_case(std::string id, const Eigen::VectorXd& flat, int dimension) {
+  ModelLoadCase load;
+  load.id = std::move(id);
+  for (Eigen::Index p = 0; p < flat.size() / dimension; ++p)
+    if (!flat.segment(p * dimension, dimension).isZero(0.0)) {
+      Eigen::Vector3d force = Eigen::Vector3d::Zero();
+      force.head(dimension) = flat.segment(p * dimension, dimension);
+      load.forces.emplace_back(static_cast<int>(p), force);
+    }
+  return load;
+}
+
 Eigen::VectorXd model_force_vector(const SpringModel& model, size_t index, bool with_gravity) {
   const analysis::SpringNetwork& network = model.network;
   const int dim = network.dimension;

@@ -220,6 +220,46 @@ bool plot_xy_scatter(const fs::path& png, const std::vector<PlotSeries>& series,
   });
 }
 
+bool plot_xy_panels(const fs::path& png, const std::vector<PlotSeries>& series,
+                    const PlotOptions& options) {
+  if (series.empty()) {
+    std::cerr << "warning: figure '" << png.string() << "' not written: no series\n";
+    return false;
+  }
+  std::vector<std::pair<std::string, std::string>> data;
+  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo;
+  for (size_t s = 0; s < series.size(); ++s) {
+    data.emplace_back("series" + std::to_string(s) + ".dat", series_file(series[s], false));
+    for (const double x : series[s].x)
+      if (std::isfinite(x)) x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x);
+  }
+  const size_t count = series.size(), columns = count <= 3 ? 1 : 2;
+  const size_t rows = (count + columns - 1) / columns;
+  const int width = options.width, height = 60 + static_cast<int>(rows) * kPanelHeight;
+  return render(png, "panel plot", data, [&](const fs::path& folder, const fs::path& out) {
+    std::ostringstream g;
+    const std::string& terminal = png_terminal();
+    g << "set terminal " << terminal << " size " << width << "," << height
+      << (terminal == "pngcairo" ? " enhanced font 'sans,10'" : "") << "\n"
+      << "set output " << quoted(out.string()) << "\n"
+      << "set multiplot layout " << rows << "," << columns << " title " << quoted(options.title)
+      << " noenhanced\n"
+      << "set xlabel " << quoted(options.xlabel) << " noenhanced\n"
+      << "set ylabel " << quoted(options.ylabel) << " noenhanced\n"
+      << "set grid\nunset key\nset yrange [0:*]\n";
+    if (x_lo < x_hi) {
+      const double pad = 0.03 * (x_hi - x_lo);
+      g << "set xrange [" << number(x_lo - pad) << ":" << number(x_hi + pad) << "]\n";
+    }
+    for (size_t s = 0; s < count; ++s)
+      g << "set title " << quoted(series[s].name) << " noenhanced\nplot "
+        << quoted((folder / ("series" + std::to_string(s) + ".dat")).string())
+        << " using 1:2 with points pt 7 ps 0.9 lc rgb '#3070b0' notitle\n";
+    g << "unset multiplot\n";
+    return g.str();
+  });
+}
+
 bool plot_bars_before_after(const fs::path& png, const std::vector<std::string>& labels,
                             const std::vector<double>& before, const std::vector<double>& after,
                             const PlotOptions& options) {

@@ -72,7 +72,7 @@ void write_inputs(const fs::path& dir) {
   const std::string patches = file_contents(example("patches/quarter_annulus.json"));
   const std::string step = file_contents(example("cad/block.step"));
   write("p.json", patches);
-  write("o.report.json", patches);
+  write("o.json.report.json", patches);
   fs::create_symlink(dir / "p.json", dir / "link.json");
   write("model.json", R"({"format": "isospring-spring-model", "version": 1, "dimension": 3,
     "particles": [{"x": [0, 0, 0], "mass": 1, "fixed": true},
@@ -81,7 +81,7 @@ void write_inputs(const fs::path& dir) {
   write("sim/report.json", file_contents(dir / "model.json"));
   write("case.json", box_case());
   write("rep/report.json", box_case());
-  write("deck.report.json", box_case());
+  write("deck.inp.report.json", box_case());
   write("block.step", step);
   write("afile", "a file where a folder is expected\n");
   // Corrupted parts: a misspelled entity (OpenCascade used to crash on it), one in a B-spline
@@ -292,15 +292,16 @@ INSTANTIATE_TEST_SUITE_P(
         // 1. Outputs that are inputs.
         BadInput{"RefineOntoItsInput", "refine {d}/p.json -o {d}/p.json", kOverwrite},
         BadInput{"RefineThroughASymlink", "refine {d}/p.json -o {d}/link.json", "{d}/link.json"},
-        BadInput{"RefineReportOntoTheInput", "refine {d}/o.report.json -o {d}/o.json",
-                 "{d}/o.report.json"},
+        BadInput{"RefineReportOntoTheInput", "refine {d}/o.json.report.json -o {d}/o.json",
+                 "{d}/o.json.report.json"},
         BadInput{"ExportOntoItsInput", "export {d}/model.json -o {d}/model.json", kOverwrite},
         BadInput{"ImportOntoItsInput", "import {d}/block.step -o {d}/block.step", kOverwrite},
         BadInput{"AnalyzeReportOntoTheCase", "analyze {d}/rep/report.json -o {d}/rep",
                  "{d}/rep/report.json"},
         BadInput{"ExportStepOntoItsInput", "export-step {d}/p.json -o {d}/p.json", kOverwrite},
         BadInput{"CalculixReportOntoTheCase",
-                 "export-calculix {d}/deck.report.json -o {d}/deck.inp", "{d}/deck.report.json"},
+                 "export-calculix {d}/deck.inp.report.json -o {d}/deck.inp",
+                 "{d}/deck.inp.report.json"},
         BadInput{"SimulateReportOntoTheModel", "simulate {d}/sim/report.json -o {d}/sim --dt 0.01",
                  "{d}/sim/report.json"},
         // 2. Numbers that overflow a double.

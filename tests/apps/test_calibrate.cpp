@@ -3,10 +3,13 @@
 // compared with a fresh IGA reference of the same case.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/dof_map.hpp"
@@ -116,14 +119,33 @@ TEST(Calibrate, SquareReportMatchesAnIndependentSolveOfTheWrittenModel) {
   EXPECT_TRUE(std::filesystem::exists(out / "springs.vtp"));
 }
 
-TEST(Calibrate, ProgressLinesShowTheIterations) {
+// Issue 18: progress a person can read. Not on a terminal (a pipe here): milestone lines only,
+// no line per fit iteration. On a terminal (a pseudo-terminal from util-linux `script`): the
+// iterations rewrite one status line (carriage return, clear line) with stage, iteration, cost
+// and elapsed time, which the next milestone replaces.
+TEST(Calibrate, ProgressIsMilestonesInLogsAndOneUpdatingLineOnATerminal) {
   TemporaryFolder out;
-  const auto result =
-      run_isospring("calibrate " + example("calibrate_square.json") + " -o " + out.path().string());
+  const std::string command =
+      "calibrate " + example("calibrate_square.json") + " -o " + out.path().string();
+  const auto result = run_isospring(command);
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_NE(result.output.find("[calibrate] fit (gamma 0.01): iteration 1, cost"),
-            std::string::npos)
-      << result.output;
+  EXPECT_EQ(result.output.find("iteration"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("[calibrate] reading "), std::string::npos) << result.output;
+  EXPECT_LE(std::count(result.output.begin(), result.output.end(), '\n'), 10) << result.output;
+
+  if (std::system("command -v script > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "util-linux `script` not found: the terminal display is not checked";
+  const auto tty = isospring::testing::run_program(
+      "script -qec '" + std::string(ISOSPRING_EXECUTABLE) + " calibrate " +
+      example("calibrate_square.json") + " -o " + (out / "tty") + "' /dev/null");
+  ASSERT_EQ(tty.exit_code, 0) << tty.output;
+  const std::regex status(
+      "\r\033\\[K\\[calibrate\\] fit \\(gamma 0\\.01\\): iteration [0-9]+, "
+      "cost [-0-9.e+]+, [0-9.]+ s");
+  EXPECT_TRUE(std::regex_search(tty.output, status)) << tty.output;
+  // No status line is left behind: each is cleared before the next milestone line.
+  EXPECT_EQ(tty.output.find(" s\n"), std::string::npos) << tty.output;
+  EXPECT_EQ(tty.output.find(" s\r\n"), std::string::npos) << tty.output;
 }
 
 TEST(Calibrate, UnknownCalibrationFieldIsBadInput) {

@@ -3,10 +3,12 @@
 // the errors the calibration promises, and every output file it announces must exist.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "run_program.hpp"
 
@@ -85,3 +87,76 @@ TEST(Demo, RunsThePipelineOnTheShippedBlock) {
 }
 
 }  // namespace
+
+// Issue 18: what a person sees. Without -q and with stderr not a terminal (a pipe here), the
+// demo prints its milestones in order, one line each, no fit iterations (a terminal shows those
+// on one updating line: tests/io/test_progress.cpp); its warning about groups at the lower bound
+// is in report.json and report.md too; model.json carries the four load cases, the self-weight
+// case summing to the block's weight rho V g.
+TEST(Demo, PrintsReadableMilestonesAndReportsItsWarnings) {
+  const TemporaryFolder dir;
+  const auto run = run_isospring("demo -o " + dir / "out");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.output.find("iteration"), std::string::npos) << run.output;
+  size_t last = 0;
+  for (int step = 1; step <= 6; ++step) {
+    const size_t at = run.output.find("[demo] " + std::to_string(step) + "/6 ");
+    ASSERT_NE(at, std::string::npos) << step << "\n" << run.output;
+    EXPECT_GT(at + 1, last) << "milestone " << step << " out of order\n" << run.output;
+    last = at + 1;
+  }
+  // The calibration reuses the reference of step 3 instead of announcing a second solve.
+  EXPECT_EQ(run.output.find("solving the load cases"), std::string::npos) << run.output;
+  const auto lines = std::count(run.output.begin(), run.output.end(), '\n');
+  EXPECT_LE(lines, 25) << run.output;
+
+  std::ifstream in(dir / "out/report.json");
+  const json report = json::parse(in);
+  ASSERT_TRUE(report["warnings"].is_array());
+  std::ifstream md_file(dir / "out/report.md");
+  const std::string md((std::istreambuf_iterator<char>(md_file)), {});
+  size_t printed = 0;
+  for (size_t at = run.output.find("[demo] warning: "); at != std::string::npos;
+       at = run.output.find("[demo] warning: ", at + 1), ++printed) {
+    const size_t start = at + std::string("[demo] warning: ").size();
+    const std::string warning = run.output.substr(start, run.output.find('\n', start) - start);
+    EXPECT_NE(std::find(report["warnings"].begin(), report["warnings"].end(), warning),
+              report["warnings"].end())
+        << warning;
+    EXPECT_NE(md.find("Warning: " + warning), std::string::npos) << warning;
+  }
+  EXPECT_EQ(printed, report["warnings"].size());
+
+  std::ifstream model_file(dir / "out/model.json");
+  const json model = json::parse(model_file);
+  ASSERT_EQ(model["load_cases"].size(), 4u);
+  for (const json& load : model["load_cases"]) {
+    if (load["id"] != "self_weight") continue;
+    double fz = 0.0;
+    for (const json& f : load["forces"]) fz += f[3].get<double>();
+    const double weight = 1143.0 * 0.1 * 0.02 * 0.02 * 9.81;  // rho V g
+    EXPECT_NEAR(fz, -weight, 1e-9 * weight);
+  }
+}
+
+// A flat (2D) case through the demo: its engine exports carry in-plane gravity (-y), since the
+// particles of a flat model move in x and y only (issue 18: a -z gravity never moved them).
+TEST(Demo, FlatCaseExportsInPlaneGravity) {
+  const TemporaryFolder dir;
+  const auto run =
+      run_isospring("demo -q --case " + isospring::testing::example("calibrate_square.json") +
+                    " -o " + dir / "out");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* file : {"model_mujoco.xml", "model_sofa.scn"}) {
+    std::ifstream in(dir.path() / "out" / file);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    const size_t at = text.find("gravity=\"");
+    ASSERT_NE(at, std::string::npos) << file;
+    std::istringstream g(text.substr(at + 9));
+    double gx = NAN, gy = NAN, gz = NAN;
+    g >> gx >> gy >> gz;
+    EXPECT_EQ(gx, 0.0) << file;
+    EXPECT_NEAR(gy, -9.81, 1e-12) << file;
+    EXPECT_EQ(gz, 0.0) << file;
+  }
+}

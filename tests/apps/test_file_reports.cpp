@@ -1,6 +1,6 @@
 // End-to-end: the commands that write one file (import, refine, export, export-calculix,
-// export-step) leave <stem>.report.json and <stem>.report.md beside it, and the report's numbers
-// agree with the written file read back and with independent values.
+// export-step) leave <name>.report.json and <name>.report.md beside it (the output's whole name),
+// and the report's numbers agree with the written file read back and with independent values.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -33,7 +33,7 @@ TEST(FileReports, ImportReportsPatchesAndFacesOfTheBlock) {
   const auto run =
       run_isospring("import " + example("cad/block.step") + " -o " + (out / "block.json") + " -q");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const nlohmann::json r = read_json(out / "block.report.json");
+  const nlohmann::json r = read_json(out / "block.json.report.json");
   EXPECT_EQ(r["command"], "import");
   EXPECT_EQ(r["patch_count"], 1);
   EXPECT_EQ(r["counts"]["faces"], 6);
@@ -43,7 +43,7 @@ TEST(FileReports, ImportReportsPatchesAndFacesOfTheBlock) {
               1e-12 * r["cad_volume"].get<double>());
   EXPECT_NEAR(r["cad_volume"].get<double>(), 0.1 * 0.02 * 0.02, 1e-15);
   EXPECT_EQ(isospring::io::read_patch_file(out / "block.json").size(), 1u);
-  EXPECT_NE(file_contents(out / "block.report.md").find("| 0 | 3 | 1, 1, 1 | 2 x 2 x 2"),
+  EXPECT_NE(file_contents(out / "block.json.report.md").find("| 0 | 3 | 1, 1, 1 | 2 x 2 x 2"),
             std::string::npos);
 }
 
@@ -55,7 +55,7 @@ TEST(FileReports, RefineReportsCountsAndAnExactGeometry) {
   const auto run = run_isospring("refine " + example("patches/quarter_annulus.json") +
                                  " --elevate 1 --h 4 -o " + (out / "fine.json") + " -q");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const nlohmann::json r = read_json(out / "fine.report.json");
+  const nlohmann::json r = read_json(out / "fine.json.report.json");
   const auto fine = isospring::io::read_patch_file(out / "fine.json");
   const auto coarse = isospring::io::read_patch_file(example("patches/quarter_annulus.json"));
   ASSERT_EQ(r["patches"].size(), fine.size());
@@ -68,7 +68,7 @@ TEST(FileReports, RefineReportsCountsAndAnExactGeometry) {
   EXPECT_LT(p["geometry_deviation_relative"].get<double>(), 1e-14);
   // Area of the quarter annulus is preserved: pi/4 (R^2 - r^2) for radii 1 and 2 = 3 pi / 4.
   EXPECT_NEAR(p["after"]["measure"].get<double>(), 3.0 * M_PI / 4.0, 1e-12);
-  EXPECT_NE(file_contents(out / "fine.report.md").find("6 -> 42"), std::string::npos);
+  EXPECT_NE(file_contents(out / "fine.json.report.md").find("6 -> 42"), std::string::npos);
 }
 
 // export: counts and total mass against the model file read back; export-calculix: node count
@@ -81,7 +81,7 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   run = run_isospring("export " + (out / "cal/model.json") + " -o " + (out / "model.scn") + " -q");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const nlohmann::json e = read_json(out / "model.report.json");
+  const nlohmann::json e = read_json(out / "model.scn.report.json");
   const auto model = isospring::io::read_model_json(out / "cal/model.json");
   EXPECT_EQ(e["format"], "sofa");
   EXPECT_EQ(e["particles"], model.network.positions.size());
@@ -103,7 +103,7 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
   run = run_isospring("export-calculix " + example("cantilever_box.json") + " -o " +
                       (out / "box.inp") + " -q");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const nlohmann::json c = read_json(out / "box.report.json");
+  const nlohmann::json c = read_json(out / "box.inp.report.json");
   std::istringstream deck(file_contents(out / "box.inp"));
   std::string line;
   int nodes = 0;
@@ -124,7 +124,7 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
   EXPECT_EQ(c["node_sets"], nlohmann::json({"Nall"}));
   EXPECT_EQ(c["element_sets"], nlohmann::json({"Eall"}));
   EXPECT_EQ(c["load_cases"], nlohmann::json({"tip_down", "tip_side", "gravity"}));
-  EXPECT_NE(file_contents(out / "box.report.md").find("1865 nodes, 320 C3D20R elements"),
+  EXPECT_NE(file_contents(out / "box.inp.report.md").find("1865 nodes, 320 C3D20R elements"),
             std::string::npos);
 
   for (const std::string name : {"annulus.step", "annulus.igs"}) {
@@ -132,10 +132,71 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
                         (out / name) + " -q");
     ASSERT_EQ(run.exit_code, 0) << run.output;
     EXPECT_EQ(run.output, "") << name;
-    const std::string stem = name.substr(0, name.find('.'));
-    const nlohmann::json s = read_json(out / (stem + ".report.json"));
+    const nlohmann::json s = read_json(out / (name + ".report.json"));
     EXPECT_EQ(s["patches"], 1);
     EXPECT_EQ(s["file_bytes"], std::filesystem::file_size(out / name));
     EXPECT_EQ(s["format"], name.ends_with(".igs") ? "iges" : "step");
+  }
+}
+
+// Issue 18: refine -> fine.json, then export-step -> fine.step and fine.igs in the same folder.
+// Every output keeps its own report (named after the output's whole name), so the refine report
+// with its geometry check survives the exports.
+TEST(FileReports, OutputsWithOneStemKeepTheirOwnReports) {
+  TemporaryFolder out;
+  auto run = run_isospring("refine " + example("patches/quarter_annulus.json") + " --h 2 -o " +
+                           (out / "fine.json") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const std::string name : {"fine.step", "fine.igs"}) {
+    run = run_isospring("export-step " + (out / "fine.json") + " -o " + (out / name) + " -q");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+  }
+  const std::vector<std::pair<std::string, std::string>> expected{
+      {"fine.json", "refine"}, {"fine.step", "export-step"}, {"fine.igs", "export-step"}};
+  for (const auto& [name, command] : expected) {
+    const nlohmann::json r = read_json(out / (name + ".report.json"));
+    EXPECT_EQ(r["command"], command) << name;
+    EXPECT_EQ(std::filesystem::path(r["output"].get<std::string>()).filename(), name);
+    EXPECT_TRUE(std::filesystem::exists(out / (name + ".report.md"))) << name;
+  }
+  EXPECT_TRUE(read_json(out / "fine.json.report.json").contains("largest_geometry_deviation"));
+  EXPECT_FALSE(std::filesystem::exists(out / "fine.report.json"));
+}
+
+// Issue 18: a refined part exported to STEP or IGES comes back as a solid. import -> refine ->
+// export-step -> import --solids 0 gives one volume patch with the refined part's volume (read
+// with `info --json`, our Gauss quadrature of each file) to 1e-9, and the export report counts
+// one closed solid.
+TEST(FileReports, RefinedPartRoundTripsThroughStepAndIgesAsASolid) {
+  TemporaryFolder out;
+  auto run =
+      run_isospring("import " + example("cad/block.step") + " -o " + (out / "block.json") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  run = run_isospring("refine " + (out / "block.json") + " -o " + (out / "fine.json") +
+                      " --elevate 1 --h 2 -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  auto volume_of = [&](const std::string& file) {
+    const auto info = run_isospring("info " + file + " --json");
+    EXPECT_EQ(info.exit_code, 0) << info.output;
+    const nlohmann::json j = nlohmann::json::parse(info.output);
+    double volume = 0.0;
+    for (const auto& p : j["patches"]) {
+      EXPECT_EQ(p["parametric_dimension"], 3) << file;
+      volume += p["measure"].get<double>();
+    }
+    return volume;
+  };
+  const double refined = volume_of(out / "fine.json");
+  EXPECT_NEAR(refined, 0.1 * 0.02 * 0.02, 1e-15);
+  for (const std::string name : {"fine.step", "fine.igs"}) {
+    run = run_isospring("export-step " + (out / "fine.json") + " -o " + (out / name) + " -q");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const nlohmann::json r = read_json(out / (name + ".report.json"));
+    EXPECT_EQ(r["solids"], 1) << name;
+    EXPECT_TRUE(r["warnings"].empty()) << name;
+    const std::string back = out / (name + ".back.json");
+    run = run_isospring("import " + (out / name) + " -o " + back + " --solids 0 -q");
+    ASSERT_EQ(run.exit_code, 0) << name << ": " << run.output;
+    EXPECT_NEAR(volume_of(back) / refined, 1.0, 1e-9) << name;
   }
 }

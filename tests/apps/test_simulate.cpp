@@ -8,7 +8,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/io/model_file.hpp"
@@ -229,4 +231,84 @@ TEST(Simulate, VolumeTermsOfACalibratedModelRunToTheirStaticEquilibrium) {
   const SpringSolveResult springs_only = solve_spring_newton(net, f);
   ASSERT_TRUE(springs_only.converged);
   EXPECT_LT(largest(with_volumes.displacement), 0.95 * largest(springs_only.displacement));
+}
+
+namespace {
+// Control-point table of `analyze` (i,x,y,z,ux,uy,uz) or error table of `calibrate`
+// (node,x,y,z,ex,ey,ez,error): the three vector columns after the position, per row.
+std::vector<Eigen::Vector3d> vector_columns(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header
+  std::vector<Eigen::Vector3d> rows;
+  while (std::getline(in, line)) {
+    std::stringstream cells(line);
+    std::vector<double> v;
+    std::string cell;
+    while (std::getline(cells, cell, ',')) v.push_back(std::stod(cell));
+    if (v.size() >= 7) rows.emplace_back(v[4], v[5], v[6]);
+  }
+  return rows;
+}
+}  // namespace
+
+// Issue 18: `calibrate` stores the loads it fitted under in model.json and `simulate` runs from
+// that model with no load options. Checked independently of the calibration code: every stored
+// load case's resultant is its traction times the loaded side's length (2 m, thickness 1), and
+// the linear static response of the WRITTEN model (its springs, its stored forces) is the IGA
+// reference (`analyze`'s table) plus the error `calibrate` reported (its <id>_errors.csv) at
+// every control point. The damped run then ends on its static equilibrium (the README example).
+TEST(Simulate, RunsACalibratedModelFromItsStoredLoadCases) {
+  TemporaryFolder out;
+  const std::string square = isospring::testing::example("calibrate_square.json");
+  auto run = run_isospring("calibrate " + square + " -o " + (out / "cal") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  run = run_isospring("analyze " + square + " -o " + (out / "ref") + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const isospring::io::SpringModel model = isospring::io::read_model_json(out / "cal/model.json");
+  ASSERT_EQ(model.load_cases.size(), 4u);
+  const std::map<std::string, Eigen::Vector2d> resultant{{"u1_x", {3000.0, 0.0}},
+                                                         {"u1_y", {0.0, -600.0}},
+                                                         {"v1_y", {0.0, -600.0}},
+                                                         {"v1_x", {600.0, 0.0}}};
+  for (size_t l = 0; l < model.load_cases.size(); ++l) {
+    const auto& load = model.load_cases[l];
+    ASSERT_TRUE(resultant.count(load.id)) << load.id;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto& [particle, force] : load.forces) sum += force;
+    EXPECT_NEAR((sum.head<2>() - resultant.at(load.id)).norm(), 0.0, 1e-9) << load.id;
+
+    const Eigen::VectorXd f = isospring::io::model_force_vector(model, l, true);
+    const Eigen::VectorXd u =
+        isospring::analysis::solve_spring_linear(model.network, f).displacement;
+    const auto reference = vector_columns(out / ("ref/" + load.id + "_control_displacements.csv"));
+    const auto error = vector_columns(out / ("cal/" + load.id + "_errors.csv"));
+    ASSERT_EQ(reference.size(), model.network.positions.size()) << load.id;
+    ASSERT_EQ(error.size(), reference.size()) << load.id;
+    double largest = 0.0, worst = 0.0;
+    for (size_t p = 0; p < reference.size(); ++p) {
+      const Eigen::Vector2d spring(u(static_cast<Eigen::Index>(2 * p)),
+                                   u(static_cast<Eigen::Index>(2 * p + 1)));
+      largest = std::max(largest, reference[p].norm());
+      worst = std::max(worst, (spring - (reference[p] + error[p]).head<2>()).norm());
+    }
+    EXPECT_LT(worst, 1e-9 * largest) << load.id;
+  }
+
+  run = run_isospring("simulate " + (out / "cal/model.json") + " -o " + (out / "sim") +
+                      " --dt 0.1 --steps 300");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("load case u1_x"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("warning"), std::string::npos) << run.output;
+  std::ifstream report_file(out / "sim/report.json");
+  const json report = json::parse(report_file);
+  EXPECT_EQ(report["load_case"], "u1_x");
+  ASSERT_FALSE(report["static"].is_null());
+  EXPECT_TRUE(report["static"]["converged"].get<bool>());
+  EXPECT_LT(report["static"]["final_minus_static_relative"].get<double>(), 1e-4);
+  // Too short a run says so (and still writes its series).
+  run = run_isospring("simulate " + (out / "cal/model.json") + " -o " + (out / "short") +
+                      " --dt 0.02 --steps 20");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("has not settled"), std::string::npos) << run.output;
 }

@@ -17,9 +17,9 @@ struct ProgramResult {
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `isospring ARGS` (ARGS is passed to the shell as written).
-inline ProgramResult run_isospring(const std::string& args) {
-  const std::string command = std::string(ISOSPRING_EXECUTABLE) + " " + args + " 2>&1";
+/// Runs a shell command line as written (stdout and stderr captured together).
+inline ProgramResult run_program(const std::string& command_line) {
+  const std::string command = command_line + " 2>&1";
   ProgramResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -30,6 +30,11 @@ inline ProgramResult run_isospring(const std::string& args) {
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Runs `isospring ARGS` (ARGS is passed to the shell as written).
+inline ProgramResult run_isospring(const std::string& args) {
+  return run_program(std::string(ISOSPRING_EXECUTABLE) + " " + args);
 }
 
 /// Path of a shipped example: ISOSPRING_SOURCE_DIR/examples/NAME.

@@ -7,7 +7,10 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <filesystem>
+#include <optional>
 #include <regex>
+#include <sstream>
 
 #include "isospring/io/export_mjcf.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -69,7 +72,7 @@ std::vector<Vector3d> linear_solution(const analysis::SpringNetwork& n,
   std::vector<int> free;
   for (int p = 0; p < count; ++p)
     if (!n.fixed[static_cast<size_t>(p)])
-      for (int c = 0; c < 3; ++c) free.push_back(3 * p + c);
+      for (int c = 0; c < n.dimension; ++c) free.push_back(3 * p + c);  // 2D: in-plane only
   const int m = static_cast<int>(free.size());
   Eigen::MatrixXd Kff(m, m);
   Eigen::VectorXd f(m);
@@ -100,6 +103,36 @@ TEST(ExportMjcf, DocumentHasOneBodyPerFreeParticleAndOneTendonPerSpring) {
   EXPECT_EQ(count("<joint name="), 3 * free);
   EXPECT_EQ(count("<spatial "), static_cast<long>(n.springs.size()));
   EXPECT_EQ(count("<site name="), static_cast<long>(n.positions.size()));
+}
+
+// A flat (2D) model's particles slide in x and y only: gravity along z would never move them
+// (issue 18), so the default engine gravity of a 2D model is in its plane and a z gravity is
+// refused with the fix; 3D models keep -z, and a model's own gravity wins over the default.
+TEST(ExportMjcf, FlatModelsGetInPlaneGravityAndRefuseZ) {
+  analysis::SpringNetwork flat = braced_lattice(2, 1, 0, 0.05);
+  flat.dimension = 2;
+  const analysis::SpringNetwork solid = braced_lattice(1, 1, 1, 0.05);
+  EXPECT_EQ(engine_gravity(flat, Vector3d::Zero(), std::nullopt), Vector3d(0, -9.81, 0));
+  EXPECT_EQ(engine_gravity(solid, Vector3d::Zero(), std::nullopt), Vector3d(0, 0, -9.81));
+  EXPECT_EQ(engine_gravity(flat, Vector3d(1, 2, 0), std::nullopt), Vector3d(1, 2, 0));
+  EXPECT_EQ(engine_gravity(solid, Vector3d::Zero(), Vector3d(0, 0, -1)), Vector3d(0, 0, -1));
+  try {
+    (void)engine_gravity(flat, Vector3d::Zero(), Vector3d(0, 0, -9.81));
+    FAIL() << "a z gravity was accepted for a flat model";
+  } catch (const nurbs::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--gravity 0,-9.81,0"), std::string::npos) << e.what();
+  }
+  MjcfOptions options;  // default gravity: -z
+  EXPECT_THROW((void)mjcf_document(flat, options), nurbs::InputError);
+  options.gravity = Vector3d(0, -9.81, 0);
+  const std::string xml = mjcf_document(flat, options);
+  std::smatch gravity;
+  ASSERT_TRUE(std::regex_search(xml, gravity, std::regex("gravity=\"([^\"]*)\"")));
+  std::istringstream g(gravity[1].str());
+  Vector3d written;
+  g >> written.x() >> written.y() >> written.z();
+  EXPECT_EQ(written, Vector3d(0, -9.81, 0));
+  EXPECT_EQ(xml.find("_z\""), std::string::npos);  // no z slide joints
 }
 
 TEST(ExportMjcf, InvalidModelIsRefused) {
@@ -189,6 +222,59 @@ TEST(ExportMjcf, MujocoSettlesToTheLinearSpringSolution) {
       worst / largest, steps, mj.model->opt.timestep);
   // The brief asks for 1%; with strains ~1e-4 the nonlinearity is ~1e-4, so 1e-3 is asserted.
   EXPECT_LT(worst / largest, 1e-3);
+}
+// The flat model under its default (in-plane) gravity, exported and simulated by MuJoCo: it
+// moves, and settles on the linear spring statics of the weights m_i g (2D and 3D are both
+// covered: MujocoSettlesToTheLinearSpringSolution is the 3D lattice).
+TEST(ExportMjcf, MujocoMovesAFlatModelUnderItsDefaultGravity) {
+  const double h = 0.05;
+  analysis::SpringNetwork n = braced_lattice(3, 1, 0, h);
+  n.dimension = 2;
+  // Stiff enough for linear statics (largest displacement ~1e-4 of a cell) under 9.81 m/s^2.
+  for (auto& spring : n.springs) spring.stiffness *= 1000.0, spring.damping *= 100.0;
+  MjcfOptions options;
+  options.gravity = engine_gravity(n, Vector3d::Zero(), std::nullopt);
+  std::vector<Vector3d> weights(n.positions.size(), Vector3d::Zero());
+  for (size_t p = 0; p < n.positions.size(); ++p) weights[p] = n.masses[p] * options.gravity;
+  const std::vector<Vector3d> expected = linear_solution(n, weights);
+  double largest = 0;
+  for (const Vector3d& u : expected) largest = std::max(largest, u.norm());
+  ASSERT_GT(largest, 0);
+  ASSERT_LT(largest / h, 1e-3);
+
+  const fs::path dir = fs::temp_directory_path() /
+                       (std::string("isospring_test_mjcf2d-") + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path path = dir / "flat.xml";
+  write_mjcf(path, n, options);
+  char error[1000] = "";
+  MujocoModel mj;
+  mj.model = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
+  ASSERT_NE(mj.model, nullptr) << error;
+  mj.data = mj_makeData(mj.model);
+  double speed = 1;
+  int steps = 0;
+  for (; steps < 400000 && (steps < 100 || speed > 1e-9); ++steps) {
+    mj_step(mj.model, mj.data);
+    speed = 0;
+    for (int v = 0; v < mj.model->nv; ++v) speed = std::max(speed, std::abs(mj.data->qvel[v]));
+  }
+  double worst = 0;
+  for (size_t p = 0; p < n.positions.size(); ++p) {
+    if (n.fixed[p]) continue;
+    Vector3d u = Vector3d::Zero();
+    for (int c = 0; c < 2; ++c) {
+      const std::string joint = "particle_" + std::to_string(p) + "_" + "xy"[c];
+      const int j = mj_name2id(mj.model, mjOBJ_JOINT, joint.c_str());
+      ASSERT_GE(j, 0) << joint;
+      u(c) = mj.data->qpos[mj.model->jnt_qposadr[j]];
+    }
+    worst = std::max(worst, (u - expected[p]).norm());
+  }
+  std::printf("MuJoCo (flat model, gravity -y) vs linear spring statics: %.2e after %d steps\n",
+              worst / largest, steps);
+  EXPECT_LT(worst / largest, 1e-3);
+  fs::remove_all(dir);
 }
 #else
 TEST(ExportMjcf, MujocoSettlesToTheLinearSpringSolution) {

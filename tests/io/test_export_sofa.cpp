@@ -106,7 +106,12 @@ TEST(ExportSofa, SceneCarriesEveryValueExactly) {
 }
 
 TEST(ExportSofa, EqualMassesUseUniformMassAndPlanarModelsVec2d) {
-  const auto elements = parse_elements(sofa_scene(network(true, 2)));
+  // A flat model's Vec2d particles cannot follow a z gravity (the default): refused, with the
+  // in-plane gravity that `isospring export` gives such models by default (issue 18).
+  EXPECT_THROW((void)sofa_scene(network(true, 2)), nurbs::InputError);
+  SofaOptions in_plane;
+  in_plane.gravity = Eigen::Vector3d(0.0, -9.81, 0.0);
+  const auto elements = parse_elements(sofa_scene(network(true, 2), in_plane));
   ASSERT_EQ(elements.count("UniformMass"), 1u);
   EXPECT_EQ(elements.count("DiagonalMass"), 0u);
   EXPECT_EQ(numbers(elements.find("UniformMass")->second.at("vertexMass")),

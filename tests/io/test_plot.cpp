@@ -68,6 +68,19 @@ TEST(Plot, FiguresArePngsOfTheRequestedSize) {
                               {"Model vs measured", "measured", "model", 500, 500, false}, true));
   EXPECT_EQ(png_size(dir / "scatter.png"), std::make_pair(500, 500));
 
+  // Small multiples: one panel per series, stacked (two columns from four on); the image grows
+  // with the rows of panels instead of drawing the series over each other.
+  std::vector<PlotSeries> cases;
+  for (const char* id : {"L1", "L2", "L3", "L4", "L5"})
+    cases.push_back({id, {0, 1, 2, 3}, {0.1, 0.2, 0.4, 0.3}});
+  EXPECT_TRUE(plot_xy_panels(dir / "panels3.png", {cases[0], cases[1], cases[2]},
+                             {"Errors", "x [m]", "error [%]", 700, 0, false}));
+  EXPECT_EQ(png_size(dir / "panels3.png"), std::make_pair(700, 60 + 3 * kPanelHeight));
+  EXPECT_TRUE(
+      plot_xy_panels(dir / "panels5.png", cases, {"Errors", "x [m]", "error [%]", 700, 0, false}));
+  EXPECT_EQ(png_size(dir / "panels5.png"), std::make_pair(700, 60 + 3 * kPanelHeight));
+  EXPECT_FALSE(plot_xy_panels(dir / "none.png", {}, {}));
+
   EXPECT_TRUE(plot_bars_before_after(dir / "bars.png", {"L1", "L2", "L3 \"side\""}, {0.3, 0.5, 0.2},
                                      {0.02, 0.04, 0.01},
                                      {"RMS error", "load case", "RMS error [mm]", 600, 400, true}));

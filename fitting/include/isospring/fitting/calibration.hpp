@@ -55,6 +55,9 @@ struct CalibrationSettings {
   std::vector<Eigen::VectorXd> reference_displacements;
   /// Progress lines ("fit gamma 0.01 (4 groups): iteration 3, cost 1.2e-4"); empty: silent.
   std::function<void(const std::string&)> progress;
+  /// Per fit iteration (stage such as "fit (gamma 0.01)", iteration, cost): when set, used
+  /// instead of one `progress` line per iteration (a terminal shows it on one updating line).
+  std::function<void(const std::string&, int, double)> iteration;
 };
 
 struct CaseErrors {
@@ -95,6 +98,12 @@ struct CalibrationResult {
   double reference_seconds = 0.0;
   double fit_seconds = 0.0;           // all fits, sweep included
   std::vector<std::string> warnings;  // e.g. stiffness groups held at the lower bound
+  /// Per load case of the problem (same order, ids in load_ids): the load the springs were
+  /// fitted and evaluated under, as forces on the particles (flat, particle * dimension +
+  /// component) [N]: the consistent IGA load, gravity included, summed per particle. With these
+  /// a spring model (model.json) reproduces the calibration's responses on its own.
+  std::vector<std::string> load_ids;
+  std::vector<Eigen::VectorXd> particle_loads;
 };
 
 /// Runs the calibration. Throws nurbs::InputError for bad settings or problems (unknown case ids,

@@ -68,7 +68,10 @@ struct ParameterEstimate {
 
 struct ErrorSummary {
   double rms = 0.0;  // sqrt(mean |r_c|^2) over every component of every marker [m]
-  double max = 0.0;  // max |r_c| [m]
+  double max = 0.0;  // max |r_c| [m], the largest single component
+  /// max |r| [m], the largest residual vector's length (the |residual| of residuals.csv and the
+  /// marker .vtp files)
+  double max_norm = 0.0;
 };
 
 struct LoadCaseErrors {

@@ -74,10 +74,21 @@ std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness = 
 /// or a chosen solid did not become volume patches (with the reason, from solid_notes).
 std::vector<nurbs::Patch> cad_solid_patches(const CadModel& model, const std::vector<int>& solids);
 
-/// Writes patches as B-spline faces (volumes as their six boundary faces) to STEP or IGES (by
-/// extension), in metres. Throws nurbs::InputError for an unknown extension, std::runtime_error
-/// when OpenCascade fails.
-void write_cad(const std::filesystem::path& file, const std::vector<nurbs::Patch>& patches);
+/// What write_cad wrote.
+struct CadWriteSummary {
+  int faces = 0;   // B-spline faces, those of the solids included
+  int solids = 0;  // volume patches written as closed solids
+  /// Per volume patch that could not be closed (OpenCascade's sewing left free edges, e.g. a
+  /// collapsed side): why; its faces are then written as a separate open shell.
+  std::vector<std::string> notes;
+};
+
+/// Writes patches to STEP or IGES (by extension), in metres: surfaces as B-spline faces, every
+/// volume as a closed solid (its six boundary faces sewn into one shell with shared edges and
+/// outward normals: STEP MANIFOLD_SOLID_BREP, IGES manifold solid B-rep object, type 186).
+/// Throws nurbs::InputError for an unknown extension, std::runtime_error when OpenCascade fails.
+CadWriteSummary write_cad(const std::filesystem::path& file,
+                          const std::vector<nurbs::Patch>& patches);
 
 /// Side `end` (0 = min, 1 = max) of direction `dir` of a surface or volume patch as a patch of one
 /// dimension less (its control points and knots).

@@ -10,8 +10,11 @@
 //    stiffness k, damping c and springlength L0: MuJoCo's tendon force -k (L - L0) - c dL/dt is
 //    the model's spring force;
 //  - contacts are disabled; gravity and the time step are options.
+//  - a flat (2D) model has slide joints in x and y only: gravity along z could never move it, so
+//    such a document is refused (engine_gravity() gives 2D models an in-plane default, -y).
 #include <Eigen/Core>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "isospring/analysis/spring_network.hpp"
@@ -30,10 +33,20 @@ struct MjcfOptions {
   std::string comment;              // provenance written as an XML comment
 };
 
+/// The gravity an engine export (MuJoCo, SOFA) of `network` should carry: `given` when set; else
+/// `model_gravity` when it is non-zero (a model.json with "gravity"); else 9.81 m/s^2 along -z for
+/// a 3D model and along -y for a flat (2D) one, whose particles move in the x-y plane only.
+/// Throws nurbs::InputError when a 2D model would get a gravity with a z component (it would
+/// never move under it), naming the fix.
+Eigen::Vector3d engine_gravity(const analysis::SpringNetwork& network,
+                               const Eigen::Vector3d& model_gravity,
+                               const std::optional<Eigen::Vector3d>& given);
+
 /// The automatic time step described at MjcfOptions::timestep.
 double suggested_timestep(const analysis::SpringNetwork& network);
 
-/// The MJCF document. Throws nurbs::InputError when the network is invalid.
+/// The MJCF document. Throws nurbs::InputError when the network is invalid or a 2D network is
+/// given a gravity with a z component.
 std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOptions& options = {});
 
 /// Writes the MJCF file atomically.

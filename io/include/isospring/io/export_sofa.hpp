@@ -27,7 +27,9 @@ struct SofaOptions {
   std::string comment;                       // provenance written as an XML comment
 };
 
-/// The scene document. Throws nurbs::InputError when the network is invalid.
+/// The scene document. Throws nurbs::InputError when the network is invalid or a flat (2D)
+/// network, whose Vec2d particles move in x-y only, is given a gravity with a z component
+/// (io::engine_gravity in export_mjcf.hpp gives such models an in-plane default).
 std::string sofa_scene(const analysis::SpringNetwork& network, const SofaOptions& options = {});
 
 /// Writes the scene atomically.

@@ -16,7 +16,9 @@
 // "units" and "provenance" are free-form objects kept as written.
 //
 // Optional loads (still version 1: readers that predate them fail on the unknown key, files
-// without them read as before), written by `isospring identify` for its recalibrated model:
+// without them read as before), written by `isospring calibrate` and `demo` (the loads the
+// springs were fitted and evaluated under, self-weight included as forces) and by `isospring
+// identify` for its recalibrated model (identified gravity separate):
 //   "gravity": [0, -9.81, 0],          // acceleration of every particle [m/s^2]: force m_i g
 //   "load_cases": [{"id": "L1", "forces": [[i, fx, fy, fz], ...]}, ...]   // external forces [N]
 // A load case's total load is its forces plus m_i g on every free particle.
@@ -63,6 +65,10 @@ void write_spring_model_json(const std::filesystem::path& path, const SpringMode
 /// Flat force vector (particle * dimension + component) of model.load_cases[index], plus the
 /// gravity forces m_i g when `with_gravity`.
 Eigen::VectorXd model_force_vector(const SpringModel& model, size_t index, bool with_gravity);
+
+/// A load case from flat forces on the particles (particle * dimension + component, as
+/// fitting::CalibrationResult::particle_loads): one entry per particle with a non-zero force.
+ModelLoadCase model_load_case(std::string id, const Eigen::VectorXd& flat, int dimension);
 
 /// SI units as written by default.
 nlohmann::json default_model_units();

@@ -37,6 +37,14 @@ bool plot_histogram(const std::filesystem::path& png, const std::vector<double>&
 bool plot_xy_scatter(const std::filesystem::path& png, const std::vector<PlotSeries>& series,
                      const PlotOptions& options = {}, bool identity_line = false);
 
+/// Small multiples: one scatter panel per series (its name as the panel title), the panels
+/// stacked (two columns from four series on), sharing the x range; y from 0. The image is
+/// options.width wide and kPanelHeight pixels high per row of panels (+ 60 for the title), so
+/// no series hides another however many there are.
+inline constexpr int kPanelHeight = 230;
+bool plot_xy_panels(const std::filesystem::path& png, const std::vector<PlotSeries>& series,
+                    const PlotOptions& options = {});
+
 /// Clustered bars: for every label a "before" and an "after" bar (e.g. error per load case
 /// before and after calibration).
 bool plot_bars_before_after(const std::filesystem::path& png,
