@@ -91,9 +91,9 @@ Specimen tube(const Hidden& h) {
        {{{"id", "axial"}, {"tractions", {traction(end, {0.0, 0.0, 40000.0 * f})}}},
         {{"id", "shear_x"}, {"tractions", {traction(end, {1000.0 * f, 0.0, 0.0})}}},
         {{"id", "shear_y"}, {"tractions", {traction(end, {0.0, -1000.0 * f, 0.0})}}}}}};
-  s.truth_elements = {3, 12, 36};
+  s.truth_elements = {2, 8, 24};
   s.gradient_axis = 2;
-  s.slab = 0.12 / 36;
+  s.slab = 0.12 / 24;
   s.gravity = Eigen::Vector3d(0, -9.81, 0);
   s.is_marker = [](const Eigen::Vector3d& x) {
     return std::abs(std::hypot(x.x(), x.y()) - 0.026) < 1e-9 && x.z() > 0.005;
