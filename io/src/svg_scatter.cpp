@@ -1,5 +1,6 @@
 // Small multiples of coloured scatter maps as SVG (svg_scatter.hpp).
 #include "isospring/io/svg_scatter.hpp"
+#include "export_xml.hpp"
 
 #include <algorithm>
 #include <array>
@@ -26,28 +27,7 @@ constexpr double kHeader = 34.0;     // the document title
 constexpr double kFont = 11.0;       // tick labels and axis labels
 constexpr double kTitleFont = 12.0;  // panel titles
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
+using detail::xml_escape;  // text and attribute values: & < > " escaped
 
 std::string num(double v) {
   char buffer[32];
@@ -148,7 +128,7 @@ std::string scatter_grid_svg(const std::vector<ScatterRow>& rows,
       << num(height) << "\" fill=\"white\"/>\n";
   if (!options.title.empty())
     svg << "<text class=\"title\" x=\"" << num(width / 2) << "\" y=\"22\" text-anchor=\"middle\" "
-        << "font-size=\"14\" font-weight=\"bold\">" << escape(options.title) << "</text>\n";
+        << "font-size=\"14\" font-weight=\"bold\">" << xml_escape(options.title) << "</text>\n";
 
   for (size_t r = 0; r < rows.size(); ++r) {
     const ScatterRow& row = rows[r];
@@ -163,11 +143,11 @@ std::string scatter_grid_svg(const std::vector<ScatterRow>& rows,
       const double x0 = static_cast<double>(c) * cell_w + kLeft, y0 = top + kTop;
       auto px = [&](double x) { return x0 + (x - xr.lo) / (xr.hi - xr.lo) * pw; };
       auto py = [&](double y) { return y0 + ph - (y - yr.lo) / (yr.hi - yr.lo) * ph; };
-      svg << "<g class=\"panel\" data-row=\"" << escape(row.name) << "\" data-column=\""
-          << escape(panel.column) << "\" data-points=\"" << panel.x.size() << "\">\n"
+      svg << "<g class=\"panel\" data-row=\"" << xml_escape(row.name) << "\" data-column=\""
+          << xml_escape(panel.column) << "\" data-points=\"" << panel.x.size() << "\">\n"
           << "<text class=\"panel-title\" x=\"" << num(x0 + pw / 2) << "\" y=\"" << num(y0 - 10)
           << "\" text-anchor=\"middle\" font-size=\"" << num(kTitleFont) << "\">"
-          << escape(panel.title) << "</text>\n"
+          << xml_escape(panel.title) << "</text>\n"
           << "<rect class=\"frame\" x=\"" << num(x0) << "\" y=\"" << num(y0) << "\" width=\""
           << num(pw) << "\" height=\"" << num(ph) << "\" fill=\"#f4f4f4\" stroke=\"#444\"/>\n";
       for (const double t : ticks(xr.lo, xr.hi))
@@ -181,10 +161,10 @@ std::string scatter_grid_svg(const std::vector<ScatterRow>& rows,
             << "<text class=\"tick\" x=\"" << num(x0 - 6) << "\" y=\"" << num(py(t) + 4)
             << "\" text-anchor=\"end\">" << label(t) << "</text>\n";
       svg << "<text class=\"axis-label\" x=\"" << num(x0 + pw / 2) << "\" y=\"" << num(y0 + ph + 34)
-          << "\" text-anchor=\"middle\">" << escape(options.xlabel) << "</text>\n"
+          << "\" text-anchor=\"middle\">" << xml_escape(options.xlabel) << "</text>\n"
           << "<text class=\"axis-label\" x=\"" << num(x0 - 48) << "\" y=\"" << num(y0 + ph / 2)
           << "\" text-anchor=\"middle\" transform=\"rotate(-90 " << num(x0 - 48) << " "
-          << num(y0 + ph / 2) << ")\">" << escape(options.ylabel) << "</text>\n";
+          << num(y0 + ph / 2) << ")\">" << xml_escape(options.ylabel) << "</text>\n";
       for (size_t i = 0; i < panel.x.size(); ++i) {
         if (!std::isfinite(panel.x[i]) || !std::isfinite(panel.y[i])) continue;
         svg << "<circle cx=\"" << num(px(panel.x[i])) << "\" cy=\"" << num(py(panel.y[i]))
@@ -195,7 +175,7 @@ std::string scatter_grid_svg(const std::vector<ScatterRow>& rows,
     // The row's colour bar: a vertical gradient from 0 (bottom) to the row's largest value.
     const double bx = static_cast<double>(columns) * cell_w + kBarGap - kGap, by = top + kTop;
     const std::string gradient = "bar" + std::to_string(r);
-    svg << "<g class=\"colorbar\" data-row=\"" << escape(row.name) << "\" data-min=\"0\" "
+    svg << "<g class=\"colorbar\" data-row=\"" << xml_escape(row.name) << "\" data-min=\"0\" "
         << "data-max=\"" << label(row_max) << "\">\n<defs><linearGradient id=\"" << gradient
         << "\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\">";
     for (int s = 0; s <= 8; ++s)
@@ -214,7 +194,7 @@ std::string scatter_grid_svg(const std::vector<ScatterRow>& rows,
     const double lx = bx + kBarWidth + kBarLabels - 30, ly = by + ph / 2;
     svg << "<text class=\"label\" x=\"" << num(lx) << "\" y=\"" << num(ly)
         << "\" text-anchor=\"middle\" transform=\"rotate(-90 " << num(lx) << " " << num(ly)
-        << ")\">" << escape(options.value_label + ", " + row.name) << "</text>\n</g>\n";
+        << ")\">" << xml_escape(options.value_label + ", " + row.name) << "</text>\n</g>\n";
   }
   svg << "</svg>\n";
   return svg.str();

@@ -9,10 +9,10 @@
 // extrapolation of the error: sum of the remaining differences). The first level with e_k below
 // `target_fraction` x noise is the model the identification uses. The finest level solved may be
 // chosen on its extrapolated error alone, without solving the next (largest) level, when a
-// convergence ratio is known and that error is at most half the target. When the DOF budget stops the
-// ladder first, the finest level solved is used, the check says so, and the identification widens
-// its significance test by the estimated error (identify.cpp) instead of adding effects to absorb
-// it.
+// convergence ratio is known and that error is at most half the target. When the DOF budget stops
+// the ladder first, the finest level solved is used, the check says so, and the identification
+// widens its significance test by the estimated error (identify.cpp) instead of adding effects to
+// absorb it.
 //
 // Every level is solved with the material of the nominal fit (E, nu), so the estimate is in the
 // same units and scale as the measured displacements.
