@@ -17,9 +17,12 @@ struct ProgramResult {
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `isospring ARGS` (ARGS is passed to the shell as written).
-inline ProgramResult run_isospring(const std::string& args) {
-  const std::string command = std::string(ISOSPRING_EXECUTABLE) + " " + args + " 2>&1";
+/// Runs `ENVIRONMENT isospring ARGS` (passed to the shell as written; ENVIRONMENT an `env`
+/// prefix such as "env -u VAR NAME=value", or empty).
+inline ProgramResult run_isospring_with_environment(const std::string& environment,
+                                                    const std::string& args) {
+  const std::string command =
+      environment + " " + std::string(ISOSPRING_EXECUTABLE) + " " + args + " 2>&1";
   ProgramResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -30,6 +33,11 @@ inline ProgramResult run_isospring(const std::string& args) {
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Runs `isospring ARGS` (ARGS is passed to the shell as written).
+inline ProgramResult run_isospring(const std::string& args) {
+  return run_isospring_with_environment("", args);
 }
 
 /// Path of a shipped example: ISOSPRING_SOURCE_DIR/examples/NAME.
