@@ -8,6 +8,7 @@
 #include "cli_checks.hpp"
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "isospring/analysis/blas_runtime.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/output_guard.hpp"
@@ -63,6 +64,11 @@ void run_analyze(const AnalyzeOptions& options) {
   report["dofs"] = result.dofs;
   report["assembly_seconds"] = result.assembly_seconds;
   report["factorization_seconds"] = result.factorization_seconds;
+  // The BLAS/LAPACK behind CHOLMOD's factorisation as loaded (the alternatives system or
+  // LD_LIBRARY_PATH choose it), which decides the factorisation time.
+  const analysis::BlasRuntime blas = analysis::loaded_blas();
+  report["blas"] = {{"name", blas.name},     {"library", blas.library}, {"lapack", blas.lapack},
+                    {"config", blas.config}, {"threads", blas.threads}, {"loaded", blas.loaded}};
 
   io::MarkdownReport md;
   md.heading(1, "isospring analyze: " + c.name);
@@ -107,11 +113,14 @@ void run_analyze(const AnalyzeOptions& options) {
   md.table({"load case", "max abs(u) [m]", "strain energy [J]", "reaction sum [N]", "solve [s]",
             "control displacements"},
            rows);
-  md.paragraph(std::to_string(result.dofs) + " DOFs (" + options.solver + "); assembly " +
-               io::format_number(result.assembly_seconds, 3) + " s, factorisation " +
-               io::format_number(result.factorization_seconds, 3) + " s, total " +
-               io::format_number(total, 3) + " s. Reaction sums are the forces the supports " +
-               "exert (K u - f summed over supported DOFs); they balance the applied loads.");
+  md.paragraph(
+      std::to_string(result.dofs) + " DOFs (" + options.solver + "); assembly " +
+      io::format_number(result.assembly_seconds, 3) + " s, factorisation " +
+      io::format_number(result.factorization_seconds, 3) + " s, total " +
+      io::format_number(total, 3) + " s; BLAS/LAPACK: " +
+      (blas.name.empty() ? std::string("none loaded") : blas.name + " (`" + blas.library + "`)") +
+      ". Reaction sums are the forces the supports " +
+      "exert (K u - f summed over supported DOFs); they balance the applied loads.");
   md.paragraph("ParaView: open `result.vtm` (geometry sampled 4 x per element and as exact " +
                std::string("Bezier cells, control net) with `displacement_<id>`, `stress_<id>`, ") +
                "`von_mises_<id>` and `strain_energy_density_<id>` per load case.");
@@ -128,7 +137,7 @@ void setup_analyze(CLI::App& app) {
       "Solve every load case of a case file with isogeometric linear elasticity (the reference)");
   cmd->footer(
       "Writes OUTDIR/report.json (per load case: max displacement, strain energy, reaction sum,\n"
-      "timings; DOFs; inputs summary), OUTDIR/report.md and\n"
+      "timings; DOFs; the BLAS/LAPACK library loaded; inputs summary), OUTDIR/report.md and\n"
       "OUTDIR/<load-case-id>_control_displacements.csv (i,x,y,z,ux,uy,uz per control point) and\n"
       "OUTDIR/result.vtm + OUTDIR/result/ (ParaView: sampled and Bezier geometry with\n"
       "displacement_<id>, stress_<id>, von_mises_<id>, strain_energy_density_<id>; control net).\n"

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "isospring/analysis/blas_runtime.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::apps {
@@ -39,6 +40,10 @@ void add_registered_commands(CLI::App& app) {
 }  // namespace isospring::apps
 
 int main(int argc, char** argv) {
+  // OMP_WAIT_POLICY=passive unless the user chose a policy (README, "Performance"): CHOLMOD's
+  // OpenMP threads then sleep instead of spinning at barriers on a loaded machine. libgomp reads
+  // it before main, so this re-executes the program once with it set.
+  isospring::analysis::restart_with_passive_threads(argv);
   CLI::App app{
       "isospring: from a CAD part to a calibrated NURBS mass-spring model.\n"
       "Pipeline: CAD -> NURBS -> refinement -> IGA reference -> NMSM calibration ->\n"

@@ -24,6 +24,14 @@ find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
 add_library(isospring_cholmod INTERFACE)
 target_include_directories(isospring_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
 target_link_libraries(isospring_cholmod INTERFACE ${CHOLMOD_LIBRARY})
+# CHOLMOD's BLAS/LAPACK calls bind to the first library in the program's load order that defines
+# them. Debian's libceres-dev hard-wires ATLAS into its link interface (libf77blas, libatlas), so
+# ATLAS's libf77blas.so.3 was a direct dependency of every program and CHOLMOD's dgemm_ went to
+# ATLAS whatever libblas.so.3 is (the alternatives system, LD_LIBRARY_PATH). The generic
+# libblas.so.3 and liblapack.so.3 come first instead (kept by --no-as-needed: the programs call
+# no BLAS themselves); `analyze` reports the library that is bound (analysis/blas_runtime.hpp).
+target_link_options(isospring_cholmod INTERFACE
+                    "LINKER:--push-state,--no-as-needed,-lblas,-llapack,--pop-state")
 
 find_package(Spectra REQUIRED)
 find_package(Ceres 2.1 REQUIRED)

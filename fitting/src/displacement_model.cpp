@@ -180,7 +180,13 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
       for (int e = begin_[s]; e < begin_[s + 1]; ++e) values[slot_[e]] += k * coefficient_[e];
     }
     solver_.factorize(k_);
-    if (solver_.info() != Eigen::Success) return false;
+    // A network the spring solves would refuse as singular (groups at the stiffness floor left
+    // holding a near-mechanism) is no trial point: the fit must not end where the calibrated
+    // model cannot be solved. Which side of the line such a fit ended on was decided by
+    // round-off (the torus of ThesisExperiments with OpenBLAS on two threads).
+    constexpr double kSingularPivotRatio = 1e-13;
+    if (solver_.info() != Eigen::Success || !(solver_.pivot_ratio() > kSingularPivotRatio))
+      return false;
     u_.resize(static_cast<size_t>(cases));
     for (int c = 0; c < cases; ++c) {
       u_[c] = solver_.solve(load_[c]);

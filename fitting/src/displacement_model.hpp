@@ -17,6 +17,15 @@
 
 namespace isospring::fitting::detail {
 
+// CHOLMOD's supernodal LL^T and the pivot ratio of its factor, (min L_ii / max L_ii)^2
+// (cholmod_rcond): the ratio of the smallest to the largest pivot that the spring solves
+// (analysis/src/spring_static.cpp) take as singular below 1e-13.
+class PivotCheckedCholmod
+    : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> {
+ public:
+  double pivot_ratio() { return cholmod_rcond(this->m_cholmodFactor, &this->cholmod()); }
+};
+
 class DisplacementModel {
  public:
   /// Throws nurbs::InputError when the data or grouping are inconsistent.
@@ -96,7 +105,7 @@ class DisplacementModel {
   bool factor_at_inverse_ = false;  // solver_ still holds the factorisation inverse_ came from
   std::vector<Eigen::VectorXd> spring_force_;
   Eigen::SparseMatrix<double> k_;  // upper triangle on the free DOFs
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver_;
+  PivotCheckedCholmod solver_;
 };
 
 }  // namespace isospring::fitting::detail

@@ -4,14 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "run_program.hpp"
 
 using isospring::testing::example;
 using isospring::testing::run_isospring;
+using isospring::testing::run_isospring_with_environment;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
@@ -100,6 +103,34 @@ TEST(Analyze, CantileverReactionsBalanceTheLoadsAndTablesMatchTheReport) {
   std::stringstream text;
   text << md.rdbuf();
   EXPECT_NE(text.str().find("| tip_down |"), std::string::npos);
+  // The BLAS behind CHOLMOD, as the program loaded it.
+  const std::string blas = report["blas"]["name"].get<std::string>();
+  EXPECT_FALSE(blas.empty());
+  EXPECT_TRUE(std::filesystem::exists(report["blas"]["library"].get<std::string>()));
+  EXPECT_NE(text.str().find("BLAS/LAPACK: " + blas), std::string::npos);
+}
+
+TEST(Analyze, ReportsTheBlasThatTheDynamicLinkerChose) {
+  // Debian installs each BLAS as libblas.so.3 in its own folder; LD_LIBRARY_PATH picks one for a
+  // run whatever the alternatives system points to, and the report must follow.
+  const std::string lib = "/usr/lib/x86_64-linux-gnu/";
+  int checked = 0;
+  for (const auto& [folder, name] :
+       {std::pair{"openblas-pthread", "OpenBLAS"}, std::pair{"atlas", "ATLAS"},
+        std::pair{"blas", "reference BLAS"}}) {
+    if (!std::filesystem::exists(lib + folder + "/libblas.so.3")) continue;
+    ++checked;
+    TemporaryFolder out;
+    const auto result = run_isospring_with_environment(
+        "env LD_LIBRARY_PATH=" + lib + folder,
+        "analyze " + example("timoshenko_beam.json") + " -o " + out.path().string() + " --quiet");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const json report = read_json(out / "report.json");
+    EXPECT_EQ(report["blas"]["name"], name) << report["blas"].dump();
+    EXPECT_EQ(report["blas"]["library"].get<std::string>().find(lib + folder + "/"), 0u)
+        << report["blas"].dump();
+  }
+  if (checked == 0) GTEST_SKIP() << "no Debian BLAS folder in " << lib;
 }
 
 TEST(Analyze, BadInputExitsWithOneAndNamesTheField) {

@@ -10,6 +10,7 @@
 #include "run_program.hpp"
 
 using isospring::testing::run_isospring;
+using isospring::testing::run_isospring_with_environment;
 using isospring::testing::TemporaryFolder;
 
 namespace {
@@ -127,4 +128,26 @@ TEST(CliKernel, UsageErrorsExitWithTwoAndNothingIsWritten) {
   EXPECT_FALSE(std::filesystem::exists(folder / "y.json"));
   EXPECT_EQ(run_isospring("eval " + kAnnulus + " --at 0.5").exit_code, 1);
   EXPECT_EQ(run_isospring("eval " + kAnnulus + " --at 0.5,2").exit_code, 1);
+}
+
+namespace {
+// libgomp's own report of the spin count it started with (OMP_DISPLAY_ENV=verbose): the last one
+// printed, i.e. that of the process that ran the command.
+std::string started_spin_count(const std::string& environment) {
+  const auto result = run_isospring_with_environment(environment, "--version");
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  const std::string& output = result.output;
+  const std::string key = "GOMP_SPINCOUNT = '";
+  const size_t at = output.rfind(key);
+  if (at == std::string::npos) return "not reported: " + output;
+  const size_t begin = at + key.size();
+  return output.substr(begin, output.find('\'', begin) - begin);
+}
+}  // namespace
+
+TEST(CliKernel, OpenMpThreadsSleepInsteadOfSpinningUnlessTheUserChose) {
+  const std::string unset = "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT OMP_DISPLAY_ENV=verbose";
+  EXPECT_EQ(started_spin_count(unset), "0");  // passive
+  EXPECT_NE(started_spin_count(unset + " OMP_WAIT_POLICY=active"), "0");
+  EXPECT_EQ(started_spin_count(unset + " GOMP_SPINCOUNT=1234"), "1234");
 }

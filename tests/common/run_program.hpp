@@ -37,6 +37,13 @@ inline ProgramResult run_isospring(const std::string& args) {
   return run_program(std::string(ISOSPRING_EXECUTABLE) + " " + args);
 }
 
+/// Runs `ENVIRONMENT isospring ARGS` (passed to the shell as written; ENVIRONMENT an `env`
+/// prefix such as "env -u VAR NAME=value", or empty).
+inline ProgramResult run_isospring_with_environment(const std::string& environment,
+                                                    const std::string& args) {
+  return run_program(environment + " " + std::string(ISOSPRING_EXECUTABLE) + " " + args);
+}
+
 /// Path of a shipped example: ISOSPRING_SOURCE_DIR/examples/NAME.
 inline std::string example(const std::string& name) {
   return std::string(ISOSPRING_SOURCE_DIR) + "/examples/" + name;

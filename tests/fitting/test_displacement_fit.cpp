@@ -218,3 +218,42 @@ TEST(DisplacementFit, ZeroReferenceIsInputError) {
 
 }  // namespace
 }  // namespace isospring::fitting
+
+namespace isospring::fitting {
+namespace {
+
+// The objective fails an evaluation exactly where the spring solves refuse the network as
+// singular, so that a fit cannot end at a calibrated model that cannot be solved: with one
+// rest-length group far below the other, the grid's shear (or sublattice) mechanism is held by
+// springs too soft to be resolved in double precision.
+TEST(DisplacementFit, NumericallySingularNetworkIsAFailedEvaluation) {
+  const DisplacementFitData data = synthetic_data({3, 3}, {1000.0});
+  const Grouping grouping = group_by_rest_length(data.network, 0.01);
+  ASSERT_EQ(grouping.num_groups(), 2);
+  for (int soft = 0; soft < 2; ++soft)
+    for (double ratio : {1e-3, 1e-6, 1e-12, 1e-15, 1e-18}) {
+      SCOPED_TRACE("group " + std::to_string(soft) + " at " + std::to_string(ratio));
+      Eigen::VectorXd theta = Eigen::VectorXd::Constant(2, std::log(1000.0));
+      theta[soft] += std::log(ratio);
+      analysis::SpringNetwork network = data.network;
+      for (size_t s = 0; s < network.springs.size(); ++s)
+        network.springs[s].stiffness = std::exp(theta[grouping.group_of_spring[s]]);
+      bool solvable = true;
+      try {
+        analysis::solve_spring_linear(network, data.loads[0], data.constrained_dofs);
+      } catch (const std::runtime_error&) {
+        solvable = false;
+      }
+      if (ratio >= 1e-6) {
+        EXPECT_TRUE(solvable);  // the fit's stiffness floor stays solvable
+      }
+      if (ratio <= 1e-15) {
+        EXPECT_FALSE(solvable);
+      }
+      Eigen::VectorXd residuals;
+      EXPECT_EQ(displacement_residuals(data, grouping, theta, residuals, nullptr), solvable);
+    }
+}
+
+}  // namespace
+}  // namespace isospring::fitting

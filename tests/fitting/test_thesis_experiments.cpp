@@ -169,7 +169,14 @@ TEST(ThesisExperiments, CurvedObjectsMatchPublishedNetsAndReportFiniteErrors) {
                      : name == "torus"   ? 0.5
                                          : 0.1;
     settings.max_iterations = 3000;
-    const CalibrationResult result = calibrate(object.problem, settings);
+    // A fit that leaves the network numerically singular is reported with the object's name.
+    CalibrationResult result;
+    try {
+      result = calibrate(object.problem, settings);
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << name << ": " << e.what();
+      continue;
+    }
     ASSERT_EQ(result.fit.size(), 1u);
     ASSERT_EQ(result.holdout.size(), 2u);
     EXPECT_TRUE(std::isfinite(result.fit[0].control.percent_e_rms));
