@@ -316,6 +316,7 @@ void run_identify(const IdentifyCommandOptions& options) {
                                  {"p_value", t.p_value},
                                  {"delta_bic", t.delta_bic},
                                  {"score_f", t.score_f},
+                                 {"model_error_allowance", t.model_error_allowance},
                                  {"seconds", t.seconds},
                                  {"note", t.note}});
     report["selection"].push_back(j);

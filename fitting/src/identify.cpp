@@ -302,14 +302,71 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   return fit;
 }
 
+// The part of the weighted residual r, and of the weighted model error e, along the Jacobian
+// columns D of parameters first_new.. that the earlier parameters' columns J cannot already
+// explain: |P r|^2 and |P e|^2 with P the projection on (I - J J^+) D, at parameters theta.
+struct NewColumnProjection {
+  bool done = false;
+  int rank = 0;
+  double residual = 0.0, model_error = 0.0, rss = 0.0;
+};
+
+NewColumnProjection project_on_new_columns(const Setup& setup, const Model& model,
+                                           const Eigen::VectorXd& theta, Eigen::Index first_new,
+                                           const std::vector<Eigen::VectorXd>& weights,
+                                           const std::vector<Eigen::VectorXd>* model_error) {
+  NewColumnProjection out;
+  const Eigen::Index total = theta.size();
+  ModelEvaluation eval;
+  try {
+    eval = model.forward->evaluate(theta, true);
+  } catch (const std::exception&) {
+    return out;
+  }
+  const Eigen::Index rows = setup_rows(weights);
+  Eigen::MatrixXd jacobian(rows, total);
+  Eigen::VectorXd residual(rows);
+  Eigen::VectorXd error = Eigen::VectorXd::Zero(rows);
+  Eigen::Index row = 0;
+  for (size_t l = 0; l < weights.size(); ++l)
+    for (Eigen::Index k = 0; k < weights[l].size(); ++k, ++row) {
+      jacobian.row(row) = weights[l][k] * eval.jacobians[l].row(k);
+      residual[row] = weights[l][k] * (setup.measured[l][k] - eval.predictions[l][k]);
+      if (model_error) error[row] = weights[l][k] * (*model_error)[l][k];
+    }
+  // Column scaling keeps the projection's conditioning independent of the parameters' units.
+  Eigen::VectorXd scale = jacobian.colwise().norm().transpose();
+  for (Eigen::Index c = 0; c < total; ++c)
+    if (scale[c] > 0.0) jacobian.col(c) /= scale[c];
+  const Eigen::MatrixXd earlier = jacobian.leftCols(first_new);
+  Eigen::MatrixXd added = jacobian.rightCols(total - first_new);
+  added -= earlier * earlier.colPivHouseholderQr().solve(added);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(added);
+  out.rank = static_cast<int>(qr.rank());
+  if (out.rank == 0) return out;
+  out.rss = residual.squaredNorm();
+  out.residual = std::min((added * qr.solve(residual)).squaredNorm(), out.rss);
+  if (model_error) out.model_error = (added * qr.solve(error)).squaredNorm();
+  out.done = true;
+  return out;
+}
+
 // The score (Lagrange-multiplier) test of adding a candidate to the current fit: with the
 // candidate at its neutral values the model equals the current one, so the residual r is the
-// current residual, and to first order the best the candidate can do is to remove the part of r
-// along its Jacobian columns D that the current parameters' columns J cannot already explain:
-// reduction = |P r|^2 with P the projection on (I - J J^+) D. F and p as in the F-test.
+// current residual, and to first order the best the candidate can do is to remove |P r|^2
+// (project_on_new_columns). F and p as in the F-test.
 struct ScoreTest {
   bool done = false;
   double reduction = 0.0, f_statistic = 0.0, p_value = 1.0;
+  int q = 0, d2 = 0;  // the F-test's degrees of freedom
+  double rss = 0.0;   // at the current fit
+
+  /// F and p again with another allowance.
+  void widen(double allowance) {
+    if (!done) return;
+    f_statistic = std::max(0.0, (reduction - allowance) / q) / ((rss - reduction) / d2);
+    p_value = f_test_p_value(f_statistic, q, d2);
+  }
 };
 
 ScoreTest score_test(const Setup& setup, const Model& candidate, const Fit& current,
@@ -317,43 +374,19 @@ ScoreTest score_test(const Setup& setup, const Model& candidate, const Fit& curr
                      double allowance) {
   ScoreTest out;
   const Eigen::Index p = current.theta.size();
-  const Eigen::Index total = candidate.forward->num_parameters();
-  if (neutral.size() != total - p) return out;
-  Eigen::VectorXd theta(total);
+  if (neutral.size() != candidate.forward->num_parameters() - p) return out;
+  Eigen::VectorXd theta(candidate.forward->num_parameters());
   theta << current.theta, neutral;
-  ModelEvaluation eval;
-  try {
-    eval = candidate.forward->evaluate(theta, true);
-  } catch (const std::exception&) {
-    return out;
-  }
-  const Eigen::Index rows = setup_rows(weights);
-  Eigen::MatrixXd jacobian(rows, total);
-  Eigen::VectorXd residual(rows);
-  Eigen::Index row = 0;
-  for (size_t l = 0; l < weights.size(); ++l)
-    for (Eigen::Index k = 0; k < weights[l].size(); ++k, ++row) {
-      jacobian.row(row) = weights[l][k] * eval.jacobians[l].row(k);
-      residual[row] = weights[l][k] * (setup.measured[l][k] - eval.predictions[l][k]);
-    }
-  // Column scaling keeps the projection's conditioning independent of the parameters' units.
-  Eigen::VectorXd scale = jacobian.colwise().norm().transpose();
-  for (Eigen::Index c = 0; c < total; ++c)
-    if (scale[c] > 0.0) jacobian.col(c) /= scale[c];
-  const Eigen::MatrixXd current_columns = jacobian.leftCols(p);
-  Eigen::MatrixXd added = jacobian.rightCols(total - p);
-  added -= current_columns * current_columns.colPivHouseholderQr().solve(added);
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(added);
-  if (qr.rank() == 0) return out;
-  const Eigen::VectorXd along = added * qr.solve(residual);
-  const int q = static_cast<int>(qr.rank());
+  const NewColumnProjection projection =
+      project_on_new_columns(setup, candidate, theta, p, weights, nullptr);
+  if (!projection.done) return out;
+  const int q = projection.rank;
   const int d2 = current.rows - static_cast<int>(p) - q;
-  const double rss = residual.squaredNorm();
-  out.reduction = std::min(along.squaredNorm(), rss);
-  if (d2 <= 0 || !(rss - out.reduction > 0.0)) return out;
-  out.f_statistic = std::max(0.0, (out.reduction - allowance) / q) / ((rss - out.reduction) / d2);
-  out.p_value = f_test_p_value(out.f_statistic, q, d2);
+  out.reduction = projection.residual;
+  if (d2 <= 0 || !(projection.rss - out.reduction > 0.0)) return out;
+  out.q = q, out.d2 = d2, out.rss = projection.rss;
   out.done = true;
+  out.widen(allowance);
   return out;
 }
 
@@ -546,17 +579,54 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
         if (marker.sigma > 0.0) sum += marker.sigma * marker.sigma, ++given;
       if (given > 0) noise = std::sqrt(sum / given);
     }
-    if (!(noise > 0.0)) {
-      const MarkerResidual r = marker_residual(case_setup, case_baseline, case_fit.theta, markers);
-      noise = weighted_noise(case_setup, r.positions, r.residual, r.group);
-    }
+    const bool noise_from_data = !(noise > 0.0);
+    const double max_weight = case_setup.component_weight.head(case_setup.dim).maxCoeff();
+    const MarkerResidual case_residual =
+        marker_residual(case_setup, case_baseline, case_fit.theta, markers);
+    if (noise_from_data)
+      noise = weighted_noise(case_setup, case_residual.positions, case_residual.residual,
+                             case_residual.group);
     if (!(noise > 0.0)) noise = provisional;
     // The reference must be accurate enough for the most precise component (sigma / max w_c).
-    noise /= case_setup.component_weight.head(case_setup.dim).maxCoeff();
+    noise /= max_weight;
     const double nu = options.fit_poisson ? case_fit.theta[1] : problem.material.poisson_ratio;
-    result.discretization = check_discretization(
-        problem, markers, placements, problem.material.youngs_modulus * case_fit.theta[0], nu,
-        noise, options.discretization, say);
+    const double youngs_modulus = problem.material.youngs_modulus * case_fit.theta[0];
+    result.discretization = check_discretization(problem, markers, placements, youngs_modulus, nu,
+                                                 noise, options.discretization, say);
+    // A noise level estimated from the data on the case's own discretisation contains that
+    // discretisation's error (measured on the suite's tube: 1.8e-5 m against a true 6.9e-6 m),
+    // so the target was too loose and a level with 0.7 x the true noise of numerical error was
+    // accepted, which an effect then absorbed. Re-estimate the noise on the finest level solved
+    // and run the check again with it while it drops by more than a quarter.
+    for (int pass = 0; noise_from_data && pass < 2; ++pass) {
+      const DiscretizationCheck& check = result.discretization;
+      if (!check.done || check.finest_prediction.size() != markers.size()) break;
+      const Eigen::Vector3d w2 = case_setup.component_weight.cwiseAbs2();
+      double dp = 0.0, pp = 0.0;
+      for (size_t m = 0; m < markers.size(); ++m) {
+        dp += markers[m].displacement.cwiseProduct(w2).dot(check.finest_prediction[m]);
+        pp += check.finest_prediction[m].cwiseProduct(w2).dot(check.finest_prediction[m]);
+      }
+      const double scale = pp > 0.0 ? dp / pp : 1.0;  // the refit of E on the finest level
+      std::vector<Eigen::Vector3d> residual(markers.size());
+      for (size_t m = 0; m < markers.size(); ++m)
+        residual[m] = markers[m].displacement - scale * check.finest_prediction[m];
+      const double refined_noise =
+          weighted_noise(case_setup, case_residual.positions, residual, case_residual.group) /
+          max_weight;
+      if (!(refined_noise > 0.0) || refined_noise >= 0.75 * noise) break;
+      say("noise re-estimated on the finest level: " + std::to_string(refined_noise) +
+          " m (the case's discretisation gave " + std::to_string(noise) + " m); checking again");
+      const std::string previous = "the noise estimated on the case's discretisation, " +
+                                   std::to_string(noise) +
+                                   " m, was re-estimated on the finest level solved as " +
+                                   std::to_string(refined_noise) + " m";
+      noise = refined_noise;
+      result.discretization =
+          check_discretization(problem, markers, placements, youngs_modulus / scale, nu, noise,
+                               options.discretization, say);
+      result.discretization.note += (result.discretization.note.empty() ? "" : "; ") + previous;
+    }
     if (result.discretization.chosen_problem) {
       refined_problem = std::move(result.discretization.chosen_problem);
       result.discretization.chosen_problem.reset();
@@ -634,6 +704,22 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       unavailable.push_back(name + ": " + why);
   }
 
+  // The model's own error at the observations (per load case, rows as measured): the
+  // discretisation check's estimate at the level used. Whatever part of it a candidate could
+  // absorb is not evidence for that candidate: its F-test is widened by it (below).
+  std::vector<Eigen::VectorXd> model_error;
+  if (disc.done && disc.marker_error.size() == markers.size())
+    for (size_t l = 0; l < setup.measured.size(); ++l) {
+      Eigen::VectorXd e(setup.measured[l].size());
+      for (Eigen::Index k = 0; k < e.size(); ++k)
+        e[k] =
+            disc.marker_error[static_cast<size_t>(setup.markers[l][static_cast<size_t>(k / dim)])]
+                             [k % dim];
+      model_error.push_back(e);
+    }
+  // Allowance of each effect, from the round that added it (for the backward step).
+  std::map<const Effect*, double> allowance_of;
+
   // Forward selection.
   std::vector<const Effect*> chosen;
   Model current = build_model(setup, chosen, first_fit.theta);
@@ -677,11 +763,13 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       test.effect = effect->name();
       test.parameters = effect->num_parameters();
       ++tried;
+      ScoreTest score;
+      const bool screen = model.forward->nonlinear();
+      if (screen)
+        score = score_test(setup, model, current_fit, effect->neutral_values(), weights, allowance);
       // An expensive candidate (Newton solves) is fitted only when a score test at the current
       // fit does not rule it out: far below the threshold it cannot become significant.
-      if (model.forward->nonlinear()) {
-        const ScoreTest score =
-            score_test(setup, model, current_fit, effect->neutral_values(), weights, allowance);
+      if (screen) {
         const double threshold = options.significance / static_cast<double>(library.size());
         if (score.done) test.score_f = score.f_statistic;
         if (score.done && score.p_value > 10.0 * threshold) {
@@ -721,21 +809,47 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
         round.candidates.push_back(test);
         continue;
       }
+      // The part of the model's own discretisation error this candidate could absorb, |P e|^2,
+      // to first order at its fit, plus two standard deviations of its cross term with the
+      // noise, 2 x 2|P e|: the candidate must explain more than that to count (measured on the
+      // suite's cantilever_frame: the Newton candidate gained 12 weighted RSS units, p = 5e-4,
+      // where the estimated discretisation error at the markers was 25).
+      double candidate_allowance = allowance;
+      if (!model_error.empty()) {
+        const double absorbed =
+            project_on_new_columns(setup, model, fit.theta, current_fit.theta.size(), weights,
+                                   &model_error)
+                .model_error;
+        candidate_allowance = std::max(allowance, absorbed + 4.0 * std::sqrt(absorbed));
+      }
+      test.model_error_allowance = candidate_allowance;
+      allowance_of[effect] = candidate_allowance;
       test.rss = fit.rss;
       const int d1 = test.parameters;
       const int d2 = fit.rows - static_cast<int>(fit.theta.size());
       test.f_statistic =
-          d2 > 0 ? std::max(0.0, (current_fit.rss - fit.rss - allowance) / d1) / (fit.rss / d2)
+          d2 > 0 ? std::max(0.0, (current_fit.rss - fit.rss - candidate_allowance) / d1) /
+                       (fit.rss / d2)
                  : 0.0;
       test.p_value = f_test_p_value(test.f_statistic, d1, d2);
       const double n = static_cast<double>(fit.rows);
       test.delta_bic =
-          n * std::log(std::max(fit.rss - allowance, 1e-300) / current_fit.rss) + d1 * std::log(n);
+          n * std::log(std::max(fit.rss + candidate_allowance, 1e-300) / current_fit.rss) +
+          d1 * std::log(n);
+      // Both criteria must favour an effect: the F-test at a fixed significance lets ever
+      // smaller systematic misfits through as the number of markers grows, BIC's penalty
+      // (ln n per parameter) does not (measured on the suite's tube with undeclared self-weight:
+      // a clamp compliance passed the F-test, p = 8e-4, with delta BIC +0.6).
+      const bool bic_favours = !(test.delta_bic >= 0.0);
+      if (!bic_favours && test.p_value < options.significance)
+        test.note = "significant by the F-test, but BIC does not favour it (delta BIC " +
+                    std::to_string(test.delta_bic) + " >= 0): not added";
       round.candidates.push_back(test);
       // Strong effects have p-values that underflow to 0 in double; among equal p-values the
       // candidate with the lower BIC wins (the most explained per parameter), not the first one
       // tried and not simply the largest.
-      if (test.p_value < best_p || (test.p_value == best_p && best && test.delta_bic < best_bic)) {
+      if (bic_favours && (test.p_value < best_p ||
+                          (test.p_value == best_p && best && test.delta_bic < best_bic))) {
         best_p = test.p_value;
         best_bic = test.delta_bic;
         best = effect;
@@ -752,24 +866,32 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       // the new one, and an effect may be more general than the data need now (a rigid motion
       // per load case where one shared motion does). Drop an earlier effect, or replace an
       // effect by its nested simpler version (Effect::simpler), while the F-test of the change
-      // fails; the least significant change first.
+      // fails or BIC favours the change; the least significant change first.
       while (true) {
         double worst_p = -1.0;
+        bool worst_favoured_by_bic = false;
         std::vector<const Effect*> worst_effects;
         Fit worst_fit;
         std::string worst_change;   // for the progress line
         std::string worst_removed;  // for round.removed: the effect's name, or the replacement
         auto consider = [&](const std::vector<const Effect*>& reduced, const Eigen::VectorXd& start,
-                            int d1, const std::string& change, const std::string& removed) {
+                            int d1, const std::string& change, const std::string& removed,
+                            double effect_allowance) {
           if (d1 <= 0) return;
           const Fit fit = run_fit(setup, build_model(setup, reduced, start), weights);
           if (!fit.ok) return;
           const int d2 = current_fit.rows - static_cast<int>(current_fit.theta.size());
-          const double f =
-              std::max(0.0, (fit.rss - current_fit.rss - allowance) / d1) / (current_fit.rss / d2);
+          const double f = std::max(0.0, (fit.rss - current_fit.rss - effect_allowance) / d1) /
+                           (current_fit.rss / d2);
           const double p = f_test_p_value(f, d1, d2);
-          if (p > worst_p) {
+          const double n = static_cast<double>(current_fit.rows);
+          const double delta_bic =
+              n * std::log(fit.rss / std::max(current_fit.rss + effect_allowance, 1e-300)) -
+              d1 * std::log(n);
+          const bool droppable = p > options.significance || delta_bic < 0.0;
+          if (droppable && p > worst_p) {
             worst_p = p;
+            worst_favoured_by_bic = delta_bic < 0.0;
             worst_effects = reduced;
             worst_fit = fit;
             worst_change = change;
@@ -781,8 +903,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
             std::vector<const Effect*> reduced = chosen;
             reduced.erase(reduced.begin() + static_cast<std::ptrdiff_t>(e));
             consider(reduced, start_replacing(setup, current, current_fit.theta, e, nullptr),
-                     chosen[e]->num_parameters(), "dropped " + chosen[e]->name(),
-                     chosen[e]->name());
+                     chosen[e]->num_parameters(), "dropped " + chosen[e]->name(), chosen[e]->name(),
+                     allowance_of[chosen[e]]);
           }
           const std::string simpler = chosen[e]->simpler();
           const auto it = std::find_if(library.begin(), library.end(),
@@ -793,11 +915,13 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
             replaced[e] = it->get();
             const std::string change = "replaced " + chosen[e]->name() + " by " + simpler;
             consider(replaced, start_replacing(setup, current, current_fit.theta, e, it->get()),
-                     chosen[e]->num_parameters() - (*it)->num_parameters(), change, change);
+                     chosen[e]->num_parameters() - (*it)->num_parameters(), change, change,
+                     allowance_of[chosen[e]]);
           }
         }
-        if (worst_p <= options.significance) break;
-        say(worst_change + " (p = " + std::to_string(worst_p) + ")");
+        if (worst_p < 0.0) break;  // no change is favoured by either criterion
+        say(worst_change + " (p = " + std::to_string(worst_p) +
+            (worst_favoured_by_bic ? ", BIC favours the change)" : ")"));
         round.removed.push_back(worst_removed);
         chosen = worst_effects;
         current = build_model(setup, chosen, worst_fit.theta);

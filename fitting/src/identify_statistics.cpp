@@ -1,5 +1,5 @@
-// Statistics of the identification: the F-test tail, the nearest-neighbour noise estimate and the
-// column-scaled Gauss-Newton covariance.
+// Statistics of the identification: the F-test tail and the column-scaled Gauss-Newton covariance
+// (the noise estimate: noise_estimate.cpp).
 #include <Eigen/SVD>
 #include <algorithm>
 #include <boost/math/distributions/fisher_f.hpp>
@@ -52,33 +52,6 @@ Eigen::MatrixXd gauss_newton_covariance(const Eigen::MatrixXd& weighted_jacobian
       covariance.col(j).setConstant(nan);
     }
   return covariance;
-}
-
-double estimate_noise(const std::vector<Eigen::Vector3d>& positions,
-                      const std::vector<Eigen::Vector3d>& residuals, const std::vector<int>& group,
-                      int dimension) {
-  std::vector<double> differences;
-  const size_t n = positions.size();
-  for (size_t m = 0; m < n; ++m) {
-    size_t nearest = n;
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t k = 0; k < n; ++k) {
-      if (k == m || group[k] != group[m]) continue;
-      const double d = (positions[k] - positions[m]).squaredNorm();
-      if (d < best) {
-        best = d;
-        nearest = k;
-      }
-    }
-    if (nearest == n) continue;
-    for (int c = 0; c < dimension; ++c)
-      differences.push_back(std::abs(residuals[m][c] - residuals[nearest][c]));
-  }
-  if (differences.empty()) return 0.0;
-  auto middle = differences.begin() + static_cast<std::ptrdiff_t>(differences.size() / 2);
-  std::nth_element(differences.begin(), middle, differences.end());
-  // MAD of a difference of two independent N(0, s^2) values: 0.6745 sqrt(2) s.
-  return 1.482602218505602 * *middle / std::sqrt(2.0);
 }
 
 }  // namespace isospring::fitting

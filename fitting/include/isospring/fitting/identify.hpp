@@ -19,9 +19,13 @@
 // than the weighted squared discretisation error that the material fit cannot absorb
 // (discretization_allowance), so a model's own numerical error is never named as physics.
 //
-// Noise level: given, or estimated from the baseline residual as 1.4826 MAD(r_m - r_nn) / sqrt(2)
-// over markers m and their nearest neighbours nn (same load case): neighbouring differences
-// cancel the smooth part of the residual (what the model misses) and keep the noise.
+// Noise level: given, or estimated from the baseline residual by local linear fits: at every
+// marker, a linear function of position is fitted to the residuals of it and its nearest
+// neighbours (same load case), and the marker's misfit, divided by sqrt(1 - h) (h its leverage),
+// is a sample of the noise; sigma = 1.4826 MAD over markers and components. The fit removes the
+// smooth part of the residual (what the model misses) up to its curvature across a
+// neighbourhood, where plain neighbour differences kept its gradient (measured on the suite's
+// tube with undeclared self-weight: 2.7 x the true noise).
 #include <Eigen/Core>
 #include <functional>
 #include <limits>
@@ -96,6 +100,11 @@ struct CandidateTest {
   /// in the report, and the tie-break between candidates whose p-values both underflow to 0 (the
   /// RSS alone would then always favour the candidate with more parameters).
   double delta_bic = std::numeric_limits<double>::quiet_NaN();
+  /// What the F-test and BIC discount from the candidate's RSS reduction (weighted RSS units):
+  /// the part of the reference's estimated discretisation error at the markers that the
+  /// candidate could absorb to first order, |P e|^2 + 4 |P e| (two standard deviations of its
+  /// cross term with the noise), or the whole widening when the DOF budget was exhausted.
+  double model_error_allowance = 0.0;
 };
 
 struct SelectionRound {
@@ -197,8 +206,9 @@ Eigen::MatrixXd gauss_newton_covariance(const Eigen::MatrixXd& weighted_jacobian
 /// Upper tail of the F distribution: P(F(d1, d2) > f).
 double f_test_p_value(double f, int d1, int d2);
 
-/// The robust nearest-neighbour noise estimate described above, from per-marker residual vectors
-/// (only the first `dimension` components), markers grouped by `group`.
+/// The robust local-linear-fit noise estimate described above, from per-marker residual vectors
+/// (only the first `dimension` components), markers grouped by `group`; 0 when no group has enough
+/// markers for a fit with residual degrees of freedom.
 double estimate_noise(const std::vector<Eigen::Vector3d>& positions,
                       const std::vector<Eigen::Vector3d>& residuals, const std::vector<int>& group,
                       int dimension);
