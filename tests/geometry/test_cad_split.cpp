@@ -14,6 +14,7 @@
 #include <cmath>
 #include <fstream>
 #include <gp_Circ.hxx>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "cad_test_io.hpp"
@@ -21,6 +22,7 @@
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
+#include "isospring/io/patch_file.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "planar_split_checks.hpp"
 #include "run_program.hpp"
@@ -82,6 +84,14 @@ TEST(CadSplit, PlateWithHolesExample) {
   EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-12);
   for (const auto& p : model.volume_patches) EXPECT_GT(jacobian_range(p, 4).min, 0.0);
   EXPECT_EQ(cad_patches(model).size(), 15u);  // the analysis takes the volumes
+  // A cut face alone as a thin plate: its 15 patches extruded by `thickness` along the normal.
+  for (const auto& f : model.face_reports) {
+    if (f.split == 0) continue;
+    const auto plate = cad_patches(model, 0.001, {f.index});
+    ASSERT_EQ(plate.size(), 15u);
+    EXPECT_NEAR(measure(plate) / (0.001 * f.area), 1.0, 1e-12);
+    for (const auto& p : plate) EXPECT_GT(jacobian_range(p, 4).min, 0.0);
+  }
   EXPECT_NE(describe(model).find("split into 15 conforming patches"), std::string::npos);
 }
 
@@ -144,6 +154,37 @@ TEST(CadSplit, FaceThatCannotBeCutIsNamed) {
               std::string::npos)
         << e.what();
   }
+}
+
+// `import` writes the cut patches with a report of per-patch Jacobian bounds and the volume
+// check against OpenCascade; `info --json` says for every face how it will be analysed.
+TEST(CadSplit, ImportReportAndInfo) {
+  if (!fs::exists(ISOSPRING_EXECUTABLE)) GTEST_SKIP() << "build the isospring program first";
+  const testing::TemporaryFolder folder;
+  const fs::path out = folder.path() / "plate.json";
+  const auto result = testing::run_isospring("import " + example("plate_with_holes.step").string() +
+                                             " -o " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(io::read_patch_file(out).size(), 15u);
+  std::ifstream in(out.string() + ".report.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["patch_count"], 15);
+  EXPECT_LT(std::abs(report["measure_relative_error"].get<double>()), 1e-9);
+  ASSERT_EQ(report["patches"].size(), 15u);
+  for (const auto& p : report["patches"]) EXPECT_GT(p["jacobian_min"].get<double>(), 0.0);
+  int split = 0;
+  for (const auto& f : report["faces"]) split += f["split_patches"].get<int>() > 0;
+  EXPECT_EQ(split, 2);
+
+  const auto info = testing::run_isospring("info --json " + example("bracket.step").string());
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  const auto j = nlohmann::json::parse(info.output);
+  std::map<std::string, int> kinds;
+  for (const auto& f : j["cad"]["face_analysis"]) kinds[f["analysis"].get<std::string>()] += 1;
+  EXPECT_EQ(kinds["split"], 4);  // two L sections (3 rectangles), two faces with the hole (5)
+  EXPECT_EQ(kinds["exact patch"] + kinds["Coons patch"], 5);
+  EXPECT_EQ(kinds["not supported"], 0);
+  EXPECT_EQ(j["cad"]["usable_faces"], 9);
 }
 
 // The Kirsch plate (square [-4, 4]^2, hole of radius 1, plane stress) made in OpenCascade,

@@ -42,12 +42,12 @@ Measures measures(const CadTriangulation& mesh) {
 
 TEST(CadTriangulation, CoversTrimmedFacesAndPointsOutwards) {
   // The bracket and the plate with holes have faces with holes and 6-edge outlines (cut into
-  // patches for the analysis); the display shows the trimmed faces themselves. Curved faces are cut by chords: a face of
-  // radius r meshed with sagitta d loses about d / (3 r) of its area (chord angle^2 / 6, with
-  // angle^2 = 8 d / r) and up to twice that of its volume. With d = 1e-5 of the diagonal:
-  // the tube (d = 1.1e-6 m, r >= 15 mm) loses <= 5e-5; the bracket and the plate
-  // (d <= 2.4e-6 m, holes of r = 4 and 5 mm) lose <= 2e-4 of their hole walls, which are under
-  // 5 % of their area and volume. Hence 1e-4 relative in total.
+  // patches for the analysis); the display shows the trimmed faces themselves. Curved faces are cut
+  // by chords: a face of radius r meshed with sagitta d loses about d / (3 r) of its area (chord
+  // angle^2 / 6, with angle^2 = 8 d / r) and up to twice that of its volume. With d = 1e-5 of the
+  // diagonal: the tube (d = 1.1e-6 m, r >= 15 mm) loses <= 5e-5; the bracket and the plate (d
+  // <= 2.4e-6 m, holes of r = 4 and 5 mm) lose <= 2e-4 of their hole walls, which are under 5 % of
+  // their area and volume. Hence 1e-4 relative in total.
   for (const char* name : {"bracket.step", "plate_with_holes.step", "tube.step", "block.step"}) {
     const CadModel model = read_cad(example(name));
     const CadTriangulation mesh = triangulate_cad(example(name), 1e-5);
