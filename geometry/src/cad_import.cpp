@@ -455,7 +455,12 @@ std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
                        ") cannot be analysed: " + report.note);
     const std::vector<nurbs::Patch> face_patches = model_face_patches(model, f);
     if (thickness == 0.0) {
-      patches.insert(patches.end(), face_patches.begin(), face_patches.end());
+      // A face in the plane z = 0 is a 2D region: the analysis needs it right-handed in x-y,
+      // so a face facing -z (e.g. the bottom of a plate) has its u direction reversed.
+      for (const nurbs::Patch& patch : face_patches)
+        patches.push_back(patch.physical_dim() == 2 && jacobian_range(patch).max < 0.0
+                              ? reverse_direction(patch, 0)
+                              : patch);
       continue;
     }
     if (report.surface_type != "plane")

@@ -342,6 +342,7 @@ std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolera
             "only outlines of parallel and perpendicular straight edges are cut into "
             "rectangles");
     }
+    if (corners.size() < 4) refuse("the outline has fewer than 4 corners");
     for (Ring& ring : rings)
       for (Patch& c : ring.loop) c = transformed(c, rotation);
   } else {

@@ -84,9 +84,14 @@ TEST(CadSplit, PlateWithHolesExample) {
   EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-12);
   for (const auto& p : model.volume_patches) EXPECT_GT(jacobian_range(p, 4).min, 0.0);
   EXPECT_EQ(cad_patches(model).size(), 15u);  // the analysis takes the volumes
-  // A cut face alone as a thin plate: its 15 patches extruded by `thickness` along the normal.
+  // A cut face alone as a thin plate: its 15 patches extruded by `thickness` along the normal;
+  // without thickness, the bottom face (z = 0, facing -z) is a 2D region, right-handed in x-y.
   for (const auto& f : model.face_reports) {
     if (f.split == 0) continue;
+    const auto region = cad_patches(model, 0.0, {f.index});
+    if (region[0].physical_dim() == 2) {
+      for (const auto& p : region) EXPECT_GT(jacobian_range(p, 4).min, 0.0);
+    }
     const auto plate = cad_patches(model, 0.001, {f.index});
     ASSERT_EQ(plate.size(), 15u);
     EXPECT_NEAR(measure(plate) / (0.001 * f.area), 1.0, 1e-12);

@@ -80,8 +80,9 @@ std::string describe(const CadModel& model);
 /// The patches an analysis uses: the volume patches when every solid became volume patches
 /// (hexahedral, prism or revolution; solid_notes all empty), otherwise the face patches;
 /// `thickness` > 0 extrudes planar faces along their normal (inwards for a solid's faces is not
-/// assumed: along +normal). Throws InputError (naming the file, the face and what to do) when a
-/// requested face cannot be used.
+/// assumed: along +normal). Without thickness, faces in the plane z = 0 come right-handed in x-y
+/// (u reversed on faces facing -z), ready for a 2D analysis. Throws InputError (naming the file,
+/// the face and what to do) when a requested face cannot be used.
 std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness = 0.0,
                                       const std::vector<int>& faces = {});
 
