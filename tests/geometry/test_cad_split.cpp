@@ -8,6 +8,7 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Face.hxx>
 #include <chrono>
@@ -109,6 +110,32 @@ TEST(CadSplit, BracketExample) {
   EXPECT_NE(model.solid_notes[0].find("not a prism of a planar face"), std::string::npos)
       << model.solid_notes[0];
   EXPECT_TRUE(model.volume_patches.empty());
+}
+
+TEST(CadSplit, ExtrudedLSectionWithAHoleAlongItIsAPrism) {
+  // L section (legs 50 x 10 and 10 x 60 mm) with a hole of radius 2 mm along the extrusion,
+  // 40 mm deep: the L face is cut into 4 rectangles and a ring of 4, the solid is its prism.
+  BRepBuilderAPI_MakePolygon outline;
+  for (auto [x, y] :
+       {std::pair{0.0, 0.0}, {0.05, 0.0}, {0.05, 0.01}, {0.01, 0.01}, {0.01, 0.06}, {0.0, 0.06}})
+    outline.Add(gp_Pnt(x, y, 0));
+  outline.Close();
+  BRepBuilderAPI_MakeFace face(outline.Wire(), true);
+  face.Add(TopoDS::Wire(
+      BRepBuilderAPI_MakeWire(
+          BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(0.005, 0.035, 0), gp_Dir(0, 0, 1)), 0.002)))
+          .Wire()
+          .Reversed()));
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, 0.04)).Shape();
+  const CadModel model = test::step_round_trip(prism, "l_section_with_hole.step");
+  EXPECT_EQ(check_all_faces(model), 2);
+  ASSERT_EQ(model.solid_notes.size(), 1u);
+  EXPECT_EQ(model.solid_notes[0], "");
+  EXPECT_EQ(model.volume_patches.size(), 8u);
+  const double exact = (0.05 * 0.01 + 0.01 * 0.05) * 0.04 - M_PI * 0.002 * 0.002 * 0.04;
+  EXPECT_NEAR(measure(model.volume_patches) / model.volume, 1.0, 1e-9);
+  EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-12);
+  for (const auto& p : model.volume_patches) EXPECT_GT(jacobian_range(p, 4).min, 0.0);
 }
 
 TEST(CadSplit, ThirdPartyParts) {
