@@ -3,6 +3,8 @@
 // either the identical side of another patch, control points and weights, or on the boundary).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <vector>
 
 #include "isospring/geometry/cad.hpp"
@@ -43,6 +45,47 @@ inline double unshared_side_length(const std::vector<nurbs::Patch>& patches, dou
     if (!shared) length += measure(sides[i]);
   }
   return length;
+}
+
+/// The same for volumes: the boundary faces that no other patch shares (same control points and
+/// weights up to a common factor, in any order), measured: the solid's surface area when every
+/// interface conforms.
+inline double unshared_face_area(const std::vector<nurbs::Patch>& volumes, double tolerance) {
+  struct Side {
+    std::vector<std::array<double, 4>> points;  // sorted (x, y, z, w / w of the first point)
+    double area;
+    size_t patch;
+  };
+  std::vector<Side> sides;
+  for (size_t v = 0; v < volumes.size(); ++v)
+    for (int dir = 0; dir < 3; ++dir)
+      for (int end = 0; end < 2; ++end) {
+        const nurbs::Patch face = boundary_side(volumes[v], dir, end);
+        Side side{{}, measure(face), v};
+        double w0 = 0.0;
+        for (int i = 0; i < face.num_points(); ++i) w0 = std::max(w0, face.weight(i));
+        for (int i = 0; i < face.num_points(); ++i) {
+          const Eigen::Vector3d& x = face.control_point(i);
+          side.points.push_back({x.x(), x.y(), x.z(), face.weight(i) / w0});
+        }
+        std::sort(side.points.begin(), side.points.end());
+        sides.push_back(side);
+      }
+  auto same = [&](const Side& a, const Side& b) {
+    if (a.points.size() != b.points.size()) return false;
+    for (size_t i = 0; i < a.points.size(); ++i)
+      for (int c = 0; c < 4; ++c)
+        if (std::abs(a.points[i][c] - b.points[i][c]) > (c < 3 ? tolerance : 1e-12)) return false;
+    return true;
+  };
+  double area = 0.0;
+  for (size_t i = 0; i < sides.size(); ++i) {
+    bool shared = false;
+    for (size_t j = 0; j < sides.size() && !shared; ++j)
+      shared = sides[j].patch != sides[i].patch && same(sides[i], sides[j]);
+    if (!shared) area += sides[i].area;
+  }
+  return area;
 }
 
 }  // namespace isospring::geometry::test

@@ -84,6 +84,8 @@ TEST(CadSplit, PlateWithHolesExample) {
   EXPECT_NEAR(measure(model.volume_patches) / model.volume, 1.0, 1e-9);
   EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-12);
   for (const auto& p : model.volume_patches) EXPECT_GT(jacobian_range(p, 4).min, 0.0);
+  // Conforming volumes: the faces no other patch shares are the part's surface (BRepGProp).
+  EXPECT_NEAR(test::unshared_face_area(model.volume_patches, 1e-12) / model.area, 1.0, 1e-9);
   EXPECT_EQ(cad_patches(model).size(), 15u);  // the analysis takes the volumes
   // A cut face alone as a thin plate: its 15 patches extruded by `thickness` along the normal;
   // without thickness, the bottom face (z = 0, facing -z) is a 2D region, right-handed in x-y.
@@ -136,6 +138,7 @@ TEST(CadSplit, ExtrudedLSectionWithAHoleAlongItIsAPrism) {
   EXPECT_NEAR(measure(model.volume_patches) / model.volume, 1.0, 1e-9);
   EXPECT_NEAR(measure(model.volume_patches) / exact, 1.0, 1e-12);
   for (const auto& p : model.volume_patches) EXPECT_GT(jacobian_range(p, 4).min, 0.0);
+  EXPECT_NEAR(test::unshared_face_area(model.volume_patches, 1e-12) / model.area, 1.0, 1e-9);
 }
 
 TEST(CadSplit, ThirdPartyParts) {
