@@ -11,6 +11,7 @@
 #include <TopoDS_Wire.hxx>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "cad_coons.hpp"
