@@ -240,6 +240,7 @@ struct Ring {
   Loop loop;
   Vector3d center = Vector3d::Zero();
   double extent = 0.0;  // largest |x - cx| or |y - cy| on the loop
+  double half = std::numeric_limits<double>::infinity();  // half side of its square
   int col = -1, row = -1;
   bool hole = true;  // the loop inside the square (hole) or outside (outline of a disk)
   Patch below, right, above, left;  // quarters of the loop, along +x (below, above) or +y
@@ -366,10 +367,11 @@ std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolera
     }
     if (!ring.hole) ring.extent = nearest;  // the square's half side is half the inner radius
   }
-  // Half side of the hole squares (one for all): as large as the outline and the other holes
-  // allow, so that no grid line crosses a square.
-  double half = std::numeric_limits<double>::infinity();
-  if (!polygon) half = rings[0].extent / 2.0;
+  // Half side of each hole's square: as large as the outline allows (no outline corner's line
+  // inside it); two holes apart by d along an axis share d in proportion to their sizes (so
+  // neither square reaches a line of the other: s_h + s_k <= d); holes on one line (same centre
+  // x or y) need the same half side, or one's lines would cross the other's square.
+  if (!polygon) rings[0].half = rings[0].extent / 2.0;
   for (size_t h = 0; h < rings.size() && polygon; ++h) {
     const Vector3d& c = rings[h].center;
     for (const Vector3d& v : corners)
@@ -378,24 +380,32 @@ std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolera
         if (d <= tolerance)
           refuse("a corner of the outline is in line with the centre of " + hole_name(h) +
                  " (a cut line would cross the hole)");
-        half = std::min(half, d);
+        rings[h].half = std::min(rings[h].half, d);
       }
     for (size_t k = 0; k < rings.size(); ++k) {
       if (k == h) continue;
       const Vector3d d = (rings[k].center - c).cwiseAbs();
       if (d.x() <= tolerance && d.y() <= tolerance)
         refuse(hole_name(h) + " and " + hole_name(k) + " have the same centre");
+      const double share = rings[h].extent / (rings[h].extent + rings[k].extent);
       for (int axis = 0; axis < 2; ++axis)
-        if (d[axis] > tolerance) half = std::min(half, d[axis] / 2.0);
+        if (d[axis] > tolerance) rings[h].half = std::min(rings[h].half, share * d[axis]);
     }
   }
+  for (size_t pass = 0; pass < rings.size(); ++pass)
+    for (size_t h = 0; h < rings.size(); ++h)
+      for (size_t k = 0; k < rings.size(); ++k) {
+        const Vector3d d = (rings[k].center - rings[h].center).cwiseAbs();
+        if (k != h && (d.x() <= tolerance || d.y() <= tolerance))
+          rings[h].half = rings[k].half = std::min(rings[h].half, rings[k].half);
+      }
   for (size_t h = 0; h < rings.size() && polygon; ++h)
-    if (rings[h].extent > 0.9 * half) {
+    if (rings[h].extent > 0.9 * rings[h].half) {
       std::ostringstream why;
       why.precision(3);
       why << hole_name(h) << " (half size " << rings[h].extent << ") is too close to the outline "
-          << "or to another hole for a ring of patches (room: a square of half side " << half
-          << ")";
+          << "or to another hole for a ring of patches (room: a square of half side "
+          << rings[h].half << ")";
       refuse(why.str());
     }
   // The grid: outline corners and square sides.
@@ -405,19 +415,19 @@ std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolera
     ys.push_back(v.y());
   }
   for (const Ring& ring : rings) {
-    xs.push_back(ring.center.x() - half);
-    xs.push_back(ring.center.x() + half);
-    ys.push_back(ring.center.y() - half);
-    ys.push_back(ring.center.y() + half);
+    xs.push_back(ring.center.x() - ring.half);
+    xs.push_back(ring.center.x() + ring.half);
+    ys.push_back(ring.center.y() - ring.half);
+    ys.push_back(ring.center.y() + ring.half);
   }
   const std::vector<double> gx = merged(xs, tolerance), gy = merged(ys, tolerance);
   for (size_t h = 0; h < rings.size(); ++h) {
     Ring& ring = rings[h];
     const std::string what = ring.hole ? hole_name(h) : "the outline";
-    ring.col = grid_index(gx, ring.center.x() - half, tolerance);
-    ring.row = grid_index(gy, ring.center.y() - half, tolerance);
-    if (ring.col + 1 != grid_index(gx, ring.center.x() + half, tolerance) ||
-        ring.row + 1 != grid_index(gy, ring.center.y() + half, tolerance))
+    ring.col = grid_index(gx, ring.center.x() - ring.half, tolerance);
+    ring.row = grid_index(gy, ring.center.y() - ring.half, tolerance);
+    if (ring.col + 1 != grid_index(gx, ring.center.x() + ring.half, tolerance) ||
+        ring.row + 1 != grid_index(gy, ring.center.y() + ring.half, tolerance))
       refuse("a cut line crosses the square around " + what);
     if (polygon && !inside_polygon(corners, ring.center))
       refuse(what + " is not inside the outline");

@@ -66,6 +66,20 @@ TEST(PlanarSplit, PlateWithTwoHolesConforms) {
   EXPECT_NEAR(test::unshared_side_length(patches, 1e-9) / (2 * 330.0 + 2 * 10 * M_PI), 1.0, 1e-12);
 }
 
+TEST(PlanarSplit, HolesOfDifferentSizesGetSquaresOfTheirOwn) {
+  // Plate 100 x 60, hole of radius 10 at (30, 30) and of radius 2 at (90, 10): 20 apart in y,
+  // they share that room 10 : 2 (squares of half side 16.7 and 3.3); one square for both
+  // (at most 10, the small hole's distance to the outline) would leave no room for the big one.
+  PlanarRegion region;
+  region.outline = polygon({{0, 0, 0}, {100, 0, 0}, {100, 60, 0}, {0, 60, 0}});
+  region.holes.push_back({circular_arc({30, 30, 0}, 10.0, 0.0, 2 * M_PI)});
+  region.holes.push_back({circular_arc({90, 10, 0}, 2.0, 0.0, 2 * M_PI)});
+  const auto patches = split_planar_region(region, 1e-9);
+  EXPECT_NEAR(measure(patches) / (6000.0 - 104 * M_PI), 1.0, 1e-13);
+  EXPECT_GT(min_jacobian(patches), 0.0);
+  EXPECT_NEAR(test::unshared_side_length(patches, 1e-9) / (320.0 + 24 * M_PI), 1.0, 1e-12);
+}
+
 TEST(PlanarSplit, LShapeIsRectangles) {
   PlanarRegion region;
   region.outline = polygon({{0, 0, 0}, {5, 0, 0}, {5, 1, 0}, {1, 1, 0}, {1, 6, 0}, {0, 6, 0}});

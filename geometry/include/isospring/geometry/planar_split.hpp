@@ -2,7 +2,9 @@
 // A planar region bounded by closed loops of NURBS curves (an outline and holes) cut into
 // conforming four-sided NURBS patches whose outer boundaries are the given curves, unchanged.
 //
-// Layout (the plate_with_central_hole layout, generalised): every hole gets a square around it,
+// Layout (the plate_with_central_hole layout, generalised): every hole gets a square around it
+// (as large as the outline and the other holes allow, neighbours sharing the room in proportion
+// to their sizes),
 // cut into four ring patches, each the ruled surface (in homogeneous coordinates, so exact for
 // rational arcs) between a quarter of the hole loop and one side of the square; the quarters are
 // cut on the rays from the hole's centre through the square's corners. The outline must be a
