@@ -11,6 +11,8 @@
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Face.hxx>
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -220,6 +222,85 @@ TEST(CadSplit, ImportReportAndInfo) {
   EXPECT_EQ(kinds["exact patch"] + kinds["Coons patch"], 5);
   EXPECT_EQ(kinds["not supported"], 0);
   EXPECT_EQ(j["cad"]["usable_faces"], 9);
+}
+
+// Patch test on the imported plate (15 prism volumes): pressure p on its whole surface (hole
+// walls included) and rollers on x = 0, y = 0, z = 0 give the uniform stress -p I, i.e. the
+// linear displacement u = -p (1 - 2 nu) / E x, which conforming exact patches reproduce up to
+// quadrature (10 Gauss points: round-off; the default 3 leaves 2e-5 on the rational patches).
+TEST(CadSplit, ImportedPlatePrismPassesThePatchTest) {
+  if (!fs::exists(ISOSPRING_EXECUTABLE)) GTEST_SKIP() << "build the isospring program first";
+  const CadModel model = read_cad(example("plate_with_holes.step"));
+  const std::vector<nurbs::Patch> volumes = cad_patches(model);
+  ASSERT_EQ(volumes.size(), 15u);
+  // Boundary sides: those no other patch has (same control points, any order).
+  struct Side {
+    int patch, dir, end;
+    std::vector<std::array<double, 3>> points;
+  };
+  std::vector<Side> sides;
+  for (int p = 0; p < static_cast<int>(volumes.size()); ++p)
+    for (int dir = 0; dir < 3; ++dir)
+      for (int end = 0; end < 2; ++end) {
+        const nurbs::Patch face = boundary_side(volumes[static_cast<size_t>(p)], dir, end);
+        Side side{p, dir, end, {}};
+        for (const auto& x : face.control_points()) side.points.push_back({x.x(), x.y(), x.z()});
+        std::sort(side.points.begin(), side.points.end());
+        sides.push_back(side);
+      }
+  auto same = [](const Side& a, const Side& b) {
+    if (a.points.size() != b.points.size()) return false;
+    for (size_t i = 0; i < a.points.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(a.points[i][static_cast<size_t>(c)] - b.points[i][static_cast<size_t>(c)]) >
+            1e-12)
+          return false;
+    return true;
+  };
+  const double pressure = 1e6, E = 2e11, nu = 0.3;
+  nlohmann::json boundary = nlohmann::json::array(), pressures = nlohmann::json::array();
+  for (const Side& side : sides) {
+    if (std::any_of(sides.begin(), sides.end(),
+                    [&](const Side& o) { return o.patch != side.patch && same(side, o); }))
+      continue;
+    const std::string name = std::string(1, "uvw"[side.dir]) + (side.end ? "1" : "0");
+    bool roller = false;
+    for (int axis = 0; axis < 3; ++axis)
+      if (std::all_of(side.points.begin(), side.points.end(), [&](const auto& x) {
+            return std::abs(x[static_cast<size_t>(axis)]) < 1e-12;
+          })) {
+        boundary.push_back(
+            {{"side", name}, {"patch", side.patch}, {"fix", {std::string(1, "xyz"[axis])}}});
+        roller = true;
+      }
+    if (!roller) pressures.push_back({{"side", name}, {"patch", side.patch}, {"value", pressure}});
+  }
+  EXPECT_EQ(boundary.size(), 21u);   // x = 0: 3, y = 0: 3 (each 1 side), z = 0: 15
+  EXPECT_EQ(pressures.size(), 29u);  // x = 0.18: 3, y = 0.15: 3, z = 0.02: 15, 2 holes: 8
+  const testing::TemporaryFolder folder;
+  const fs::path& dir = folder.path();
+  fs::copy_file(example("plate_with_holes.step"), dir / "plate_with_holes.step");
+  const nlohmann::json kase = {{"schema_version", 1},
+                               {"name", "plate_patch_test"},
+                               {"geometry", {{"type", "cad"}, {"file", "plate_with_holes.step"}}},
+                               {"analysis", {{"quadrature_points", 10}}},
+                               {"material", {{"E", E}, {"nu", nu}}},
+                               {"boundary", boundary},
+                               {"load_cases", {{{"id", "pressure"}, {"pressures", pressures}}}}};
+  std::ofstream(dir / "case.json") << kase.dump(2);
+  const auto result = testing::run_isospring("analyze " + (dir / "case.json").string() + " -o " +
+                                             (dir / "out").string() + " --quiet");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::ifstream in(dir / "out" / "report.json");
+  const auto report = nlohmann::json::parse(in)["load_cases"][0];
+  const double strain = pressure * (1 - 2 * nu) / E;
+  const double volume = test::cad_test_parts()["plate_with_holes.step"].exact_volume;
+  // Largest |u| at the corner (0.18, 0.15, 0.02); energy 1/2 sigma : epsilon V.
+  EXPECT_NEAR(report["max_displacement"].get<double>() /
+                  (strain * std::sqrt(0.18 * 0.18 + 0.15 * 0.15 + 0.02 * 0.02)),
+              1.0, 1e-11);
+  EXPECT_NEAR(report["strain_energy"].get<double>() / (1.5 * pressure * strain * volume), 1.0,
+              1e-11);
 }
 
 // The Kirsch plate (square [-4, 4]^2, hole of radius 1, plane stress) made in OpenCascade,
