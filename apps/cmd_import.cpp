@@ -9,6 +9,7 @@
 #include "file_report.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/cad_triangulation.hpp"
+#include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
 #include "isospring/io/patch_file.hpp"
 #include "isospring/io/vtk_triangulation.hpp"
@@ -45,7 +46,11 @@ void write_import_report(const ImportOptions& options, const geometry::CadModel&
       {"faces", options.faces}, {"solids", options.solids}, {"thickness", options.thickness}};
   std::vector<std::vector<std::string>> face_rows;
   for (const auto& f : model.face_reports) {
-    const std::string kind = f.natural ? "natural" : (f.coons ? "coons" : "not usable");
+    const std::string kind =
+        f.natural ? "natural"
+                  : (f.coons ? "coons"
+                             : (f.split > 0 ? "split into " + std::to_string(f.split) + " patches"
+                                            : "not usable"));
     j["faces"].push_back({{"index", f.index},
                           {"surface_type", f.surface_type},
                           {"wires", f.wires},
@@ -53,6 +58,9 @@ void write_import_report(const ImportOptions& options, const geometry::CadModel&
                           {"area", f.area},
                           {"conversion", kind},
                           {"coons_deviation", f.coons_deviation},
+                          {"split_patches", f.split},
+                          {"jacobian_min", f.jacobian_min},
+                          {"jacobian_max", f.jacobian_max},
                           {"note", f.note}});
     face_rows.push_back({std::to_string(f.index), f.surface_type, std::to_string(f.edges),
                          io::format_number(f.area), kind, f.note.empty() ? "-" : f.note});
@@ -64,9 +72,36 @@ void write_import_report(const ImportOptions& options, const geometry::CadModel&
           std::count(model.patch_solid.begin(), model.patch_solid.end(), static_cast<int>(s))},
          {"note", model.solid_notes[s]}});
   j["patch_count"] = patches.size();
-  for (const auto& p : patches) j["patches"].push_back(patch_json(p));
+  std::vector<std::vector<std::string>> jacobian_rows;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    nlohmann::json pj = patch_json(patches[p]);
+    // Sampled at 4 Gauss points per element and direction; for surfaces in 3D the norm of
+    // dX/du x dX/dv (the sign was checked in the face's plane when it was cut).
+    const geometry::JacobianRange range = geometry::jacobian_range(patches[p], 4);
+    pj["jacobian_min"] = range.min;
+    pj["jacobian_max"] = range.max;
+    j["patches"].push_back(pj);
+    jacobian_rows.push_back(
+        {std::to_string(p), io::format_number(range.min), io::format_number(range.max)});
+  }
   const double measure = patches.empty() ? 0.0 : geometry::measure(patches);
   j["patches_measure"] = measure;
+  // What OpenCascade says the same thing measures: the solids' volume for volume patches, the
+  // chosen faces' area for surface patches (unless extruded by a thickness).
+  const bool volumes = !patches.empty() && patches[0].param_dim() == 3;
+  double cad_measure = 0.0;
+  if (volumes && options.thickness == 0.0) {
+    cad_measure = model.volume;
+  } else if (!volumes) {
+    for (const auto& f : model.face_reports)
+      if (options.faces.empty() ||
+          std::find(options.faces.begin(), options.faces.end(), f.index) != options.faces.end())
+        cad_measure += f.area;
+  }
+  if (cad_measure > 0.0) {
+    j["cad_measure"] = cad_measure;
+    j["measure_relative_error"] = (measure - cad_measure) / cad_measure;
+  }
   if (!options.display.empty())
     j["display"] = {{"file", options.display}, {"triangles", display_triangles}};
 
@@ -79,8 +114,15 @@ void write_import_report(const ImportOptions& options, const geometry::CadModel&
                (patches.empty() || patches[0].param_dim() < 3 ? "area" : "volume") + " " +
                io::format_number(measure) + " (CAD: volume " + io::format_number(model.volume) +
                " m^3, area " + io::format_number(model.area) + " m^2).");
+  if (cad_measure > 0.0)
+    md.paragraph(std::string("Check against OpenCascade (BRepGProp): ") +
+                 (volumes ? "volume " : "area ") + io::format_number(measure) + " vs " +
+                 io::format_number(cad_measure) + ", relative difference " +
+                 io::format_number((measure - cad_measure) / cad_measure) + ".");
   md.heading(2, "Patches");
   md.table(patch_table_header(), patch_table_rows(patches));
+  md.heading(2, "Jacobian bounds (sampled, 4 Gauss points per element and direction)");
+  md.table({"patch", "min", "max"}, jacobian_rows);
   md.heading(2, "Faces");
   md.table({"face", "surface", "edges", "area [m^2]", "conversion", "note"}, face_rows);
   std::vector<std::string> solid_lines;
@@ -124,9 +166,11 @@ void setup_import(CLI::App& app) {
       "A solid of hexahedral topology becomes one volume patch (transfinite interpolation of its "
       "faces, or the extrusion of a face for prisms), a full solid of revolution with a 4-sided "
       "profile four exact quarter volumes; otherwise "
-      "each untrimmed face becomes a surface patch, and a trimmed face with four edges the Coons "
-      "patch of its edges when that lies on the face's surface. Other trimmed faces (holes, "
-      "non-quadrilateral outlines) are reported with what to do.");
+      "each untrimmed face becomes a surface patch, a trimmed face with four edges the Coons "
+      "patch of its edges when that lies on the face's surface, and a planar face with holes or "
+      "other edge counts conforming 4-sided patches (a ring of 4 around each hole, rectangles "
+      "elsewhere); a prism of such a face becomes its patches extruded. Other faces are reported "
+      "with what to do.");
   cmd->callback([options] {
     std::vector<std::filesystem::path> extra;
     if (!options->display.empty()) extra.emplace_back(options->display);

@@ -74,9 +74,28 @@ nlohmann::json info_json(const std::string& file) {
   switch (input_kind(file)) {
     case InputKind::kCad: {
       const geometry::CadModel model = geometry::read_cad(file);
-      patches = model.volume_patches.empty() ? model.face_patches : model.volume_patches;
+      patches = model.volume_patches;
+      if (patches.empty()) {
+        patches = model.face_patches;
+        patches.insert(patches.end(), model.split_patches.begin(), model.split_patches.end());
+      }
       int usable = 0;
-      for (const auto& f : model.face_reports) usable += f.natural || f.coons;
+      nlohmann::json faces = nlohmann::json::array();
+      for (const auto& f : model.face_reports) {
+        usable += f.natural || f.coons || f.split > 0;
+        // How the face will be analysed: one exact patch, the Coons patch of its 4 edges, cut
+        // into conforming patches, or not at all (and why).
+        const std::string how = f.natural ? "exact patch"
+                                : f.coons ? "Coons patch"
+                                : f.split ? "split"
+                                          : "not supported";
+        faces.push_back({{"index", f.index},
+                         {"surface_type", f.surface_type},
+                         {"analysis", how},
+                         {"patches", f.natural || f.coons ? 1 : f.split},
+                         {"area", f.area},
+                         {"note", f.note}});
+      }
       j["kind"] = "cad";
       j["cad"] = {{"file_unit", model.file_unit},
                   {"solids", model.solids},
@@ -84,7 +103,9 @@ nlohmann::json info_json(const std::string& file) {
                   {"edges", model.edges},
                   {"usable_faces", usable},
                   {"volume", model.volume},
-                  {"area", model.area}};
+                  {"area", model.area},
+                  {"face_analysis", faces},
+                  {"solid_notes", model.solid_notes}};
       break;
     }
     case InputKind::kCaseFile: {
@@ -140,7 +161,10 @@ void setup_info(CLI::App& app) {
         const geometry::CadModel model = geometry::read_cad(*file);
         std::cout << geometry::describe(model);
         std::vector<nurbs::Patch> patches = model.volume_patches;
-        if (patches.empty()) patches = model.face_patches;
+        if (patches.empty()) {
+          patches = model.face_patches;
+          patches.insert(patches.end(), model.split_patches.begin(), model.split_patches.end());
+        }
         std::cout << "NURBS patches usable for analysis: " << patches.size() << "\n";
         print_patches(std::cout, patches);
         break;

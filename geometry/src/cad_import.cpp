@@ -35,6 +35,8 @@
 
 #include "cad_coons.hpp"
 #include "cad_hexahedron.hpp"
+#include "cad_planar_face.hpp"
+#include "cad_prism.hpp"
 #include "cad_reader.hpp"
 #include "cad_revolution.hpp"
 #include "crash_guard.hpp"
@@ -235,6 +237,16 @@ TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::stri
 }
 
 namespace {
+// The patches face f became: its natural or Coons patch, or the patches of its cut.
+std::vector<nurbs::Patch> model_face_patches(const CadModel& model, int f) {
+  std::vector<nurbs::Patch> patches;
+  for (size_t p = 0; p < model.face_patches.size(); ++p)
+    if (model.patch_face[p] == f) patches.push_back(model.face_patches[p]);
+  for (size_t p = 0; p < model.split_patches.size(); ++p)
+    if (model.split_patch_face[p] == f) patches.push_back(model.split_patches[p]);
+  return patches;
+}
+
 CadModel read_cad_unguarded(const std::filesystem::path& file) {
   CadModel model;
   model.file = file;
@@ -283,12 +295,23 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
     BRepGProp::SurfaceProperties(face, props, 1e-9);
     report.area = props.Mass();
     model.area += report.area;
+    GProp_GProps lines;
+    BRepGProp::LinearProperties(face, lines);
+    report.perimeter = lines.Mass();
     nurbs::Patch patch;
     try {
       report.natural = natural_patch(face, report, patch);
       // A trimmed face with one wire of four edges: the Coons patch of its edges.
       if (!report.natural && !report.note.empty() && report.wires == 1)
         detail::coons_face_patch(face, report, patch);
+      // Any other planar trimmed face: cut into conforming 4-sided patches.
+      if (!report.natural && !report.coons && report.surface_type == "plane") {
+        std::vector<nurbs::Patch> cut;
+        if (detail::split_planar_face(face, report, cut)) {
+          model.split_patches.insert(model.split_patches.end(), cut.begin(), cut.end());
+          model.split_patch_face.insert(model.split_patch_face.end(), cut.size(), report.index);
+        }
+      }
     } catch (const Standard_Failure& e) {
       report.note =
           std::string("OpenCascade cannot convert it to NURBS (") + e.GetMessageString() + ")";
@@ -310,8 +333,13 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
       const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
       return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
     };
-    std::vector<nurbs::Patch> quarters;
-    std::string revolution_why;
+    std::vector<nurbs::Patch> quarters, prism;
+    std::string revolution_why, prism_why;
+    auto face_patches = [&](const TopoDS_Face& face) {
+      return model_face_patches(model, faces.FindIndex(face) - 1);
+    };
+    GProp_GProps props;
+    BRepGProp::VolumeProperties(solids(s), props, 1e-9);
     if (detail::hexahedron_patch(solids(s), natural, patch, why)) {
       model.volume_patches.push_back(patch);
       model.patch_solid.push_back(s - 1);
@@ -321,6 +349,12 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
       why.clear();
     } else if (revolution_why.rfind("not ", 0) != 0) {
       why = revolution_why;  // it is a solid of revolution: say what stopped it
+    } else if (detail::prism_patches(solids(s), face_patches, props.Mass(), prism, prism_why)) {
+      model.volume_patches.insert(model.volume_patches.end(), prism.begin(), prism.end());
+      model.patch_solid.insert(model.patch_solid.end(), prism.size(), s - 1);
+      why.clear();
+    } else {
+      why += "; " + prism_why;
     }
     model.solid_notes.push_back(why);
   }
@@ -342,9 +376,14 @@ CadModel read_cad(const std::filesystem::path& file) {
 namespace {
 std::string usability(const CadFace& face) {
   if (face.natural) return "usable patch";
-  if (!face.coons) return "NOT usable: " + face.note;
   std::ostringstream out;
   out.precision(3);
+  if (face.split > 0) {
+    out << "split into " << face.split << " conforming patches (Jacobian min " << face.jacobian_min
+        << ", max " << face.jacobian_max << ")";
+    return out.str();
+  }
+  if (!face.coons) return "NOT usable: " + face.note;
   out << "usable Coons patch of its 4 edges (largest distance from the CAD surface "
       << face.coons_deviation << " m)";
   return out.str();
@@ -411,25 +450,30 @@ std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
       throw InputError(name + ": face " + std::to_string(f) + " does not exist; the part has " +
                        std::to_string(model.faces) + " faces (0-based, see `isospring info`)");
     const CadFace& report = model.face_reports[static_cast<size_t>(f)];
-    if (!report.natural && !report.coons)
+    if (!report.natural && !report.coons && report.split == 0)
       throw InputError(name + ": face " + std::to_string(f) + " (" + report.surface_type +
-                       ") cannot be one NURBS patch: " + report.note);
-    const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
-    const nurbs::Patch& patch =
-        model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
+                       ") cannot be analysed: " + report.note);
+    const std::vector<nurbs::Patch> face_patches = model_face_patches(model, f);
     if (thickness == 0.0) {
-      patches.push_back(patch);
+      // A face in the plane z = 0 is a 2D region: the analysis needs it right-handed in x-y,
+      // so a face facing -z (e.g. the bottom of a plate) has its u direction reversed.
+      for (const nurbs::Patch& patch : face_patches)
+        patches.push_back(patch.physical_dim() == 2 && jacobian_range(patch).max < 0.0
+                              ? reverse_direction(patch, 0)
+                              : patch);
       continue;
     }
     if (report.surface_type != "plane")
       throw InputError(name + ": face " + std::to_string(f) + " is a " + report.surface_type +
                        "; only planar faces can be extruded exactly along their normal (use a "
                        "solid part instead)");
-    const nurbs::PatchDerivatives d =
-        patch.derivatives({(patch.param_min(0) + patch.param_max(0)) / 2,
-                           (patch.param_min(1) + patch.param_max(1)) / 2, 0});
-    const Eigen::Vector3d normal = d.first.col(0).cross(d.first.col(1)).normalized();
-    patches.push_back(extrude(patch, thickness * normal));
+    for (const nurbs::Patch& patch : face_patches) {
+      const nurbs::PatchDerivatives d =
+          patch.derivatives({(patch.param_min(0) + patch.param_max(0)) / 2,
+                             (patch.param_min(1) + patch.param_max(1)) / 2, 0});
+      const Eigen::Vector3d normal = d.first.col(0).cross(d.first.col(1)).normalized();
+      patches.push_back(extrude(patch, thickness * normal));
+    }
   }
   return patches;
 }

@@ -133,7 +133,7 @@ TEST(CadImport, TorusFaceIsANaturalRationalPatch) {
   EXPECT_THROW(cad_patches(model, 0.01), nurbs::InputError);  // curved face: no exact extrusion
 }
 
-TEST(CadImport, TrimmedFacesAreReportedNotGuessed) {
+TEST(CadImport, TrimmedFacesWithHolesAreCut) {
   const fs::path file = temp_folder() / "plate.step";
   write_step(test::cad_test_parts()["plate_with_holes.step"].shape, file);
   const CadModel model = read_cad(file);
@@ -141,16 +141,13 @@ TEST(CadImport, TrimmedFacesAreReportedNotGuessed) {
   for (const auto& f : model.face_reports)
     if (!f.natural) {
       ++trimmed;
-      EXPECT_NE(f.note.find("trimmed"), std::string::npos);
+      EXPECT_EQ(f.split, 15) << f.note;  // 7 rectangles and a ring of 4 around each hole
+      EXPECT_TRUE(f.note.empty()) << f.note;
     }
   EXPECT_EQ(trimmed, 2);  // top and bottom have holes; the hole walls are whole cylinders
-  try {
-    cad_patches(model);
-    FAIL() << "trimmed faces must be rejected";
-  } catch (const nurbs::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("plate.step: face"), std::string::npos);
-  }
-  EXPECT_NE(describe(model).find("NOT usable"), std::string::npos);
+  EXPECT_EQ(cad_patches(model).size(), 15u);  // the solid: a prism of the cut face
+  EXPECT_EQ(cad_patches(model, 0.0, {0, 1, 2, 3, 4, 5, 6, 7}).size(), 6u + 2 * 15u);
+  EXPECT_EQ(describe(model).find("NOT usable"), std::string::npos);
 }
 
 // Third-party files (../shared/cad): units, areas and volumes against OpenCascade's README values.

@@ -171,11 +171,13 @@ TEST(CadRevolution, OtherSolidsAreReported) {
   EXPECT_NE(ball.solid_notes[0].find("meridian is not closed"), std::string::npos)
       << ball.solid_notes[0];
   EXPECT_NE(describe(ball).find("solid 0: solid of revolution, but"), std::string::npos);
-  // The plate with holes: neither hexahedral nor of revolution.
-  const CadModel plate = test::step_round_trip(
-      test::cad_test_parts()["plate_with_holes.step"].shape, "plate_solid.step");
-  EXPECT_TRUE(plate.volume_patches.empty());
-  EXPECT_NE(plate.solid_notes[0].find("not hexahedral"), std::string::npos);
+  // The bracket (a hole across a leg of an L section): neither hexahedral, of revolution nor a
+  // prism.
+  const CadModel bracket =
+      test::step_round_trip(test::cad_test_parts()["bracket.step"].shape, "bracket_solid.step");
+  EXPECT_TRUE(bracket.volume_patches.empty());
+  EXPECT_NE(bracket.solid_notes[0].find("not hexahedral"), std::string::npos);
+  EXPECT_NE(bracket.solid_notes[0].find("not a prism of a planar face"), std::string::npos);
 }
 
 }  // namespace

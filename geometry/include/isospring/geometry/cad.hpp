@@ -7,17 +7,24 @@
 // four edges becomes the Coons patch of its edges (exact B-spline conversions of the edge curves,
 // made compatible; see coons.hpp) when that patch lies on the face's surface (e.g. planar
 // quadrilaterals, cylinder faces between two lines and two conic arcs). Faces are oriented so
-// that dX/du x dX/dv points out of the solid. Other trimmed faces (holes, L-shapes, disks, curved
-// 4-sided faces whose interior is not the blend of their edges) are reported with what to do. A
+// that dX/du x dX/dv points out of the solid. A planar trimmed face with holes or another number
+// of edges (plates with holes, L-shapes, disks) is cut into conforming 4-sided patches whose
+// boundaries are its exact edge curves plus straight cut lines (planar_split.hpp: a ring of four
+// patches around every hole, rectangles elsewhere), accepted when every Jacobian is positive and
+// the area matches OpenCascade's to 1e-9. Other trimmed faces (curved faces with holes, outlines
+// with slanted edges around holes, curved 4-sided faces whose interior is not the blend of their
+// edges) are reported with what to do. Trimmed (immersed) analysis is not done. A
 // solid of hexahedral topology (six 4-sided faces, each the Coons patch of its edges) becomes one
 // volume patch by trivariate transfinite interpolation (coons_volume; exact trilinear for planar
 // blocks); a hexahedral prism whose base is a natural face (e.g. a bumped spline face) becomes the
 // exact extrusion of that face; a full solid of revolution with a 4-sided profile (a tube, a
 // revolved trapezoid, a solid cylinder whose profile closes along the axis, a solid torus whose
 // circular section is cut into four arcs) becomes four exact rational 90-degree volume patches.
-// Planar faces can also be extruded along their normal into volumes. Not handled (reported per
-// solid): other solids (holes, L-sections, solids of revolution whose profile is not 4-sided such
-// as balls and cones), curved 4-sided faces whose interior is not the blend of their edges.
+// A prism of a planar face (every other face a side wall along its normal or the far cap: plates
+// with through-holes, extruded L sections) becomes the face's patches extruded, its volume
+// matched to OpenCascade's to 1e-9. Planar faces can also be extruded along their normal into
+// volumes. Not handled (reported per solid): other solids (e.g. an L section with holes across
+// its legs, solids of revolution whose profile is not 4-sided such as balls and cones).
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
@@ -33,10 +40,16 @@ struct CadFace {
   int wires = 0;
   int edges = 0;
   double area = 0.0;             // of the trimmed face (OCCT, m^2)
+  double perimeter = 0.0;        // total length of its edges (OCCT, m)
   bool natural = false;          // a whole parameter rectangle: usable as a patch
   bool coons = false;            // trimmed, 4 edges: usable as the Coons patch of its edges
   double coons_deviation = 0.0;  // largest distance of that patch from the CAD surface (m)
-  std::string note;              // why not usable and what to do
+  /// > 0: a planar trimmed face (holes, other than 4 edges) cut into this many conforming
+  /// 4-sided patches (planar_split.hpp), with the sampled Jacobian bounds of those patches
+  /// (dX/du x dX/dv along the outward normal, m^2 per unit parameter area).
+  int split = 0;
+  double jacobian_min = 0.0, jacobian_max = 0.0;
+  std::string note;  // why not usable and what to do
 };
 
 struct CadModel {
@@ -47,9 +60,12 @@ struct CadModel {
   double volume = 0.0;  // of the closed solids (OCCT, m^3); 0 without solids
   double area = 0.0;    // of all faces (OCCT, m^2)
   std::vector<CadFace> face_reports;
-  std::vector<nurbs::Patch> face_patches;  // one per usable face (natural or Coons), in face order
-  std::vector<int> patch_face;             // face index of each face patch
-  std::vector<nurbs::Patch> volume_patches;  // solids as volumes (1 per block, 4 per revolution)
+  std::vector<nurbs::Patch> face_patches;   // one per usable face (natural or Coons), in face order
+  std::vector<int> patch_face;              // face index of each face patch
+  std::vector<nurbs::Patch> split_patches;  // the patches of the cut faces (CadFace::split)
+  std::vector<int> split_patch_face;        // face index of each of them
+  std::vector<nurbs::Patch> volume_patches;  // solids as volumes (1 per block, 4 per revolution,
+                                             // the extruded cut of the base face per prism)
   std::vector<int> patch_solid;              // solid index (0-based) of each volume patch
   std::vector<std::string> solid_notes;      // per solid: empty if a volume patch, else why not
 };
@@ -64,8 +80,9 @@ std::string describe(const CadModel& model);
 /// The patches an analysis uses: the volume patches when every solid became volume patches
 /// (hexahedral, prism or revolution; solid_notes all empty), otherwise the face patches;
 /// `thickness` > 0 extrudes planar faces along their normal (inwards for a solid's faces is not
-/// assumed: along +normal). Throws InputError (naming the file, the face and what to do) when a
-/// requested face cannot be used.
+/// assumed: along +normal). Without thickness, faces in the plane z = 0 come right-handed in x-y
+/// (u reversed on faces facing -z), ready for a 2D analysis. Throws InputError (naming the file,
+/// the face and what to do) when a requested face cannot be used.
 std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness = 0.0,
                                       const std::vector<int>& faces = {});
 
