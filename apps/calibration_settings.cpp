@@ -123,7 +123,7 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
   if (!g.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
   const Fields f(g, where);
   f.expect_only({"load_suite", "gammas", "prior_weights", "reaches", "volume_terms", "shear_terms",
-                 "folds", "prior_iterations"});
+                 "strain_points", "folds", "prior_iterations"});
   fitting::GeneralisationOptions o;
   request.load_suite = f.boolean("load_suite", !fit_given);
   if (f.has("gammas")) o.gammas = numbers(f, "gammas", 0.0, 0.999);
@@ -152,6 +152,14 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
   };
   o.volume_terms = kinds("volume_terms", request.settings.mesh.volume_terms);
   o.shear_terms = kinds("shear_terms", request.settings.mesh.shear_terms);
+  o.strain_points = {request.settings.mesh.strain_points};
+  if (f.has("strain_points")) {
+    o.strain_points.clear();
+    for (double n : numbers(f, "strain_points", 0, 4)) {
+      if (n != std::floor(n)) f.fail("strain_points", "entries must be whole numbers 0 .. 4");
+      o.strain_points.push_back(static_cast<int>(n));
+    }
+  }
   o.folds = f.integer("folds", o.folds, 2);
   request.settings.prior_max_iterations =
       f.integer("prior_iterations", request.settings.prior_max_iterations, 1);
@@ -170,7 +178,8 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
                  "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
                  "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
-                 "target_percent_e_rms", "generalisation", "volume_terms", "shear_terms"});
+                 "target_percent_e_rms", "generalisation", "volume_terms", "shear_terms",
+                 "strain_points"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)
@@ -200,15 +209,17 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   s.mesh.merge_coincident = f.boolean("merge_coincident", false);
   s.mesh.volume_terms = f.boolean("volume_terms", false);
   s.mesh.shear_terms = f.boolean("shear_terms", false);
+  s.mesh.strain_points = f.integer("strain_points", 0, 0);
+  if (s.mesh.strain_points > 4) f.fail("strain_points", "must be 0 .. 4 points per direction");
   s.max_iterations = f.integer("max_iterations", s.max_iterations, 1);
   s.field_samples = f.integer("field_samples", s.field_samples, 2);
   // The matrix approach fits central springs only: off by default with cell terms.
-  const bool cell_terms = s.mesh.volume_terms || s.mesh.shear_terms;
+  const bool cell_terms = s.mesh.volume_terms || s.mesh.shear_terms || s.mesh.strain_points > 0;
   request.matrix_approach = f.boolean("matrix_approach", !cell_terms);
   if (request.matrix_approach && cell_terms)
     f.fail("matrix_approach",
-           "fits central springs only and cannot compare a model with volume_terms or "
-           "shear_terms; set it to false");
+           "fits central springs only and cannot compare a model with volume_terms, "
+           "shear_terms or strain_points; set it to false");
   request.acceleration_objective = f.boolean("acceleration_objective", true);
   request.target_percent_e_rms = f.number("target_percent_e_rms", 0.0, 0.0, false);
   if (f.has("generalisation")) {

@@ -79,6 +79,9 @@ std::string protocol_text(const fitting::CalibrationSettings& s,
   if (!s.gamma_sweep.empty())
     text += ", best of a sweep over " + std::to_string(s.gamma_sweep.size()) + " gamma values";
   if (s.mesh.reach == 2) text += "; springs also two net steps apart (reach 2)";
+  if (s.mesh.strain_points > 0)
+    text += "; a volume and a shear strain-point term at " + std::to_string(s.mesh.strain_points) +
+            " Gauss point(s) per direction of every knot span";
   text +=
       "; Levenberg-Marquardt on log-stiffnesses with the analytic Jacobian. Errors are on the "
       "control points (o_max: largest reference control-point displacement).";
@@ -152,6 +155,7 @@ void run_calibrate(const CalibrateOptions& options) {
     settings.mesh.reach = chosen.reach;
     settings.mesh.volume_terms = chosen.volume_terms;
     settings.mesh.shear_terms = chosen.shear_terms;
+    settings.mesh.strain_points = chosen.strain_points;
   }
   fitting::CalibrationResult computed = generalisation ? std::move(generalisation->calibration)
                                                        : fitting::calibrate(c.problem, settings);
@@ -186,12 +190,16 @@ void run_calibrate(const CalibrateOptions& options) {
   report["protocol"] = protocol_text(settings, result);
   report["particles"] = network.positions.size();
   report["springs"] = network.springs.size();
-  report["volume_terms"] =
-      std::count_if(network.volumes.begin(), network.volumes.end(),
-                    [](const auto& t) { return t.kind == analysis::CellEnergy::kVolume; });
-  report["shear_terms"] =
-      std::count_if(network.volumes.begin(), network.volumes.end(),
-                    [](const auto& t) { return t.kind == analysis::CellEnergy::kShear; });
+  // Net-cell terms; a strain point (one volume and one shear term) is counted apart.
+  report["volume_terms"] = std::count_if(
+      network.volumes.begin(), network.volumes.end(),
+      [](const auto& t) { return t.kind == analysis::CellEnergy::kVolume && t.points.empty(); });
+  report["shear_terms"] = std::count_if(
+      network.volumes.begin(), network.volumes.end(),
+      [](const auto& t) { return t.kind == analysis::CellEnergy::kShear && t.points.empty(); });
+  report["strain_points"] = std::count_if(
+      network.volumes.begin(), network.volumes.end(),
+      [](const auto& t) { return t.kind == analysis::CellEnergy::kShear && !t.points.empty(); });
   report["groups"] = result.parameters;
   report["groups_at_lower_bound"] = result.fit_result.groups_at_lower_bound;
   report["warnings"] = result.mesh.warnings;
@@ -223,6 +231,7 @@ void run_calibrate(const CalibrateOptions& options) {
     nlohmann::json g = {{"reach", chosen.reach},
                         {"volume_terms", chosen.volume_terms},
                         {"shear_terms", chosen.shear_terms},
+                        {"strain_points", chosen.strain_points},
                         {"gamma", chosen.gamma},
                         {"prior_weight", chosen.prior_weight},
                         {"cross_validation_worst", chosen.worst},
@@ -232,6 +241,7 @@ void run_calibrate(const CalibrateOptions& options) {
       g["candidates"].push_back({{"reach", cand.reach},
                                  {"volume_terms", cand.volume_terms},
                                  {"shear_terms", cand.shear_terms},
+                                 {"strain_points", cand.strain_points},
                                  {"gamma", cand.gamma},
                                  {"prior_weight", cand.prior_weight},
                                  {"parameters", cand.parameters},

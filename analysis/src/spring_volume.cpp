@@ -1,6 +1,8 @@
 // Volume terms of a spring network (header: definition, exactness of the quadrature).
 #include "isospring/analysis/spring_volume.hpp"
 
+#include "isospring/analysis/spring_strain_point.hpp"
+
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <array>
@@ -154,7 +156,8 @@ double shear_energy_fixed(const double* corner_x, const Eigen::VectorXd& rest_b,
 
 template <int Dim>
 std::vector<Eigen::VectorXd> shear_columns_fixed(const Eigen::VectorXd& b, double factor) {
-  constexpr int corners = 1 << Dim;
+  // A cell's corners or a strain point's control points.
+  const auto corners = static_cast<int>(b.size()) / Dim;
   std::vector<Eigen::VectorXd> columns;
   for (const auto& d : deviatoric_basis<Dim>()) {
     Eigen::VectorXd g(corners * Dim);
@@ -176,6 +179,7 @@ int volume_corners(int dimension) {
 
 double cell_volume(const VolumeTerm& term, const Eigen::VectorXd& x, int dimension,
                    Eigen::VectorXd* gradient, Eigen::MatrixXd* hessian) {
+  if (!term.points.empty()) return strain_point_volume(term, x, dimension, gradient, hessian);
   double corner_x[24];
   for (int a = 0; a < volume_corners(dimension); ++a)
     for (int c = 0; c < dimension; ++c)
@@ -188,6 +192,10 @@ double cell_volume(const VolumeTerm& term, const Eigen::VectorXd& x, int dimensi
 double rest_cell_volume(const SpringNetwork& network, const VolumeTerm& term,
                         Eigen::VectorXd* gradient) {
   const int dim = network.dimension;
+  if (!term.points.empty()) {
+    if (gradient) *gradient = strain_point_rest_gradient(term, dim);
+    return term.rest_volume;
+  }
   double corner_x[24];
   for (int a = 0; a < volume_corners(dim); ++a)
     for (int c = 0; c < dim; ++c)
@@ -198,6 +206,9 @@ double rest_cell_volume(const SpringNetwork& network, const VolumeTerm& term,
 
 std::vector<int> volume_dofs(const VolumeTerm& term, int dimension) {
   std::vector<int> dofs;
+  for (int p : term.points)
+    for (int c = 0; c < dimension; ++c) dofs.push_back(p * dimension + c);
+  if (!term.points.empty()) return dofs;
   for (int a = 0; a < volume_corners(dimension); ++a)
     for (int c = 0; c < dimension; ++c)
       dofs.push_back(term.particles[static_cast<size_t>(a)] * dimension + c);
@@ -220,6 +231,8 @@ void corner_coordinates(const VolumeTerm& term, const Eigen::VectorXd& x, int di
 double cell_shear_energy(const SpringNetwork& network, const VolumeTerm& term,
                          const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
                          Eigen::MatrixXd* hessian) {
+  if (!term.points.empty())
+    return strain_point_shear_energy(term, x, network.dimension, gradient, hessian);
   Eigen::VectorXd b;
   const double v0 = rest_cell_volume(network, term, &b);
   double corner_x[24];
@@ -279,8 +292,8 @@ void add_volume_stiffness(const SpringNetwork& network, const Eigen::VectorXd& x
     Eigen::MatrixXd block;
     if (t.kind == CellEnergy::kShear) {
       if (at_rest) {
-        block = Eigen::MatrixXd::Zero(volume_corners(network.dimension) * network.dimension,
-                                      volume_corners(network.dimension) * network.dimension);
+        const auto size = static_cast<Eigen::Index>(volume_dofs(t, network.dimension).size());
+        block = Eigen::MatrixXd::Zero(size, size);
         for (const Eigen::VectorXd& g : rest_stiffness_columns(network, t))
           block += t.modulus * g * g.transpose();
       } else {

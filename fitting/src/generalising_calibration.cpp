@@ -106,66 +106,77 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
           "cross-validation: reach " + std::to_string(candidate.reach) +
           (candidate.volume_terms ? " with volume terms" : "") +
           (candidate.shear_terms ? " with shear terms" : "") +
+          (candidate.strain_points > 0
+               ? " with strain points (" + std::to_string(candidate.strain_points) + "/direction)"
+               : "") +
           format(", gamma %g, prior weight %g", candidate.gamma, candidate.prior_weight) +
           (candidate.failure.empty() ? format(": worst held-out %%e_rms %.3g over %g cases",
                                               candidate.worst, static_cast<double>(training.size()))
                                      : ": failed"));
   };
 
-  if (options.volume_terms.empty() || options.shear_terms.empty())
+  if (options.volume_terms.empty() || options.shear_terms.empty() || options.strain_points.empty())
     throw nurbs::InputError(
-        "generalisation: give at least one model kind (volume_terms, shear_terms)");
+        "generalisation: give at least one model kind (volume_terms, shear_terms, "
+        "strain_points)");
+  for (int n : options.strain_points)
+    if (n < 0 || n > 4)
+      throw nurbs::InputError("generalisation: strain_points entries must be 0 .. 4");
   GeneralisationResult result;
   for (int reach : options.reaches)
     for (bool volume_terms : options.volume_terms)
-      for (bool shear_terms : options.shear_terms) {
-        base.mesh.reach = reach;
-        base.mesh.volume_terms = volume_terms;
-        base.mesh.shear_terms = shear_terms;
-        // Grouped candidates; the per-spring ones start from the best grouping's fold optima.
-        int best_grouped = -1;
-        for (double gamma : options.gammas) {
-          CandidateScore candidate;
-          candidate.reach = reach;
-          candidate.volume_terms = volume_terms;
-          candidate.shear_terms = shear_terms;
-          candidate.gamma = gamma;
-          score(candidate, [gamma](CalibrationSettings& s, int) { s.gamma = gamma; });
-          result.candidates.push_back(candidate);
-          if (candidate.failure.empty() &&
-              (best_grouped < 0 || candidate.worst < result.candidates[best_grouped].worst))
-            best_grouped = static_cast<int>(result.candidates.size()) - 1;
-        }
-        if (best_grouped < 0 || options.prior_weights.empty()) continue;
-        const double gamma = result.candidates[static_cast<size_t>(best_grouped)].gamma;
-        std::vector<std::vector<double>> prior(static_cast<size_t>(folds));
-        std::string failure;
-        for (int f = 0; f < folds && failure.empty(); ++f) {
-          CalibrationSettings s = fold_settings(f);
-          s.gamma = gamma;
-          try {
-            prior[static_cast<size_t>(f)] = per_element_values(calibrate(problem, s).fit_result);
-          } catch (const std::runtime_error& e) {
-            failure = e.what();
+      for (bool shear_terms : options.shear_terms)
+        for (int strain_points : options.strain_points) {
+          base.mesh.reach = reach;
+          base.mesh.volume_terms = volume_terms;
+          base.mesh.shear_terms = shear_terms;
+          base.mesh.strain_points = strain_points;
+          // Grouped candidates; the per-spring ones start from the best grouping's fold optima.
+          int best_grouped = -1;
+          for (double gamma : options.gammas) {
+            CandidateScore candidate;
+            candidate.reach = reach;
+            candidate.volume_terms = volume_terms;
+            candidate.shear_terms = shear_terms;
+            candidate.strain_points = strain_points;
+            candidate.gamma = gamma;
+            score(candidate, [gamma](CalibrationSettings& s, int) { s.gamma = gamma; });
+            result.candidates.push_back(candidate);
+            if (candidate.failure.empty() &&
+                (best_grouped < 0 || candidate.worst < result.candidates[best_grouped].worst))
+              best_grouped = static_cast<int>(result.candidates.size()) - 1;
+          }
+          if (best_grouped < 0 || options.prior_weights.empty()) continue;
+          const double gamma = result.candidates[static_cast<size_t>(best_grouped)].gamma;
+          std::vector<std::vector<double>> prior(static_cast<size_t>(folds));
+          std::string failure;
+          for (int f = 0; f < folds && failure.empty(); ++f) {
+            CalibrationSettings s = fold_settings(f);
+            s.gamma = gamma;
+            try {
+              prior[static_cast<size_t>(f)] = per_element_values(calibrate(problem, s).fit_result);
+            } catch (const std::runtime_error& e) {
+              failure = e.what();
+            }
+          }
+          for (double w : options.prior_weights) {
+            CandidateScore candidate;
+            candidate.reach = reach;
+            candidate.volume_terms = volume_terms;
+            candidate.shear_terms = shear_terms;
+            candidate.strain_points = strain_points;
+            candidate.gamma = gamma;
+            candidate.prior_weight = w;
+            candidate.failure = failure;
+            score(candidate, [&](CalibrationSettings& s, int f) {
+              s.gamma = gamma;
+              s.per_spring = true;
+              s.prior_weight = w;
+              s.per_spring_start = prior[static_cast<size_t>(f)];
+            });
+            result.candidates.push_back(candidate);
           }
         }
-        for (double w : options.prior_weights) {
-          CandidateScore candidate;
-          candidate.reach = reach;
-          candidate.volume_terms = volume_terms;
-          candidate.shear_terms = shear_terms;
-          candidate.gamma = gamma;
-          candidate.prior_weight = w;
-          candidate.failure = failure;
-          score(candidate, [&](CalibrationSettings& s, int f) {
-            s.gamma = gamma;
-            s.per_spring = true;
-            s.prior_weight = w;
-            s.per_spring_start = prior[static_cast<size_t>(f)];
-          });
-          result.candidates.push_back(candidate);
-        }
-      }
 
   // The best candidate on every training case, measured on the validation cases; should its
   // refit fail (a singular network), the next best.
@@ -184,6 +195,7 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
     final_settings.mesh.reach = chosen.reach;
     final_settings.mesh.volume_terms = chosen.volume_terms;
     final_settings.mesh.shear_terms = chosen.shear_terms;
+    final_settings.mesh.strain_points = chosen.strain_points;
     final_settings.fit_cases = training;
     final_settings.gamma = chosen.gamma;
     try {

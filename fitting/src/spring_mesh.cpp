@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/spring_strain_point.hpp"
 #include "isospring/analysis/spring_volume.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -93,6 +94,36 @@ void add_cell_volume_terms(const analysis::Problem& problem, double diagonal,
                             (kind == analysis::CellEnergy::kShear ? "shear" : "volume") +
                             " terms of " + std::to_string(degenerate) +
                             " net cells of zero volume (collapsed corners)");
+}
+
+// A volume and a shear strain-point term at every site of every patch (spring_strain_point.hpp),
+// the control points mapped to their particles (merged control points add their gradients).
+void add_strain_point_terms(const analysis::Problem& problem, int points_per_direction,
+                            SpringMesh& mesh) {
+  auto& net = mesh.network;
+  for (size_t p = 0; p < problem.patches.size(); ++p) {
+    if (problem.patches[p].param_dim() != net.dimension)
+      throw nurbs::InputError("spring mesh: strain points need patches of the model's dimension");
+    for (const auto& site :
+         analysis::strain_point_sites(problem.patches[p], points_per_direction)) {
+      analysis::VolumeTerm term;
+      term.rest_volume = site.volume;
+      for (size_t a = 0; a < site.control_points.size(); ++a) {
+        const int particle = mesh.particle[p][static_cast<size_t>(site.control_points[a])];
+        const auto at = std::find(term.points.begin(), term.points.end(), particle);
+        if (at == term.points.end()) {
+          term.points.push_back(particle);
+          term.gradients.push_back(site.gradients[a]);
+        } else {
+          term.gradients[static_cast<size_t>(at - term.points.begin())] += site.gradients[a];
+        }
+      }
+      for (auto kind : {analysis::CellEnergy::kVolume, analysis::CellEnergy::kShear}) {
+        term.kind = kind;
+        net.volumes.push_back(term);
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -210,6 +241,7 @@ SpringMesh build_spring_mesh(const analysis::Problem& problem, const SpringMeshO
   if (options.shear_terms)
     add_cell_volume_terms(problem, bounding_box_diagonal(node_positions),
                           analysis::CellEnergy::kShear, mesh);
+  if (options.strain_points > 0) add_strain_point_terms(problem, options.strain_points, mesh);
   return mesh;
 }
 

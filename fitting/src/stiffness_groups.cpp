@@ -49,20 +49,22 @@ Grouping group_by_rest_length(const analysis::SpringNetwork& network, double gam
   for (const auto& s : network.springs) lengths.push_back(s.rest_length);
   grouping.group_of_spring = group_sizes(lengths, gamma, grouping);
   // Cell terms by rest |volume|, each kind in groups of its own (a bulk modulus is not a shear
-  // modulus): volume terms first, then shear terms.
+  // modulus, a net cell's mean strain is not a strain point's): cell volume terms first, then
+  // cell shear terms, then the strain points' volume and shear terms.
   grouping.group_of_volume.assign(network.volumes.size(), -1);
-  for (auto kind : {analysis::CellEnergy::kVolume, analysis::CellEnergy::kShear}) {
-    std::vector<double> volumes;
-    std::vector<size_t> index;
-    for (size_t v = 0; v < network.volumes.size(); ++v)
-      if (network.volumes[v].kind == kind) {
-        volumes.push_back(std::abs(network.volumes[v].rest_volume));
-        index.push_back(v);
-      }
-    if (volumes.empty()) continue;
-    const std::vector<int> group = group_sizes(volumes, gamma, grouping);
-    for (size_t i = 0; i < index.size(); ++i) grouping.group_of_volume[index[i]] = group[i];
-  }
+  for (bool point : {false, true})
+    for (auto kind : {analysis::CellEnergy::kVolume, analysis::CellEnergy::kShear}) {
+      std::vector<double> volumes;
+      std::vector<size_t> index;
+      for (size_t v = 0; v < network.volumes.size(); ++v)
+        if (network.volumes[v].kind == kind && network.volumes[v].points.empty() != point) {
+          volumes.push_back(std::abs(network.volumes[v].rest_volume));
+          index.push_back(v);
+        }
+      if (volumes.empty()) continue;
+      const std::vector<int> group = group_sizes(volumes, gamma, grouping);
+      for (size_t i = 0; i < index.size(); ++i) grouping.group_of_volume[index[i]] = group[i];
+    }
   return grouping;
 }
 

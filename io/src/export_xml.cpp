@@ -11,11 +11,20 @@ std::string number(double value) {
 }
 
 std::string cell_terms(const analysis::SpringNetwork& network) {
-  size_t volume = 0, shear = 0;
-  for (const auto& t : network.volumes) ++(t.kind == analysis::CellEnergy::kShear ? shear : volume);
+  size_t volume = 0, shear = 0, points = 0;
+  for (const auto& t : network.volumes) {
+    if (!t.points.empty())
+      points += t.kind == analysis::CellEnergy::kShear ? 1 : 0;  // a volume and a shear term each
+    else
+      ++(t.kind == analysis::CellEnergy::kShear ? shear : volume);
+  }
   std::string text;
   if (volume > 0) text = std::to_string(volume) + " volume terms";
   if (shear > 0) text += (text.empty() ? "" : " and ") + std::to_string(shear) + " shear terms";
+  if (points > 0)
+    text += (text.empty() ? "" : " and ") + std::to_string(points) +
+            " strain points (volume and shear energy of the NURBS strain at a point; "
+            "calibration.strain_points)";
   return text;
 }
 

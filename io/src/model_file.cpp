@@ -112,12 +112,19 @@ std::string check_spring_network(const analysis::SpringNetwork& network) {
   for (size_t v = 0; v < network.volumes.size(); ++v) {
     const analysis::VolumeTerm& term = network.volumes[v];
     const std::string where = "volumes[" + std::to_string(v) + "]";
-    for (int a = 0; a < corners; ++a) {
-      const int q = term.particles[static_cast<size_t>(a)];
+    // A strain point (spring_strain_point.hpp) lists its own points; a cell its corners.
+    if (term.points.size() != term.gradients.size())
+      return where + ".gradients: one gradient per point expected";
+    const std::vector<int> indices =
+        term.points.empty()
+            ? std::vector<int>(term.particles.begin(), term.particles.begin() + corners)
+            : term.points;
+    for (int q : indices)
       if (q < 0 || q >= static_cast<int>(n))
-        return where + ".particles: particle index " + std::to_string(q) + " out of range [0, " +
-               std::to_string(n) + ")";
-    }
+        return where + (term.points.empty() ? ".particles" : ".points") + ": particle index " +
+               std::to_string(q) + " out of range [0, " + std::to_string(n) + ")";
+    for (const Eigen::Vector3d& g : term.gradients)
+      if (!g.allFinite()) return where + ".gradients: must be finite";
     if (!std::isfinite(term.modulus) || term.modulus < 0)
       return where + (term.kind == analysis::CellEnergy::kShear ? ".mu" : ".kappa") +
              ": must be finite and >= 0 (got " + describe(term.modulus) + ")";
@@ -156,12 +163,25 @@ json model_to_json(const analysis::SpringNetwork& network, const json& provenanc
   if (!network.volumes.empty()) {
     json volumes = json::array();
     const size_t corners = network.dimension == 2 ? 4 : 8;
-    for (const analysis::VolumeTerm& v : network.volumes)
-      volumes.push_back(
-          json{{"particles", std::vector<int>(v.particles.begin(), v.particles.begin() + corners)},
-               {v.kind == analysis::CellEnergy::kShear ? "mu" : "kappa", v.modulus},
-               {"V0", v.rest_volume},
-               {"group", v.group}});
+    for (const analysis::VolumeTerm& v : network.volumes) {
+      json item{{v.kind == analysis::CellEnergy::kShear ? "mu" : "kappa", v.modulus},
+                {"V0", v.rest_volume},
+                {"group", v.group}};
+      if (v.points.empty()) {
+        item["particles"] = std::vector<int>(v.particles.begin(), v.particles.begin() + corners);
+      } else {
+        // A strain point: F = sum_a x_{points[a]} gradients[a]^T (dR_a/dX at the point).
+        item["points"] = v.points;
+        json gradients = json::array();
+        for (const Eigen::Vector3d& g : v.gradients) {
+          json row = json::array();
+          for (int c = 0; c < network.dimension; ++c) row.push_back(g[c]);
+          gradients.push_back(std::move(row));
+        }
+        item["gradients"] = std::move(gradients);
+      }
+      volumes.push_back(std::move(item));
+    }
     document["volumes"] = std::move(volumes);
   }
   return document;
@@ -234,19 +254,42 @@ SpringModel model_from_json(const json& document, const std::string& source) {
       const std::string path = "volumes[" + std::to_string(v) + "].";
       const json& item = volumes[v];
       if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
-      check_keys(reader, item, path, {"particles", "kappa", "mu", "V0", "group"});
+      check_keys(reader, item, path,
+                 {"particles", "points", "gradients", "kappa", "mu", "V0", "group"});
       // "kappa": a volume term; "mu": a shear term (deviatoric energy of the mean strain).
       if (item.contains("kappa") == item.contains("mu"))
         reader.fail(path.substr(0, path.size() - 1),
                     "give either \"kappa\" (a volume term) or \"mu\" (a shear term)");
-      const json& particles_of = reader.require(item, "particles", path);
-      if (!particles_of.is_array() || particles_of.size() != corners)
-        reader.fail(path + "particles", "must list the " + std::to_string(corners) +
-                                            " corners of the cell in tensor order");
       analysis::VolumeTerm term;
-      for (size_t a = 0; a < corners; ++a)
-        term.particles[a] =
-            reader.integer(particles_of[a], path + "particles[" + std::to_string(a) + "]");
+      if (item.contains("points")) {
+        // A strain point: its particles and their basis gradients, one row of `dimension`.
+        const json& points = item["points"];
+        const json& gradients = reader.require(item, "gradients", path);
+        if (!points.is_array() || points.empty() || !gradients.is_array() ||
+            gradients.size() != points.size())
+          reader.fail(path + "points", "must list one particle per row of \"gradients\"");
+        for (size_t a = 0; a < points.size(); ++a) {
+          const std::string at = "[" + std::to_string(a) + "]";
+          term.points.push_back(reader.integer(points[a], path + "points" + at));
+          const json& row = gradients[a];
+          if (!row.is_array() || row.size() != static_cast<size_t>(network.dimension))
+            reader.fail(path + "gradients" + at,
+                        "must have " + std::to_string(network.dimension) + " components");
+          Eigen::Vector3d g = Eigen::Vector3d::Zero();
+          for (int c = 0; c < network.dimension; ++c)
+            g[c] = reader.number(row[static_cast<size_t>(c)],
+                                 path + "gradients" + at + "[" + std::to_string(c) + "]");
+          term.gradients.push_back(g);
+        }
+      } else {
+        const json& particles_of = reader.require(item, "particles", path);
+        if (!particles_of.is_array() || particles_of.size() != corners)
+          reader.fail(path + "particles", "must list the " + std::to_string(corners) +
+                                              " corners of the cell in tensor order");
+        for (size_t a = 0; a < corners; ++a)
+          term.particles[a] =
+              reader.integer(particles_of[a], path + "particles[" + std::to_string(a) + "]");
+      }
       const char* key = item.contains("mu") ? "mu" : "kappa";
       if (item.contains("mu")) term.kind = analysis::CellEnergy::kShear;
       term.modulus = reader.number(item[key], path + key);

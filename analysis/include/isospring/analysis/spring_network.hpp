@@ -42,6 +42,14 @@ struct VolumeTerm {
   double modulus = 0.0;      // kappa or mu [Pa] (2D: [N/m], per unit thickness)
   double rest_volume = 0.0;  // V0 [m^3] (2D: area [m^2]), signed by the corners' orientation
   int group = -1;            // calibration group, -1 when ungrouped
+  /// Non-empty: a STRAIN-POINT term (issue 14, spring_strain_point.hpp) instead of a net cell:
+  /// F = sum_a x_{points[a]} gradients[a]^T with gradients[a] = dR_a/dX, the NURBS basis
+  /// gradients at one point of the patch (e.g. a Gauss point of a knot span), over the
+  /// (p+1)^d control points supporting it; rest_volume is the point's share of the patch volume
+  /// (quadrature weight times |det J|). kVolume stores 1/2 kappa V0 (det F - 1)^2, kShear
+  /// mu V0 |dev G|^2 as for a cell. `particles` is unused then.
+  std::vector<int> points;
+  std::vector<Eigen::Vector3d> gradients;
 };
 
 struct SpringNetwork {

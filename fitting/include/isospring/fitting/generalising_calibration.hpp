@@ -34,6 +34,11 @@ struct GeneralisationOptions {
   /// per net cell (analysis::CellEnergy::kShear), grouped like the volume terms. Every reach,
   /// volume kind, gamma and weight is tried with each.
   std::vector<bool> shear_terms = {false};
+  /// Strain points (SpringMeshOptions::strain_points): 0, none; n > 0, a volume and a shear
+  /// strain-point term at n Gauss points per direction of every knot span
+  /// (analysis/spring_strain_point.hpp), grouped like the cell terms. Every other kind is tried
+  /// with each.
+  std::vector<int> strain_points = {0};
   /// Training cases are dealt diagonally (case c to fold (c + c / folds) mod folds) into this many
   /// folds (at least 2, at most the number of training cases).
   int folds = 3;
@@ -45,6 +50,7 @@ struct CandidateScore {
   int reach = 1;
   bool volume_terms = false;
   bool shear_terms = false;
+  int strain_points = 0;
   double gamma = 0.0;
   double prior_weight = 0.0;  // 0: the grouped model
   int parameters = 0;

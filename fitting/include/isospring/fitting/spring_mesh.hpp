@@ -32,6 +32,12 @@ struct SpringMeshOptions {
   /// the cell's mean strain, after the volume terms in SpringNetwork::volumes. With volume terms
   /// a cell holds a full isotropic small-strain energy (bulk and shear moduli fitted apart).
   bool shear_terms = false;
+  /// > 0: also a volume and a shear strain-point term (analysis/spring_strain_point.hpp) at each
+  /// of this many Gauss points per direction of every knot span, on the NURBS basis gradients of
+  /// the control points supporting it (after the cell terms in SpringNetwork::volumes). 1 is the
+  /// reduced rule (one point per span); degree + 1 with the material's moduli is the IGA
+  /// stiffness itself. 0: none.
+  int strain_points = 0;
 };
 
 /// A spring network on the control nets of a model plus the map back to control points.
