@@ -1,0 +1,49 @@
+# CTest driver of Install.ConsumerBuildsAgainstInstalledPackage (tests/install/CMakeLists.txt):
+#   1. cmake --install BUILD_DIR --prefix PREFIX (a fresh folder);
+#   2. the installed program analyses CASE into WORK/analyze (its report.json is the reference);
+#   3. the consumer project (tests/install/consumer) is configured with only
+#      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, CASE and that report.json.
+# Variables: BUILD_DIR, PREFIX, WORK, CONSUMER_DIR, PATCH, CASE, CXX_COMPILER, BUILD_TYPE.
+cmake_minimum_required(VERSION 3.22)
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT status EQUAL 0)
+    string(REPLACE ";" " " command "${ARGN}")
+    message(FATAL_ERROR "failed (${status}): ${command}\n${out}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${PREFIX} ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${PREFIX})
+foreach(installed bin/isospring include/isospring/nurbs/patch.hpp include/isospring/io/case_file.hpp
+                  lib/cmake/isospring/isospringConfig.cmake
+                  lib/cmake/isospring/isospringConfigVersion.cmake
+                  lib/cmake/isospring/isospringTargets.cmake)
+  if(NOT EXISTS ${PREFIX}/${installed})
+    message(FATAL_ERROR "not installed: PREFIX/${installed}")
+  endif()
+endforeach()
+
+run(${PREFIX}/bin/isospring analyze ${CASE} -o ${WORK}/analyze -q)
+
+set(launcher "")
+find_program(ccache_program ccache)
+if(ccache_program)
+  set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${ccache_program})
+endif()
+run(${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK}/consumer-build -DCMAKE_PREFIX_PATH=${PREFIX}
+    -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=${BUILD_TYPE} ${launcher}
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+# The package must come from the prefix, not from the build tree or a system copy.
+file(STRINGS ${WORK}/consumer-build/CMakeCache.txt found REGEX "^isospring_DIR:")
+if(NOT found STREQUAL "isospring_DIR:PATH=${PREFIX}/lib/cmake/isospring")
+  message(FATAL_ERROR "the consumer found isospring elsewhere: ${found}")
+endif()
+run(${CMAKE_COMMAND} --build ${WORK}/consumer-build)
+
+run(${WORK}/consumer-build/consumer ${PATCH} ${CASE} ${WORK}/analyze/report.json)
+message("${last_output}")
