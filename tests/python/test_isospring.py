@@ -6,7 +6,9 @@ the `isospring` program (CTest sets all three). Every check compares with someth
 independently: closed forms, numpy arithmetic on the patch's own data, finite differences, or the
 report the program writes for the same case.
 """
+import contextlib
 import csv
+import io
 import json
 import math
 import os
@@ -196,6 +198,28 @@ def test_calibration_matches_the_program():
                              result["positions"][result["springs"][:, 1]], axis=1)
     assert np.max(np.abs(lengths - result["rest_length"])) < 1e-12
     assert np.all(result["stiffness"] > 0)
+
+
+def test_readme_snippet_runs():
+    """The Python example of README.md, "Using isospring as a library", as written."""
+    with open(os.path.join(SOURCE, "README.md")) as f:
+        readme = f.read()
+    section = readme[readme.index("## Using isospring as a library"):]
+    start = section.index("```python\n") + len("```python\n")
+    snippet = section[start:section.index("```", start)]
+    assert "isospring.analyze" in snippet
+    cwd = os.getcwd()
+    os.chdir(SOURCE)  # the snippet's paths are relative to the repository, as in the README
+    printed = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(printed):
+            exec(compile(snippet, "README.md", "exec"), {})
+    finally:
+        os.chdir(cwd)
+    lines = printed.getvalue().splitlines()
+    # What the snippet's comments promise: the two arcs, the Timoshenko tip deflection.
+    assert lines[0] == "[1. 2.]", lines
+    assert abs(float(lines[1]) + 0.0051375) < 1e-10, lines
 
 
 def main():
