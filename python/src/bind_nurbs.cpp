@@ -89,7 +89,7 @@ py::object evaluate(const Patch& patch, const py::array_t<double>& input, bool d
     }
   }
   if (derivs) return py::make_tuple(points, first);
-  return std::move(points);
+  return points;
 }
 
 }  // namespace

@@ -104,7 +104,7 @@ def test_patch_files_round_trip():
 
 def test_input_errors_are_exceptions():
     try:
-        isospring.Patch([2], [[0, 0, 1, 1, 1]], np.zeros((2, 3)))
+        isospring.Patch([2], [[0, 0, 0.5, 1, 1, 1]], np.zeros((3, 3)))
         raise AssertionError("an unclamped knot vector was accepted")
     except isospring.InputError as e:
         assert "clamped" in str(e) and isinstance(e, ValueError)
