@@ -3,7 +3,10 @@
 #   2. the installed program analyses CASE into WORK/analyze (its report.json is the reference);
 #   3. the consumer project (tests/install/consumer) is configured with only
 #      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, CASE and that report.json.
-# Variables: BUILD_DIR, PREFIX, WORK, CONSUMER_DIR, PATCH, CASE, CXX_COMPILER, BUILD_TYPE.
+#   4. with PYTHON (the Python module is built): the installed module imports from
+#      PREFIX/lib/python3/dist-packages and keeps the refined annulus' arc at radius 1.
+# Variables: BUILD_DIR, PREFIX, WORK, CONSUMER_DIR, PATCH, CASE, CXX_COMPILER, BUILD_TYPE,
+# optional PYTHON.
 cmake_minimum_required(VERSION 3.22)
 
 function(run)
@@ -47,3 +50,17 @@ run(${CMAKE_COMMAND} --build ${WORK}/consumer-build)
 
 run(${WORK}/consumer-build/consumer ${PATCH} ${CASE} ${WORK}/analyze/report.json)
 message("${last_output}")
+
+if(PYTHON)
+  set(code [=[
+import sys, isospring
+assert isospring.__file__.startswith(sys.argv[1]), isospring.__file__
+patch = isospring.refine_uniform(isospring.elevate_degree(isospring.read_patch_file(sys.argv[2])[0], 1), 4)
+x = patch.evaluate([0.5, 0.0])[0]
+assert abs((x[0] ** 2 + x[1] ** 2) ** 0.5 - 1) < 1e-12, x
+print("python: the installed module at", isospring.__file__, "evaluates", list(x))
+]=])
+  set(ENV{PYTHONPATH} ${PREFIX}/lib/python3/dist-packages)
+  run(${PYTHON} -c "${code}" ${PREFIX}/lib/python3/dist-packages ${PATCH})
+  message("${last_output}")
+endif()
