@@ -200,6 +200,31 @@ def test_calibration_matches_the_program():
     assert np.all(result["stiffness"] > 0)
 
 
+def test_identify_matches_the_program():
+    """identify() on the shipped plate with hidden gravity gives the program's report."""
+    case_file = os.path.join(EXAMPLES, "identify", "plate_hidden_gravity.json")
+    result = isospring.identify(isospring.read_case(case_file))
+    with tempfile.TemporaryDirectory() as folder:
+        subprocess.run([PROGRAM, "identify", case_file, "-o", folder, "-q"], check=True)
+        with open(os.path.join(folder, "report.json")) as f:
+            report = json.load(f)
+    # What the case's description says was hidden in the data.
+    assert result["effects_added"] == report["effects_added"] == ["gravity",
+                                                                  "rigid_offset_per_load"]
+    assert len(result["positions"]) == report["markers"]
+    for key in ("rms_before", "rms_after", "max_before", "max_after", "noise_estimate"):
+        assert abs(result[key] - report[key]) <= 1e-12 * abs(report[key]), key
+    for ours, theirs in zip(result["parameters"], report["parameters"]):
+        assert ours["name"] == theirs["name"]
+        for key in ("value", "standard_error"):
+            assert abs(ours[key] - theirs[key]) <= 1e-12 * abs(theirs[key]), (ours, theirs)
+    # The summaries are those of the returned per-marker arrays (2D: x and y components).
+    for stage in ("before", "after"):
+        residual = (result["measured"] - result["model_" + stage])[:, :2]
+        assert abs(np.sqrt(np.mean(residual ** 2)) / result["rms_" + stage] - 1) < 1e-12
+        assert abs(np.max(np.abs(residual)) / result["max_" + stage] - 1) < 1e-12
+
+
 def test_readme_snippet_runs():
     """The Python example of README.md, "Using isospring as a library", as written."""
     with open(os.path.join(SOURCE, "README.md")) as f:
