@@ -1,11 +1,13 @@
 # CTest driver of Install.ConsumerBuildsAgainstInstalledPackage (tests/install/CMakeLists.txt):
 #   1. cmake --install BUILD_DIR --prefix PREFIX (a fresh folder);
-#   2. the installed program analyses CASE into WORK/analyze (its report.json is the reference);
+#   2. the installed program analyses CASE, calibrates CALIBRATE_CASE and identifies IDENTIFY_CASE
+#      (their report.json files are the reference);
 #   3. the consumer project (tests/install/consumer) is configured with only
-#      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, CASE and that report.json.
+#      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, the cases and those reports.
 #   4. with PYTHON (the Python module is built): the installed module imports from
 #      PREFIX/lib/python3/dist-packages and keeps the refined annulus' arc at radius 1.
-# Variables: BUILD_DIR, PREFIX, WORK, CONSUMER_DIR, PATCH, CASE, CXX_COMPILER, BUILD_TYPE,
+# Variables: BUILD_DIR, PREFIX, WORK, CONSUMER_DIR, PATCH, CASE, CALIBRATE_CASE, IDENTIFY_CASE,
+# CXX_COMPILER, BUILD_TYPE,
 # optional PYTHON.
 cmake_minimum_required(VERSION 3.22)
 
@@ -32,6 +34,8 @@ foreach(installed bin/isospring include/isospring/nurbs/patch.hpp include/isospr
 endforeach()
 
 run(${PREFIX}/bin/isospring analyze ${CASE} -o ${WORK}/analyze -q)
+run(${PREFIX}/bin/isospring calibrate ${CALIBRATE_CASE} -o ${WORK}/calibrate -q)
+run(${PREFIX}/bin/isospring identify ${IDENTIFY_CASE} -o ${WORK}/identify -q)
 
 set(launcher "")
 find_program(ccache_program ccache)
@@ -48,7 +52,8 @@ if(NOT found STREQUAL "isospring_DIR:PATH=${PREFIX}/lib/cmake/isospring")
 endif()
 run(${CMAKE_COMMAND} --build ${WORK}/consumer-build)
 
-run(${WORK}/consumer-build/consumer ${PATCH} ${CASE} ${WORK}/analyze/report.json)
+run(${WORK}/consumer-build/consumer ${PATCH} ${CASE} ${WORK}/analyze/report.json
+    ${CALIBRATE_CASE} ${WORK}/calibrate/report.json ${IDENTIFY_CASE} ${WORK}/identify/report.json)
 message("${last_output}")
 
 if(PYTHON)

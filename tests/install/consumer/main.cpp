@@ -1,12 +1,14 @@
 // A consumer of the installed isospring package (tests/install): reads a patch file, refines it
-// exactly, evaluates points on its circular arcs; reads a case file, solves it and compares with
-// the report.json that the installed `isospring analyze` wrote for the same case.
+// exactly, evaluates points on its circular arcs; reads case files, solves, calibrates and
+// identifies them (fitting_checks.cpp) and compares with the report.json that the installed
+// `isospring analyze`, `calibrate` and `identify` wrote for the same cases.
 //
-//   consumer PATCH.json CASE.json REPORT.json
+//   consumer PATCH.json CASE.json REPORT.json CALIBRATE_CASE.json CALIBRATE_REPORT.json
+//            IDENTIFY_CASE.json IDENTIFY_REPORT.json
 //
 // Prints what it measured and exits 1 when a check fails: the arcs of the quarter annulus keep
-// radii 1 and 2 to 1e-12 after refinement, and every load case's max_displacement and
-// strain_energy agree with the program's report to 1e-12 (relative).
+// radii 1 and 2 to 1e-12 after refinement, and every reported number compared agrees with the
+// program's to 1e-12 (relative).
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -16,6 +18,8 @@
 #include <isospring/nurbs/error.hpp>
 #include <isospring/nurbs/refine.hpp>
 #include <nlohmann/json.hpp>
+
+#include "fitting_checks.hpp"
 
 namespace {
 
@@ -45,13 +49,6 @@ bool check_patch(const char* file) {
   return inner < 1e-12 && outer < 1e-12 && fine.num_points() == 7 * 6;
 }
 
-bool agrees(const char* what, const std::string& id, double ours, double reported) {
-  const double difference = std::abs(ours - reported) / std::max(std::abs(reported), 1e-300);
-  std::printf("%s %s: %.17g (isospring analyze: %.17g, relative difference %.3g)\n", what,
-              id.c_str(), ours, reported, difference);
-  return difference <= 1e-12;
-}
-
 bool check_case(const char* case_file, const char* report_file) {
   const isospring::io::Case c = isospring::io::read_case_file(case_file);
   const isospring::analysis::StaticResult result = isospring::analysis::solve_static(c.problem);
@@ -63,9 +60,12 @@ bool check_case(const char* case_file, const char* report_file) {
     const auto& lc = result.load_cases[i];
     const nlohmann::json& reported = report.at("load_cases").at(i);
     ok = reported.at("id") == lc.id && ok;
-    ok = agrees("max_displacement", lc.id, lc.max_displacement, reported.at("max_displacement")) &&
+    ok = consumer::agrees("max_displacement " + lc.id, lc.max_displacement,
+                          reported.at("max_displacement")) &&
          ok;
-    ok = agrees("strain_energy", lc.id, lc.strain_energy, reported.at("strain_energy")) && ok;
+    ok = consumer::agrees("strain_energy " + lc.id, lc.strain_energy,
+                          reported.at("strain_energy")) &&
+         ok;
   }
   return ok;
 }
@@ -73,16 +73,20 @@ bool check_case(const char* case_file, const char* report_file) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: consumer PATCH.json CASE.json REPORT.json\n");
+  if (argc != 8) {
+    std::fprintf(stderr,
+                 "usage: consumer PATCH.json CASE.json REPORT.json CALIBRATE_CASE.json "
+                 "CALIBRATE_REPORT.json IDENTIFY_CASE.json IDENTIFY_REPORT.json\n");
     return 2;
   }
   try {
-    const bool patch_ok = check_patch(argv[1]);
-    const bool case_ok = check_case(argv[2], argv[3]);
-    std::printf("%s\n", patch_ok && case_ok ? "consumer: all checks passed" : "consumer: FAILED");
-    return patch_ok && case_ok ? 0 : 1;
-  } catch (const isospring::nurbs::InputError& e) {
+    bool ok = check_patch(argv[1]);
+    ok = check_case(argv[2], argv[3]) && ok;
+    ok = consumer::check_calibration(argv[4], argv[5]) && ok;
+    ok = consumer::check_identification(argv[6], argv[7]) && ok;
+    std::printf("%s\n", ok ? "consumer: all checks passed" : "consumer: FAILED");
+    return ok ? 0 : 1;
+  } catch (const std::exception& e) {  // InputError, or a report without a field
     std::fprintf(stderr, "consumer: %s\n", e.what());
     return 1;
   }
