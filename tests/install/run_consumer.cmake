@@ -3,12 +3,12 @@
 #   2. the installed program analyses CASE, calibrates CALIBRATE_CASE and identifies IDENTIFY_CASE
 #      (their report.json files are the reference);
 #   3. the consumer project (tests/install/consumer) is configured with only
-#      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, the cases and those reports.
-#   4. with PYTHON (the Python module is built): the installed module imports from
+#      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, the cases and those reports;
+#   4. every installed header compiles on its own with the package's targets;
+#   5. with PYTHON (the Python module is built): the installed module imports from
 #      PREFIX/lib/python3/dist-packages and keeps the refined annulus' arc at radius 1.
 # Variables: BUILD_DIR, PREFIX, WORK, CONSUMER_DIR, PATCH, CASE, CALIBRATE_CASE, IDENTIFY_CASE,
-# CXX_COMPILER, BUILD_TYPE,
-# optional PYTHON.
+# CXX_COMPILER, BUILD_TYPE, optional PYTHON.
 cmake_minimum_required(VERSION 3.22)
 
 function(run)
@@ -51,6 +51,29 @@ if(NOT found STREQUAL "isospring_DIR:PATH=${PREFIX}/lib/cmake/isospring")
   message(FATAL_ERROR "the consumer found isospring elsewhere: ${found}")
 endif()
 run(${CMAKE_COMMAND} --build ${WORK}/consumer-build)
+
+# Every installed header compiles with what the package's targets give a consumer: a header
+# that needed a private dependency (OpenCascade, CGAL, Ceres, VTK, Spectra) or a file that was
+# not installed would fail here.
+file(GLOB headers RELATIVE ${PREFIX}/include ${PREFIX}/include/isospring/*/*.hpp)
+set(includes "")
+foreach(header ${headers})
+  string(APPEND includes "#include <${header}>\n")
+endforeach()
+file(WRITE ${WORK}/headers/all_headers.cpp "${includes}")
+file(WRITE ${WORK}/headers/CMakeLists.txt [=[
+cmake_minimum_required(VERSION 3.22)
+project(isospring_headers LANGUAGES CXX)
+find_package(isospring CONFIG REQUIRED)
+add_library(all_headers OBJECT all_headers.cpp)
+target_link_libraries(all_headers PRIVATE isospring::io)
+]=])
+run(${CMAKE_COMMAND} -S ${WORK}/headers -B ${WORK}/headers-build -DCMAKE_PREFIX_PATH=${PREFIX}
+    -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=${BUILD_TYPE} ${launcher}
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+run(${CMAKE_COMMAND} --build ${WORK}/headers-build)
+list(LENGTH headers count)
+message("every installed header compiles: ${count} headers")
 
 run(${WORK}/consumer-build/consumer ${PATCH} ${CASE} ${WORK}/analyze/report.json
     ${CALIBRATE_CASE} ${WORK}/calibrate/report.json ${IDENTIFY_CASE} ${WORK}/identify/report.json)
