@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/analysis/post_processing.hpp"
 #include "isospring/analysis/static_solver.hpp"
@@ -17,24 +18,17 @@ namespace py = pybind11;
 namespace isospring::python {
 namespace {
 
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
 // One (n, 3) array per patch.
 std::vector<RowMatrix> per_patch(const analysis::ControlDisplacements& displacements) {
   std::vector<RowMatrix> out;
-  for (const auto& patch : displacements) {
-    RowMatrix u(static_cast<Eigen::Index>(patch.size()), 3);
-    for (size_t i = 0; i < patch.size(); ++i)
-      u.row(static_cast<Eigen::Index>(i)) = patch[i].transpose();
-    out.push_back(std::move(u));
-  }
+  for (const auto& patch : displacements) out.push_back(rows(patch));
   return out;
 }
 
 // Displacement, stress and von Mises stress at parameters (m, d) of one patch, for a load case
 // solved on this case (the sizes are checked: a result of another case would read garbage).
 py::dict field(const io::Case& c, const analysis::LoadCaseResult& result, int patch,
-               const RowMatrix& u) {
+               const py::array_t<double>& params) {
   const auto& patches = c.problem.patches;
   if (patch < 0 || patch >= static_cast<int>(patches.size()))
     throw nurbs::InputError("field: patch " + std::to_string(patch) +
@@ -46,8 +40,7 @@ py::dict field(const io::Case& c, const analysis::LoadCaseResult& result, int pa
   if (!same_sizes)
     throw nurbs::InputError("field: the load case result was not solved on this case");
   const int d = patches[static_cast<size_t>(patch)].param_dim();
-  if (u.cols() != d)
-    throw nurbs::InputError("field: parameters must have shape (m, " + std::to_string(d) + ")");
+  const RowMatrix u = parameter_rows(params, d);
   RowMatrix points(u.rows(), 3), displacement(u.rows(), 3);
   py::array_t<double> stress({u.rows(), Eigen::Index{3}, Eigen::Index{3}});
   Eigen::VectorXd von_mises(u.rows());

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/fitting/calibration.hpp"
 #include "isospring/io/case_file.hpp"
@@ -16,7 +17,6 @@ namespace py = pybind11;
 namespace isospring::python {
 namespace {
 
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using IndexMatrix = Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor>;
 
 py::dict metrics(const fitting::ErrorMetrics& e) {
@@ -31,15 +31,12 @@ py::dict metrics(const fitting::ErrorMetrics& e) {
 // Per load case: the control-point, field and surface metrics, keyed as in the report.json of
 // `isospring calibrate`, and the node errors u_nmsm - u_ref as an (n, 3) array.
 py::dict case_errors(const fitting::CaseErrors& e) {
-  RowMatrix node_error(static_cast<Eigen::Index>(e.node_error.size()), 3);
-  for (size_t i = 0; i < e.node_error.size(); ++i)
-    node_error.row(static_cast<Eigen::Index>(i)) = e.node_error[i].transpose();
   py::dict d;
   d["id"] = e.id;
   d["control"] = metrics(e.control);
   d["field"] = metrics(e.field);
   d["surface"] = metrics(e.surface);
-  d["node_error"] = node_error;
+  d["node_error"] = rows(e.node_error);
   return d;
 }
 
@@ -58,16 +55,13 @@ py::dict calibration_result(const fitting::CalibrationResult& r) {
     rest_length[s] = spring.rest_length;
     group[s] = spring.group;
   }
-  RowMatrix positions(static_cast<Eigen::Index>(net.positions.size()), 3);
-  for (size_t i = 0; i < net.positions.size(); ++i)
-    positions.row(static_cast<Eigen::Index>(i)) = net.positions[i].transpose();
   py::dict d;
   d["springs"] = pairs;
   d["stiffness"] = stiffness;
   d["damping"] = damping;
   d["rest_length"] = rest_length;
   d["group"] = group;
-  d["positions"] = positions;
+  d["positions"] = rows(net.positions);
   d["masses"] = net.masses;
   d["fixed"] = net.fixed;
   d["gamma"] = r.gamma;

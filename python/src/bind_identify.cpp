@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/fitting/identify.hpp"
 #include "isospring/io/case_file.hpp"
@@ -18,15 +19,6 @@ namespace py = pybind11;
 
 namespace isospring::python {
 namespace {
-
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-RowMatrix rows(const std::vector<Eigen::Vector3d>& vectors) {
-  RowMatrix out(static_cast<Eigen::Index>(vectors.size()), 3);
-  for (size_t i = 0; i < vectors.size(); ++i)
-    out.row(static_cast<Eigen::Index>(i)) = vectors[i].transpose();
-  return out;
-}
 
 py::list parameters(const std::vector<fitting::ParameterEstimate>& estimates) {
   py::list out;

@@ -1,13 +1,14 @@
 // isospring.Patch and the exact refinement operations (nurbs module) for Python.
 //
-// Parameters come in as an (m, d) array (or one point as a length-d sequence), points go out as
-// (m, 3) arrays; control points are an (n, 3) array, first parametric direction fastest, as in
-// patch files.
+// Parameters come in as an (m, d) array (or one point as a length-d sequence; for a curve, a 1D
+// array of m parameters), points go out as (m, 3) arrays; control points are an (n, 3) array, first
+// parametric direction fastest, as in patch files.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/patch.hpp"
@@ -20,24 +21,6 @@ namespace {
 
 using nurbs::KnotVector;
 using nurbs::Patch;
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-// Parameters as an (m, d) matrix; a 1D input is one point. Its width must be the patch's
-// parametric dimension, so that a (u, v) pair is never silently read as a curve parameter.
-RowMatrix parameters(const Patch& patch, const py::array_t<double>& input) {
-  const py::buffer_info info = input.request();
-  if (info.ndim != 1 && info.ndim != 2)
-    throw nurbs::InputError("parameters: expected an array of shape (m, " +
-                            std::to_string(patch.param_dim()) + ") or one point");
-  const py::array_t<double, py::array::c_style | py::array::forcecast> c(input);
-  const auto rows = info.ndim == 1 ? 1 : info.shape[0];
-  const auto cols = info.ndim == 1 ? info.shape[0] : info.shape[1];
-  if (cols != patch.param_dim())
-    throw nurbs::InputError("parameters: " + std::to_string(cols) +
-                            " coordinates per point, but the patch has parametric dimension " +
-                            std::to_string(patch.param_dim()));
-  return Eigen::Map<const RowMatrix>(c.data(), rows, cols);
-}
 
 nurbs::Param param_row(const RowMatrix& u, Eigen::Index row) {
   nurbs::Param p{0, 0, 0};
@@ -63,14 +46,12 @@ Patch make_patch(const std::vector<std::vector<double>>& knots, const std::vecto
 }
 
 RowMatrix control_point_array(const Patch& patch) {
-  RowMatrix out(patch.num_points(), 3);
-  for (int i = 0; i < patch.num_points(); ++i) out.row(i) = patch.control_point(i).transpose();
-  return out;
+  return rows(patch.control_points());
 }
 
 // (m, 3) points, and with derivatives (m, 3, d) first derivatives: [i, :, a] = dX/du_a.
 py::object evaluate(const Patch& patch, const py::array_t<double>& input, bool derivs) {
-  const RowMatrix u = parameters(patch, input);
+  const RowMatrix u = parameter_rows(input, patch.param_dim());
   const int d = patch.param_dim();
   py::array_t<double> points({u.rows(), Eigen::Index{3}});
   py::array_t<double> first({u.rows(), Eigen::Index{3}, Eigen::Index{d}});

@@ -46,6 +46,8 @@ def test_circle_is_exact():
     assert np.max(np.abs(np.linalg.norm(points, axis=1) - 1)) < 1e-14
     # On a circle the tangent is orthogonal to the radius.
     assert np.max(np.abs(np.einsum("ij,ij->i", points, first[:, :, 0]))) < 1e-13
+    # A 1D array is m parameters of a curve, and gives the same points.
+    assert np.array_equal(arc.evaluate(np.linspace(0, 1, 201)), points)
     # The ends and the middle (45 degrees) by the closed form.
     assert np.allclose(points[[0, 100, 200]], [[1, 0, 0], [math.sqrt(.5), math.sqrt(.5), 0],
                                                [0, 1, 0]], rtol=0, atol=1e-15)
@@ -131,7 +133,7 @@ def test_timoshenko_tip_deflection():
     assert case.dimension == 2 and case.formulation == "plane_stress"
     assert case.load_case_ids == ["end_shear"]
     result = isospring.analyze(case)
-    f = isospring.field(case, result["end_shear"], 0, np.array([[1.0, 0.5]]))
+    f = isospring.field(case, result["end_shear"], 0, [1.0, 0.5])  # one point
     assert np.allclose(f["points"][0], [10, 1, 0], rtol=0, atol=1e-13)
     # Plane stress, end shear P (Timoshenko & Goodier): v(L, 0) = -P L^3 / (3 E I)
     # - P (4 + 5 nu) D^2 L / (24 E I), with I = D^3 / 12 per unit thickness.
