@@ -247,6 +247,7 @@ def test_readme_snippet_runs():
     # What the snippet's comments promise: the two arcs, the Timoshenko tip deflection.
     assert lines[0] == "[1. 2.]", lines
     assert abs(float(lines[1]) + 0.0051375) < 1e-10, lines
+    assert lines[3] == "['gravity', 'rigid_offset_per_load']", lines
 
 
 def main():
