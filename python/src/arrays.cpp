@@ -22,7 +22,10 @@ RowMatrix parameter_rows(const py::array_t<double>& input, int param_dim) {
     throw nurbs::InputError("parameters: " + std::to_string(width) +
                             " coordinates per point, but the patch has parametric dimension " +
                             std::to_string(param_dim));
-  return Eigen::Map<const RowMatrix>(c.data(), points, width);
+  RowMatrix u = Eigen::Map<const RowMatrix>(c.data(), points, width);
+  // The library clamps parameters into the knot range but cannot place NaN or inf anywhere.
+  if (!u.allFinite()) throw nurbs::InputError("parameters: NaN or inf");
+  return u;
 }
 
 RowMatrix rows(const std::vector<Eigen::Vector3d>& vectors) {

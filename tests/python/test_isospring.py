@@ -120,11 +120,12 @@ def test_input_errors_are_exceptions():
             raise AssertionError("an unknown field was accepted")
         except isospring.InputError as e:
             assert "bad.json" in str(e) and "weight" in str(e)
-    try:
-        annulus().evaluate([0.5])
-        raise AssertionError("one coordinate was accepted for a surface")
-    except isospring.InputError:
-        pass
+    for bad in ([0.5], [0.5, float("nan")]):
+        try:
+            annulus().evaluate(bad)
+            raise AssertionError(f"parameters {bad} were accepted for a surface")
+        except isospring.InputError:
+            pass
 
 
 def test_timoshenko_tip_deflection():
