@@ -1,21 +1,32 @@
 # isospring_module(NAME DEPS...): the library isospring_NAME (alias isospring::NAME) built from
-# NAME/src/*.cpp with the public headers in NAME/include/isospring/NAME/.
+# NAME/src/*.cpp with the public headers in NAME/include/isospring/NAME/. Every module is installed
+# (cmake/IsospringInstall.cmake) as isospring::NAME of the exported package.
 function(isospring_module name)
   cmake_parse_arguments(ARG "" "" "PUBLIC;PRIVATE" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
+  # Headers from the source tree while building, from PREFIX/include once installed.
+  set(include_dirs $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+                   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   if(NOT sources)
     # A module still being written: header-only until its first source lands.
     add_library(isospring_${name} INTERFACE)
-    add_library(isospring::${name} ALIAS isospring_${name})
-    target_include_directories(isospring_${name} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_include_directories(isospring_${name} INTERFACE ${include_dirs})
     target_link_libraries(isospring_${name} INTERFACE ${ARG_PUBLIC})
-    return()
+    target_compile_features(isospring_${name} INTERFACE cxx_std_20)
+  else()
+    add_library(isospring_${name} STATIC ${sources})
+    target_include_directories(isospring_${name} PUBLIC ${include_dirs})
+    target_link_libraries(isospring_${name} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
+    # The public headers are C++20: consumers of the installed package get the standard too.
+    target_compile_features(isospring_${name} PUBLIC cxx_std_20)
+    # Position-independent code, so that the static libraries can go into shared objects: the
+    # Python module (python/) and a user's own shared library or plugin.
+    set_target_properties(isospring_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    isospring_warnings(isospring_${name})
   endif()
-  add_library(isospring_${name} STATIC ${sources})
   add_library(isospring::${name} ALIAS isospring_${name})
-  target_include_directories(isospring_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
-  target_link_libraries(isospring_${name} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
-  isospring_warnings(isospring_${name})
+  set_target_properties(isospring_${name} PROPERTIES EXPORT_NAME ${name})
+  isospring_install_module(${name})
 endfunction()
 
 function(isospring_warnings target)
