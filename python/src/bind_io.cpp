@@ -9,23 +9,12 @@
 #include "bindings.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/patch_file.hpp"
+#include "isospring/io/report_case.hpp"
 
 namespace py = pybind11;
 
 namespace isospring::python {
 namespace {
-
-std::string formulation_name(analysis::Formulation f) {
-  switch (f) {
-    case analysis::Formulation::kPlaneStress:
-      return "plane_stress";
-    case analysis::Formulation::kPlaneStrain:
-      return "plane_strain";
-    case analysis::Formulation::kSolid:
-      return "solid";
-  }
-  return "solid";
-}
 
 std::vector<int> used_entries(const std::array<int, 3>& values, const io::Case& c) {
   const int d = c.geometry.empty() ? 0 : c.geometry.front().param_dim();
@@ -48,7 +37,8 @@ void bind_io(py::module_& m) {
       .def_property_readonly("file", [](const io::Case& c) { return c.file; })
       .def_readonly("dimension", &io::Case::dimension, "2 (plane) or 3 (solid).")
       .def_property_readonly(
-          "formulation", [](const io::Case& c) { return formulation_name(c.problem.formulation); })
+          "formulation",
+          [](const io::Case& c) { return io::formulation_name(c.problem.formulation); })
       .def_readonly("geometry", &io::Case::geometry, "The exact patches, before refinement.")
       .def_property_readonly(
           "patches", [](const io::Case& c) { return c.problem.patches; },
