@@ -354,7 +354,6 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
         check.marker_error = std::move(error);
     }
   }
-  check.finest_prediction = predictions[finest];
   check.done = true;
   check.within_target = chosen >= 0;
   check.chosen = chosen >= 0 ? chosen : static_cast<int>(finest);

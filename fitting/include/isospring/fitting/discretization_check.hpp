@@ -77,10 +77,6 @@ struct DiscretizationCheck {
   /// Per marker: the estimated discretisation error of the chosen level (model minus a finer
   /// one), used to widen the significance test when within_target is false.
   std::vector<Eigen::Vector3d> marker_error;
-  /// Per marker: the finest level's predicted displacement (at the given material): the most
-  /// accurate model solved, from which identify re-estimates the noise when the case's own
-  /// discretisation was too coarse to estimate it.
-  std::vector<Eigen::Vector3d> finest_prediction;
   /// The problem of the chosen level (the input problem itself when chosen == 0).
   std::optional<analysis::Problem> chosen_problem;
 };
