@@ -40,6 +40,7 @@
 #include "isospring/analysis/spring_dynamics.hpp"
 #include "isospring/analysis/spring_linear_implicit.hpp"
 #include "isospring/analysis/spring_mechanics.hpp"
+#include "isospring/analysis/spring_reduced_model.hpp"
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/fitting/calibration.hpp"
 #include "isospring/fitting/spring_masses.hpp"
@@ -183,6 +184,59 @@ void BM_LinearImplicitStep(benchmark::State& state) {
       benchmark::Counter(1, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_LinearImplicitStep)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// The reduced model (analysis/spring_reduced_model.hpp) of the same lattices: 32 lowest modes
+// plus the static shape of the load, stepped by the projected linearly implicit scheme.
+// Haptic loop: a force on one particle in, that particle's displacement out (O(r) each, the
+// step O(r^2)); "full field": every DOF's displacement as well, for rendering (O(n r)).
+// Counters: the reduced model's error against the full LinearImplicitIntegrator over 200 steps
+// of the same load (not at 10^5 particles: the full run alone takes minutes there).
+analysis::ReducedSpringModel reduced_lattice_model(const analysis::SpringNetwork& net,
+                                                   Eigen::VectorXd& load) {
+  load = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(net.positions.size()) * 3);
+  const int n = side_for(static_cast<int>(net.positions.size()));
+  for (int k = 0; k < n; ++k)  // the far face x = n - 1 pushed along -y
+    for (int j = 0; j < n; ++j) load[3 * ((k * n + j) * n + n - 1) + 1] = -0.01;
+  return analysis::ReducedSpringModel(net, 1e-3, {32, {load}});
+}
+
+void reduced_steps(benchmark::State& state, bool full_field) {
+  const analysis::SpringNetwork net = lattice(side_for(static_cast<int>(state.range(0))));
+  Eigen::VectorXd load;
+  analysis::ReducedSpringModel model = reduced_lattice_model(net, load);
+  if (full_field && net.positions.size() <= 20000) {
+    const analysis::ReductionError error = analysis::reduction_error(net, model, load, 200);
+    state.counters["static_error"] = error.static_relative;
+    state.counters["dynamic_error"] = error.dynamic_relative;
+  }
+  const int probe = static_cast<int>(net.positions.size()) - 1;  // a far corner
+  Eigen::VectorXd field;
+  for (auto _ : state) {
+    model.step(model.reduce_particle_force(probe, Eigen::Vector3d(0.0, -0.01, 0.0)));
+    Eigen::Vector3d u = model.particle_displacement(probe);
+    benchmark::DoNotOptimize(u.data());
+    if (full_field) {
+      field = model.displacement();
+      benchmark::DoNotOptimize(field.data());
+    }
+  }
+  state.counters["particles"] = static_cast<double>(net.positions.size());
+  state.counters["basis"] = model.size();
+  state.counters["steps_per_s"] =
+      benchmark::Counter(1, benchmark::Counter::kIsIterationInvariantRate);
+}
+void BM_ReducedStepHaptic(benchmark::State& state) {
+  reduced_steps(state, false);
+}
+void BM_ReducedStepFullField(benchmark::State& state) {
+  reduced_steps(state, true);
+}
+BENCHMARK(BM_ReducedStepHaptic)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ReducedStepFullField)
+    ->Arg(1000)
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

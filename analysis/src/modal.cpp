@@ -5,6 +5,7 @@
 #include <Spectra/SymGEigsShiftSolver.h>
 #include <Eigen/CholmodSupport>
 #include <cmath>
+#include <string>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
@@ -43,6 +44,28 @@ class ShiftInvertOperator {
 
 }  // namespace
 
+GeneralizedModes lowest_generalized_modes(const Eigen::SparseMatrix<double>& k,
+                                          const Eigen::SparseMatrix<double>& m, int count) {
+  const Eigen::Index n = k.rows();
+  if (count < 1 || count > n - 1)
+    throw nurbs::InputError("modal analysis: " + std::to_string(count) +
+                            " modes asked of a model with " + std::to_string(n) +
+                            " free DOFs; ask for 1 to " + std::to_string(n - 1));
+  // Shift just below zero, scaled by the typical K/M ratio: keeps K - sigma M positive definite.
+  const double sigma = -1e-6 * k.diagonal().mean() / m.diagonal().mean();
+  ShiftInvertOperator op(k, m);
+  Spectra::SparseSymMatProd<double, Eigen::Upper> mass_op(m);
+  const int ncv = static_cast<int>(std::min<Eigen::Index>(n, std::max(2 * count + 1, 20)));
+  Spectra::SymGEigsShiftSolver<ShiftInvertOperator, Spectra::SparseSymMatProd<double, Eigen::Upper>,
+                               Spectra::GEigsMode::ShiftInvert>
+      solver(op, mass_op, count, ncv, sigma);
+  solver.init();
+  solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
+  if (solver.info() != Spectra::CompInfo::Successful)
+    throw std::runtime_error("modal analysis: the eigensolver did not converge");
+  return {solver.eigenvalues(), solver.eigenvectors()};
+}
+
 ModalResult compute_modes(const Problem& problem, const ModalOptions& options) {
   validate_problem(problem, {.require_load_cases = false, .require_density = true});
   const DofMap dofs(problem);
@@ -65,24 +88,13 @@ ModalResult compute_modes(const Problem& problem, const ModalOptions& options) {
   const Eigen::Index n = k.free_matrix.rows();
   const int count = static_cast<int>(std::min<Eigen::Index>(options.modes, n - 1));
   if (count < 1) throw nurbs::InputError("modal analysis: the model has fewer than 2 free DOFs");
-  // Shift just below zero, scaled by the typical K/M ratio: keeps K - sigma M positive definite.
-  const double sigma = -1e-6 * k.free_matrix.diagonal().mean() / m.free_matrix.diagonal().mean();
-  ShiftInvertOperator op(k.free_matrix, m.free_matrix);
-  Spectra::SparseSymMatProd<double, Eigen::Upper> mass_op(m.free_matrix);
-  const int ncv = static_cast<int>(std::min<Eigen::Index>(n, std::max(2 * count + 1, 20)));
-  Spectra::SymGEigsShiftSolver<ShiftInvertOperator, Spectra::SparseSymMatProd<double, Eigen::Upper>,
-                               Spectra::GEigsMode::ShiftInvert>
-      solver(op, mass_op, count, ncv, sigma);
-  solver.init();
-  solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
-  if (solver.info() != Spectra::CompInfo::Successful)
-    throw std::runtime_error("modal analysis: the eigensolver did not converge");
+  const GeneralizedModes modes = lowest_generalized_modes(k.free_matrix, m.free_matrix, count);
   ModalResult result;
   result.dofs = dofs.num_dofs();
-  result.eigenvalues = solver.eigenvalues();
+  result.eigenvalues = modes.eigenvalues;
   result.frequencies_hz = result.eigenvalues.unaryExpr(
       [](double lambda) { return std::sqrt(std::max(lambda, 0.0)) / (2.0 * M_PI); });
-  const Eigen::MatrixXd free_shapes = solver.eigenvectors();
+  const Eigen::MatrixXd& free_shapes = modes.vectors;
   result.shapes = Eigen::MatrixXd::Zero(dofs.num_dofs(), free_shapes.cols());
   for (size_t j = 0; j < k.free_dofs.size(); ++j)
     result.shapes.row(k.free_dofs[j]) = free_shapes.row(static_cast<Eigen::Index>(j));

@@ -1,6 +1,7 @@
 #pragma once
 // Lowest natural modes K x = omega^2 M x (supports fix their DOFs to zero).
 #include <Eigen/Core>
+#include <Eigen/Sparse>
 #include <vector>
 
 #include "isospring/analysis/problem.hpp"
@@ -23,5 +24,18 @@ struct ModalResult {
 /// below zero so that unsupported (free-free) models work too (their rigid modes come out ~0).
 /// Needs density > 0. Throws std::runtime_error when the eigensolver does not converge.
 ModalResult compute_modes(const Problem& problem, const ModalOptions& options = {});
+
+struct GeneralizedModes {
+  Eigen::VectorXd eigenvalues;  // ascending
+  Eigen::MatrixXd vectors;      // columns, M-orthonormal
+};
+
+/// The `count` lowest eigenpairs of K x = lambda M x for sparse symmetric K (positive
+/// semi-definite) and M (positive definite), of which only the upper triangles are read: the
+/// shift-invert Lanczos of compute_modes, for any such pair (a spring network's K and M too).
+/// Throws nurbs::InputError when count is not in 1 .. rows - 1, std::runtime_error when the
+/// eigensolver does not converge.
+GeneralizedModes lowest_generalized_modes(const Eigen::SparseMatrix<double>& k,
+                                          const Eigen::SparseMatrix<double>& m, int count);
 
 }  // namespace isospring::analysis
