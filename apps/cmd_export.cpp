@@ -1,6 +1,7 @@
-// `isospring export MODEL.json -o OUT [--format json|mjcf|sofa|vtk]`: a calibrated spring model
-// (model.json) for real-time engines and viewers: MuJoCo MJCF, a SOFA scene, VTK poly data, or
-// a validated, normalised model.json.
+// `isospring export MODEL.json -o OUT [--format json|mjcf|sofa|vtk|reduced]`: a calibrated spring
+// model (model.json) for real-time engines and viewers: MuJoCo MJCF, a SOFA scene, VTK poly data,
+// a validated, normalised model.json, or its reduced (modal + load shapes) model for haptic rates
+// (docs/reduced_model.md).
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -10,7 +11,9 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
+#include "isospring/io/atomic_file.hpp"
 #include "isospring/io/export_mjcf.hpp"
+#include "isospring/io/export_reduced.hpp"
 #include "isospring/io/export_sofa.hpp"
 #include "isospring/io/model_file.hpp"
 #include "isospring/io/vtk_multiblock.hpp"
@@ -24,6 +27,7 @@ namespace fs = std::filesystem;
 struct ExportOptions {
   std::string input, output, format, gravity;  // gravity: empty = io::engine_gravity default
   double timestep = 0.0;
+  int modes = 32;  // reduced
   bool quiet = false;
 };
 
@@ -55,7 +59,7 @@ Eigen::Vector3d export_gravity(const std::string& text, const io::SpringModel& m
 // <stem>.report.json / .md beside the export: what the engine receives (counts, mass, stiffness
 // and damping ranges, loads), so a user can check it without opening the file.
 void write_export_report(const ExportOptions& options, const std::string& format,
-                         const io::SpringModel& model) {
+                         const io::SpringModel& model, const io::ReducedExport* reduced) {
   const analysis::SpringNetwork& network = model.network;
   FileReport report("export", options.input, options.output);
   nlohmann::json& j = report.json;
@@ -87,6 +91,12 @@ void write_export_report(const ExportOptions& options, const std::string& format
     j["gravity"] = {g.x(), g.y(), g.z()};
     j["timestep"] = options.timestep;
   }
+  if (reduced) {
+    j["timestep"] = reduced->document.at("timestep");
+    j["modes"] = options.modes;
+    j["basis_size"] = reduced->basis_size;
+    j["reduction_errors"] = reduced->document.at("errors");
+  }
   io::MarkdownReport& md = report.markdown;
   md.heading(1, "isospring export: " + options.input + " -> " + options.output);
   md.table({"format", "particles", "fixed", "springs", "total mass [kg]", "stiffness [N/m]",
@@ -94,6 +104,23 @@ void write_export_report(const ExportOptions& options, const std::string& format
            {{format, std::to_string(network.positions.size()), std::to_string(fixed),
              std::to_string(network.springs.size()), io::format_number(mass), range(k_min, k_max),
              range(c_min, c_max)}});
+  if (reduced) {
+    std::vector<std::vector<std::string>> rows;
+    for (const io::ReducedLoadError& e : reduced->errors)
+      rows.push_back({e.load, io::format_number(e.error.static_relative, 3),
+                      io::format_number(e.error.projection_relative, 3),
+                      e.error.exact_diverged ? "full network's run diverged"
+                                             : io::format_number(e.error.dynamic_relative, 3),
+                      e.error.exact_diverged ? "-" : io::format_number(e.error.dynamic_max, 3),
+                      std::to_string(e.error.steps)});
+    md.paragraph("Reduced model: " + std::to_string(reduced->basis_size) + " basis vectors (" +
+                 std::to_string(options.modes) +
+                 " modes + the load shapes); error against the full network from rest under "
+                 "each load (docs/reduced_model.md):");
+    md.table({"load", "static (relative)", "motion vs linearised network (rms relative)",
+              "motion vs full network (rms relative)", "largest [m]", "steps"},
+             rows);
+  }
   report.write();
 }
 
@@ -106,6 +133,7 @@ void run_export(const ExportOptions& options) {
       "source " + fs::path(options.input).filename().string() +
       (model.provenance.empty() ? std::string() : "; provenance " + model.provenance.dump());
   if (options.timestep < 0) throw nurbs::InputError("--timestep: must be >= 0 (0 = automatic)");
+  std::optional<io::ReducedExport> reduced;
   if (format == "json") {
     io::write_spring_model_json(output, model);  // with its gravity and load cases
   } else if (format == "mjcf") {
@@ -121,6 +149,12 @@ void run_export(const ExportOptions& options) {
     o.timestep = options.timestep;
     o.comment = provenance;
     io::write_sofa_scene(output, model.network, o);
+  } else if (format == "reduced") {
+    io::ReducedExportOptions o;
+    o.modes = options.modes;
+    o.timestep = options.timestep > 0.0 ? options.timestep : 1e-3;
+    reduced = io::export_reduced_model(model, o, {{"source", options.input}});
+    io::write_file_atomically(output, reduced->document.dump() + "\n");
   } else if (output.extension() == ".vtm") {
     io::VtkScene scene;
     scene.network = model.network;
@@ -128,7 +162,7 @@ void run_export(const ExportOptions& options) {
   } else {
     io::write_spring_network_vtp(output, model.network);
   }
-  write_export_report(options, format, model);
+  write_export_report(options, format, model, reduced ? &*reduced : nullptr);
   if (!options.quiet)
     std::cerr << "[export] wrote " << output.string() << " (" << format
               << "): " << model.network.positions.size() << " particles, "
@@ -145,20 +179,28 @@ void setup_export(CLI::App& app) {
   cmd->add_option("-o,--output", options->output, "Output file")->required();
   cmd->add_option("--format", options->format,
                   "json | mjcf (MuJoCo 2.2 XML) | sofa (SOFA v22.12 .scn) | vtk (.vtp, or .vtm "
-                  "multiblock); default from the output's extension")
-      ->check(CLI::IsMember({"json", "mjcf", "sofa", "vtk"}));
+                  "multiblock) | reduced (modal model for haptic rates, JSON); default from the "
+                  "output's extension (reduced: always give --format)")
+      ->check(CLI::IsMember({"json", "mjcf", "sofa", "vtk", "reduced"}));
   cmd->add_option("--gravity", options->gravity,
                   "Gravity gx,gy,gz [m/s^2] for mjcf and sofa; default: the model's gravity, else "
                   "0,0,-9.81 (3D) or 0,-9.81,0 (a flat 2D model moves in x-y only)");
   cmd->add_option("--timestep", options->timestep,
-                  "Time step [s] for mjcf and sofa; 0 = 0.2 x the explicit stability limit");
+                  "Time step [s]: mjcf and sofa, 0 = 0.2 x the explicit stability limit; reduced, "
+                  "0 = 1e-3 (1 kHz)");
+  cmd->add_option("--modes", options->modes,
+                  "reduced: lowest natural modes in the basis (the model's load cases and gravity "
+                  "join it as static shapes)")
+      ->check(CLI::Range(1, 100000));
   cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
   cmd->footer(
       "mjcf: free particles are bodies with slide joints, fixed ones sites in the world, springs\n"
       "spatial tendons (stiffness, damping, springlength = L0); contacts off.\n"
       "sofa: MechanicalObject + UniformMass/DiagonalMass + StiffSpringForceField + "
       "FixedConstraint.\n"
-      "vtk: particles and springs with mass, fixed, stiffness, damping, rest_length, group.");
+      "vtk: particles and springs with mass, fixed, stiffness, damping, rest_length, group.\n"
+      "reduced: basis, eigenvalues, reduced damping and step matrix; the error against the full\n"
+      "network per load goes into the report (docs/reduced_model.md).");
   cmd->callback([options] { run_export(*options); });
 }
 

@@ -207,6 +207,7 @@ void reduced_steps(benchmark::State& state, bool full_field) {
   if (full_field && net.positions.size() <= 20000) {
     const analysis::ReductionError error = analysis::reduction_error(net, model, load, 200);
     state.counters["static_error"] = error.static_relative;
+    state.counters["projection_error"] = error.projection_relative;
     state.counters["dynamic_error"] = error.dynamic_relative;
   }
   const int probe = static_cast<int>(net.positions.size()) - 1;  // a far corner

@@ -171,28 +171,45 @@ ReductionError reduction_error(const SpringNetwork& network, ReducedSpringModel&
   ReductionError error;
   error.steps = steps;
   const Eigen::VectorXd full_static = solve_spring_linear(network, force).displacement;
-  const Eigen::VectorXd reduced_static = model.static_displacement(force);
-  error.static_relative = (reduced_static - full_static).norm() / full_static.norm();
+  error.static_relative =
+      (model.static_displacement(force) - full_static).norm() / full_static.norm();
 
-  LinearImplicitIntegrator full(network, model.dt());
-  SpringState state = rest_state(network);
-  const Eigen::VectorXd rest = state.x;
+  using Forces = LinearImplicitIntegrator::Forces;
+  LinearImplicitIntegrator linear(network, model.dt(), Forces::kLinearised);
+  LinearImplicitIntegrator exact(network, model.dt(), Forces::kExact);
+  SpringState linear_state = rest_state(network), exact_state = linear_state;
+  const Eigen::VectorXd rest = linear_state.x;
   const Eigen::VectorXd reduced_force = model.reduce_force(force);
+  const int dim = model.dimension();
   model.reset();
-  double difference_squared = 0.0, motion_squared = 0.0;
+  double projection_squared = 0.0, linear_squared = 0.0, largest_linear = 0.0;
+  double exact_difference_squared = 0.0, exact_squared = 0.0;
   for (int s = 0; s < steps; ++s) {
-    full.step(state, force);
     model.step(reduced_force);
-    const Eigen::VectorXd u = state.x - rest;
-    const Eigen::VectorXd d = model.displacement() - u;
-    difference_squared += d.squaredNorm();
-    motion_squared += u.squaredNorm();
-    for (Eigen::Index p = 0; p < d.size() / model.dimension(); ++p)
-      error.dynamic_max =
-          std::max(error.dynamic_max, d.segment(p * model.dimension(), model.dimension()).norm());
+    linear.step(linear_state, force);
+    const Eigen::VectorXd u_reduced = model.displacement();
+    const Eigen::VectorXd u_linear = linear_state.x - rest;
+    projection_squared += (u_reduced - u_linear).squaredNorm();
+    linear_squared += u_linear.squaredNorm();
+    largest_linear = std::max(largest_linear, u_linear.cwiseAbs().maxCoeff());
+    if (error.exact_diverged) continue;
+    exact.step(exact_state, force);
+    const Eigen::VectorXd u_exact = exact_state.x - rest;
+    if (!u_exact.allFinite() || u_exact.cwiseAbs().maxCoeff() > 1e3 * largest_linear) {
+      error.exact_diverged = true;
+      continue;
+    }
+    const Eigen::VectorXd d = u_reduced - u_exact;
+    exact_difference_squared += d.squaredNorm();
+    exact_squared += u_exact.squaredNorm();
+    for (Eigen::Index p = 0; p < d.size() / dim; ++p)
+      error.dynamic_max = std::max(error.dynamic_max, d.segment(p * dim, dim).norm());
   }
+  error.projection_relative =
+      linear_squared > 0.0 ? std::sqrt(projection_squared / linear_squared) : 0.0;
   error.dynamic_relative =
-      motion_squared > 0.0 ? std::sqrt(difference_squared / motion_squared) : 0.0;
+      exact_squared > 0.0 ? std::sqrt(exact_difference_squared / exact_squared) : 0.0;
+  if (error.exact_diverged) error.dynamic_relative = error.dynamic_max = std::nan("");
   model.reset();
   return error;
 }

@@ -18,6 +18,10 @@ nlohmann::json matrix_rows(const Eigen::MatrixXd& m) {
   return rows;
 }
 
+nlohmann::json finite_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json();
+}
+
 nlohmann::json vector_list(const Eigen::VectorXd& v) {
   return nlohmann::json(std::vector<double>(v.data(), v.data() + v.size()));
 }
@@ -79,11 +83,15 @@ ReducedExport export_reduced_model(const SpringModel& model, const ReducedExport
   d["basis"] = matrix_rows(reduced.basis());
   nlohmann::json errors = nlohmann::json::array();
   for (const ReducedLoadError& e : out.errors)
-    errors.push_back({{"load", e.load},
-                      {"static_relative", e.error.static_relative},
-                      {"dynamic_relative", e.error.dynamic_relative},
-                      {"dynamic_max", e.error.dynamic_max},
-                      {"steps", e.error.steps}});
+    errors.push_back(
+        {{"load", e.load},
+         {"static_relative", e.error.static_relative},
+         {"projection_relative", e.error.projection_relative},
+         // null when the full network's own run diverged (frozen Jacobian at large rotations)
+         {"dynamic_relative", finite_or_null(e.error.dynamic_relative)},
+         {"dynamic_max", finite_or_null(e.error.dynamic_max)},
+         {"full_network_diverged", e.error.exact_diverged},
+         {"steps", e.error.steps}});
   d["errors"] = std::move(errors);
   d["provenance"] = provenance;
   return out;

@@ -82,6 +82,18 @@ TEST_F(ExportCommand, WritesEveryFormat) {
 
   ASSERT_EQ(run("export " + model + " -q -o " + (dir_ / "scene.vtm").string()), 0);
   EXPECT_TRUE(fs::exists(dir_ / "scene" / "springs.vtp"));
+
+  // The reduced model: 3 modes of the 6 free DOFs (the model has no loads, so no load shapes).
+  ASSERT_EQ(run("export " + model + " -q --format reduced --modes 3 -o " +
+                (dir_ / "reduced.json").string()),
+            0);
+  const nlohmann::json reduced = nlohmann::json::parse(read(dir_ / "reduced.json"));
+  EXPECT_EQ(reduced.at("format"), "isospring.reduced_spring_model");
+  EXPECT_EQ(reduced.at("basis").size(), 12u);
+  EXPECT_EQ(reduced.at("basis").at(0).size(), 3u);
+  EXPECT_EQ(reduced.at("timestep"), 1e-3);
+  const nlohmann::json report = nlohmann::json::parse(read(dir_ / "reduced.json.report.json"));
+  EXPECT_EQ(report.at("basis_size"), 3);
 }
 
 TEST_F(ExportCommand, BadInputExitsWithStatusOne) {
@@ -96,6 +108,11 @@ TEST_F(ExportCommand, BadInputExitsWithStatusOne) {
   EXPECT_EQ(run("export " + (dir_ / "model.json").string() + " --gravity 1,2 -o " +
                 (dir_ / "x.xml").string()),
             1);
+  // 6 free DOFs hold at most 5 modes: named, nothing written.
+  EXPECT_EQ(run("export " + (dir_ / "model.json").string() + " --format reduced --modes 6 -o " +
+                (dir_ / "r.json").string()),
+            1);
+  EXPECT_FALSE(fs::exists(dir_ / "r.json"));
   EXPECT_EQ(run("export " + (dir_ / "model.json").string() + " --format obj -o " +
                 (dir_ / "x.xml").string()),
             2);

@@ -25,9 +25,14 @@ namespace isospring::analysis {
 
 class LinearImplicitIntegrator {
  public:
+  /// kExact: the network's spring, cell and damper forces at the current state (above).
+  /// kLinearised: the forces of the network linearised at rest, -K_0 (x - X) - C_0 v; the step
+  /// is then exactly backward Euler of the linear model (the reference of the reduced model's
+  /// projection error, spring_reduced_model.hpp).
+  enum class Forces { kExact, kLinearised };
   /// Factorises M + dt C_0 + dt^2 K_0 on the free DOFs. Throws nurbs::InputError for dt <= 0 or
   /// a free particle without positive mass, std::runtime_error when the factorisation fails.
-  LinearImplicitIntegrator(const SpringNetwork& network, double dt);
+  LinearImplicitIntegrator(const SpringNetwork& network, double dt, Forces forces = Forces::kExact);
   LinearImplicitIntegrator(const LinearImplicitIntegrator&) = delete;
   LinearImplicitIntegrator& operator=(const LinearImplicitIntegrator&) = delete;
 
@@ -38,8 +43,11 @@ class LinearImplicitIntegrator {
  private:
   const SpringNetwork& network_;
   double dt_;
+  Forces forces_;
   FreeDofSet dofs_;
   Eigen::SparseMatrix<double> k0_;  // rest stiffness on the free DOFs (full storage)
+  Eigen::SparseMatrix<double> c0_;  // rest damping on the free DOFs (kLinearised only)
+  Eigen::VectorXd rest_;            // rest positions, flat
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver_;
   Eigen::VectorXd rhs_, dv_, force_, damping_force_;  // work vectors (no allocation per step)
 };
