@@ -102,6 +102,8 @@ class DisplacementModel {
   Eigen::MatrixXd inverse_;
   // Work matrices of the adjoint form kept between evaluations (no MB-sized allocation each).
   Eigen::MatrixXd identity_, inverse_rows_;
+  std::vector<Eigen::Triplet<double>> b_triplets_;  // B_c's entries (work storage)
+  Eigen::SparseMatrix<double> b_sparse_;            // B_c, duplicates summed
   bool factor_at_inverse_ = false;  // solver_ still holds the factorisation inverse_ came from
   std::vector<Eigen::VectorXd> spring_force_;
   Eigen::SparseMatrix<double> k_;  // upper triangle on the free DOFs
