@@ -54,9 +54,11 @@ TEST(IdentifyUseCase, FindsTheHiddenGravityAndWritesTheReports) {
 
   const fs::path out = fresh_folder("identify");
   write_identify_outputs(out, r, progress);
-  for (const auto& name : identify_output_files(r.load_case_ids))
-    if (name != "errors_before_after.png" && name != "residuals.gp")  // gnuplot may be absent
+  for (const auto& name : identify_output_files(r.load_case_ids)) {
+    if (name != "errors_before_after.png" && name != "residuals.gp") {  // gnuplot may be absent
       EXPECT_TRUE(fs::exists(out / name)) << name;
+    }
+  }
   EXPECT_EQ(read_json(out / "report.json")["rms_after"], r.identify.after.rms);
   fs::remove_all(out);
 }
