@@ -1,73 +1,12 @@
 #include "cli_util.hpp"
 
-#include <cmath>
-#include <sstream>
-
-#include <algorithm>
-#include <nlohmann/json.hpp>
-
 #include "file_report.hpp"
 #include "isospring/analysis/resource_estimate.hpp"
-#include "isospring/geometry/cad.hpp"
-#include "isospring/io/atomic_file.hpp"
-#include "isospring/io/case_file.hpp"
-#include "isospring/io/json_text.hpp"
 #include "isospring/io/output_guard.hpp"
-#include "isospring/io/patch_file.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::apps {
-
-std::vector<double> parse_number_list(const std::string& text, const std::string& option) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(value))
-      throw nurbs::InputError(option + ": '" + item + "' in '" + text +
-                              "' is not a number; give comma-separated numbers like 0.25,0.5");
-    values.push_back(value);
-  }
-  if (values.empty()) throw nurbs::InputError(option + ": no numbers given");
-  return values;
-}
-
-InputKind input_kind(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension == ".step" || extension == ".stp" || extension == ".iges" || extension == ".igs")
-    return InputKind::kCad;
-  // JSON: a patch file has "patches" at the top level, a case file has "geometry".
-  const nlohmann::json document =
-      io::parse_json_text(io::read_text_file(path, "input file"), path.string(),
-                          "patch file, a case file or a STEP/IGES part");
-  if (document.is_object() && document.contains("patches")) return InputKind::kPatchFile;
-  if (document.is_object() && document.contains("geometry")) return InputKind::kCaseFile;
-  throw nurbs::InputError(path.string() +
-                          ": neither a patch file (no \"patches\") nor a case file (no "
-                          "\"geometry\"); see the README for both formats");
-}
-
-std::vector<nurbs::Patch> read_patches_any(const std::filesystem::path& path) {
-  switch (input_kind(path)) {
-    case InputKind::kCad:
-      return geometry::cad_patches(geometry::read_cad(path));
-    case InputKind::kCaseFile:
-      return io::read_case_file(path).problem.patches;
-    case InputKind::kPatchFile:
-      break;
-  }
-  return io::read_patch_file(path);
-}
 
 std::vector<std::filesystem::path> in_folder(const std::filesystem::path& folder,
                                              const std::vector<std::string>& names) {
@@ -117,31 +56,6 @@ io::CaseLimits solve_limits(double max_memory_gb) {
   limits.solve_memory_bytes = limit.bytes;
   limits.solve_memory_source = limit.source;
   return limits;
-}
-
-namespace {
-// The case file and the files its document names: geometry.file and measurements.file.
-std::vector<std::filesystem::path> referenced_files(const std::filesystem::path& case_file,
-                                                    const nlohmann::json& document) {
-  std::vector<std::filesystem::path> inputs{case_file};
-  for (const char* section : {"geometry", "measurements"}) {
-    if (!document.is_object() || !document.contains(section)) continue;
-    const nlohmann::json& object = document[section];
-    if (object.is_object() && object.contains("file") && object["file"].is_string())
-      inputs.push_back(case_file.parent_path() / object["file"].get<std::string>());
-  }
-  return inputs;
-}
-}  // namespace
-
-std::vector<std::filesystem::path> case_inputs(const io::Case& c) {
-  return referenced_files(c.file, c.raw);
-}
-
-std::vector<std::filesystem::path> input_files(const std::filesystem::path& path) {
-  if (input_kind(path) != InputKind::kCaseFile) return {path};
-  return referenced_files(
-      path, io::parse_json_text(io::read_text_file(path, "case file"), path.string(), "case file"));
 }
 
 }  // namespace isospring::apps

@@ -6,17 +6,21 @@
 #include <vector>
 
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/input_file.hpp"
+#include "isospring/io/number_list.hpp"
 #include "isospring/nurbs/patch.hpp"
 
 namespace isospring::apps {
 
-/// "0.3,0.5" -> {0.3, 0.5}; throws nurbs::InputError naming `option` on anything else.
-std::vector<double> parse_number_list(const std::string& text, const std::string& option);
+// parse_number_list is the library's (io/number_list.hpp).
+using io::parse_number_list;
 
-enum class InputKind { kPatchFile, kCaseFile, kCad };
-
-/// STEP/IGES by extension; JSON by content ("patches" -> patch file, "geometry" -> case file).
-InputKind input_kind(const std::filesystem::path& path);
+// Input kinds and the files an input reads are the library's (io/input_file.hpp).
+using io::case_inputs;
+using io::input_files;
+using io::input_kind;
+using io::InputKind;
+using io::read_patches_any;
 
 /// The output folder given with -o, checked before any work: throws nurbs::InputError when the
 /// path exists and is not a folder, when files cannot be created there, or when one of the files
@@ -43,20 +47,9 @@ MemoryLimit memory_limit(double max_memory_gb);
 /// The same as the limit of a static solve for io::read_case_file.
 io::CaseLimits solve_limits(double max_memory_gb);
 
-/// Every file a case reads: the case file, its geometry file (CAD or patch file) and its
-/// measurements file.
-std::vector<std::filesystem::path> case_inputs(const io::Case& c);
-
-/// Every file reading `path` reads: the file itself and, for a case file, its geometry and
-/// measurements files (from the document, before the case is built).
-std::vector<std::filesystem::path> input_files(const std::filesystem::path& path);
-
 /// `folder / name` for each name, for the output checks after the case is read (file names
 /// that depend on load-case ids).
 std::vector<std::filesystem::path> in_folder(const std::filesystem::path& folder,
                                              const std::vector<std::string>& names);
-
-/// Patches of a patch file, a case file (its discretised geometry) or a CAD file, by content.
-std::vector<nurbs::Patch> read_patches_any(const std::filesystem::path& path);
 
 }  // namespace isospring::apps

@@ -1,8 +1,6 @@
 // Reports beside the output file of the single-file commands (file_report.hpp).
 #include "file_report.hpp"
 
-#include "isospring/geometry/measure.hpp"
-
 namespace isospring::apps {
 
 namespace fs = std::filesystem;
@@ -12,7 +10,7 @@ fs::path file_report_path(const fs::path& output, const std::string& extension) 
 }
 
 FileReport::FileReport(const std::string& command, const fs::path& input, const fs::path& output)
-    : json(io::report_header(command, ISOSPRING_VERSION, input)),
+    : json(io::report_header(command, io::isospring_version(), input)),
       output_(output),
       start_(std::chrono::steady_clock::now()) {
   json["output"] = output.string();
@@ -25,50 +23,6 @@ fs::path FileReport::write() {
   io::write_json_report(json_path, json);
   markdown.write(file_report_path(output_, ".md"));
   return json_path;
-}
-
-namespace {
-std::string joined(const std::vector<int>& values, const char* separator) {
-  std::string text;
-  for (size_t i = 0; i < values.size(); ++i)
-    text += (i ? separator : "") + std::to_string(values[i]);
-  return text;
-}
-}  // namespace
-
-nlohmann::json patch_json(const nurbs::Patch& patch) {
-  std::vector<int> degrees, points, elements;
-  for (int d = 0; d < patch.param_dim(); ++d) {
-    degrees.push_back(patch.degree(d));
-    points.push_back(patch.num_points(d));
-    elements.push_back(patch.knots(d).num_elements());
-  }
-  const auto [lo, hi] = patch.control_bounds();
-  return {{"parametric_dimension", patch.param_dim()},
-          {"physical_dimension", patch.physical_dim()},
-          {"rational", patch.is_rational()},
-          {"degrees", degrees},
-          {"control_points", points},
-          {"elements", elements},
-          {"control_net_bounds", {{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}}},
-          {"measure", geometry::measure(patch)}};
-}
-
-std::vector<std::string> patch_table_header() {
-  return {"patch", "dimension", "degrees", "control points", "elements", "length/area/volume"};
-}
-
-std::vector<std::vector<std::string>> patch_table_rows(const std::vector<nurbs::Patch>& patches) {
-  std::vector<std::vector<std::string>> rows;
-  for (size_t i = 0; i < patches.size(); ++i) {
-    const nlohmann::json j = patch_json(patches[i]);
-    rows.push_back({std::to_string(i), std::to_string(patches[i].param_dim()),
-                    joined(j["degrees"].get<std::vector<int>>(), ", "),
-                    joined(j["control_points"].get<std::vector<int>>(), " x "),
-                    joined(j["elements"].get<std::vector<int>>(), " x "),
-                    io::format_number(j["measure"].get<double>())});
-  }
-  return rows;
 }
 
 }  // namespace isospring::apps

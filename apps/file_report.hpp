@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "isospring/io/report.hpp"
+#include "isospring/io/report_patch.hpp"
 #include "isospring/nurbs/patch.hpp"
 
 namespace isospring::apps {
@@ -36,13 +37,9 @@ class FileReport {
   std::chrono::steady_clock::time_point start_;
 };
 
-/// A patch for reports: parametric and physical dimension, rational, degrees, control points
-/// per direction, elements per direction, control-net bounding box, and its length / area /
-/// volume ("measure", geometry::measure).
-nlohmann::json patch_json(const nurbs::Patch& patch);
-
-/// One Markdown table row per patch: index, dimension, degrees, control points, elements, measure.
-std::vector<std::string> patch_table_header();
-std::vector<std::vector<std::string>> patch_table_rows(const std::vector<nurbs::Patch>& patches);
+// A patch in reports is the library's (io/report_patch.hpp).
+using io::patch_json;
+using io::patch_table_header;
+using io::patch_table_rows;
 
 }  // namespace isospring::apps

@@ -53,17 +53,26 @@ void Field::fail(const std::string& message) const {
 
 void Field::expect_object(std::initializer_list<const char*> allowed) const {
   if (!value_->is_object()) fail(" must be an object {...}, got " + type_name(*value_));
-  const std::vector<std::string> names(allowed.begin(), allowed.end());
-  for (const auto& [key, value] : value_->items()) {
-    if (std::find(names.begin(), names.end(), key) != names.end()) continue;
-    std::string message = ": unknown field";
-    const std::string suggestion = closest_word(key, names);
-    if (!suggestion.empty()) message += "; did you mean '" + suggestion + "'?";
-    message += " (allowed here:";
-    for (const std::string& name : names) message += " " + name;
-    message += ")";
-    throw nurbs::InputError(file_ + ": " + (path_.empty() ? key : path_ + "." + key) + message);
-  }
+  reject_unknown_fields(*value_, std::vector<std::string>(allowed.begin(), allowed.end()),
+                        file_ + ": " + (path_.empty() ? "" : path_ + "."));
+}
+
+void fail_unknown_field(const std::string& field, const std::string& key,
+                        const std::vector<std::string>& allowed) {
+  std::string message = field + ": unknown field";
+  const std::string suggestion = closest_word(key, allowed);
+  if (!suggestion.empty()) message += "; did you mean '" + suggestion + "'?";
+  message += " (allowed here:";
+  for (const std::string& name : allowed) message += " " + name;
+  message += ")";
+  throw nurbs::InputError(message);
+}
+
+void reject_unknown_fields(const nlohmann::json& object, const std::vector<std::string>& allowed,
+                           const std::string& prefix) {
+  for (const auto& [key, value] : object.items())
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
+      fail_unknown_field(prefix + key, key, allowed);
 }
 
 bool Field::has(const std::string& key) const {

@@ -47,4 +47,16 @@ class Field {
 /// The allowed word closest to `word` by edit distance when it is a plausible typo, else "".
 std::string closest_word(const std::string& word, const std::vector<std::string>& allowed);
 
+/// The one wording of an unknown field for every JSON reader of io (case, patch, model and
+/// marker settings, the "calibration" object): "<field>: unknown field; did you mean 'x'?
+/// (allowed here: a b c)". `field` names the file and the field's path ("case.json:
+/// calibration.gama"); `key` is its name in the object, `allowed` the names valid there.
+[[noreturn]] void fail_unknown_field(const std::string& field, const std::string& key,
+                                     const std::vector<std::string>& allowed);
+
+/// fail_unknown_field for the first key of the object `object` not in `allowed`; `prefix` is what
+/// goes before the key ("case.json: calibration." or "case.json: " at the top level).
+void reject_unknown_fields(const nlohmann::json& object, const std::vector<std::string>& allowed,
+                           const std::string& prefix);
+
 }  // namespace isospring::io::case_json

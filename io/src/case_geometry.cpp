@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "case_file_json.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/plate_with_central_hole.hpp"
 #include "isospring/geometry/primitives.hpp"
@@ -94,11 +95,9 @@ class GeometryFields {
 
   /// Call after reading: any field not read is unknown for this type.
   void reject_unknown() const {
-    for (auto it = object_.begin(); it != object_.end(); ++it)
-      if (it.key() != "type" && !used_.count(it.key()))
-        fail(it.key(),
-             "is not a field of a " + type_ +
-                 " (geometry types and their fields: README.md, 'Case files', 'geometry')");
+    std::vector<std::string> allowed(used_.begin(), used_.end());
+    allowed.push_back("type");
+    case_json::reject_unknown_fields(object_, allowed, prefix_);
   }
 
   const std::string& prefix() const { return prefix_; }

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "case_file_json.hpp"
 #include "isospring/fitting/effect.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -165,12 +166,8 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
                                             "discretization_check",
                                             "max_dofs",
                                             "discretization_target"};
-  for (const auto& [key, value] : m.items())
-    if (!fields.count(key)) {
-      std::string list;
-      for (const auto& f : fields) list += (list.empty() ? "" : ", ") + f;
-      throw nurbs::InputError(where + "." + key + ": unknown field; valid fields: " + list);
-    }
+  case_json::reject_unknown_fields(m, std::vector<std::string>(fields.begin(), fields.end()),
+                                   where + ".");
   auto string_field = [&](const std::string& key) {
     if (!m.at(key).is_string()) throw nurbs::InputError(where + "." + key + ": must be a string");
     return m.at(key).get<std::string>();

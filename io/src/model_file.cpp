@@ -4,6 +4,7 @@
 #include <set>
 #include <sstream>
 
+#include "case_file_json.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/json_text.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -26,6 +27,7 @@ std::string describe(double value) {
 class FieldReader {
  public:
   FieldReader(std::string source) : source_(std::move(source)) {}
+  const std::string& source() const { return source_; }
 
   [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
     throw InputError(source_ + ": " + field + ": " + problem);
@@ -66,9 +68,8 @@ class FieldReader {
 
 void check_keys(const FieldReader& reader, const json& object, const std::string& path,
                 const std::set<std::string>& known) {
-  for (const auto& item : object.items())
-    if (!known.count(item.key()))
-      reader.fail(path + item.key(), "unknown field; remove it or check the spelling");
+  case_json::reject_unknown_fields(object, std::vector<std::string>(known.begin(), known.end()),
+                                   reader.source() + ": " + path);
 }
 }  // namespace
 

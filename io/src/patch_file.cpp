@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "case_file_json.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/json_text.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -43,10 +44,8 @@ std::vector<double> numbers_at(const json& value, const std::string& where) {
 
 nurbs::Patch patch_from_json(const json& item, const Where& where) {
   if (!item.is_object()) throw InputError(where("") + " must be an object");
-  for (const auto& [key, value] : item.items())
-    if (key != "degrees" && key != "knots" && key != "control_points" && key != "weights")
-      throw InputError(where(key) +
-                       ": unknown field; a patch has degrees, knots, control_points, weights");
+  case_json::reject_unknown_fields(item, {"degrees", "knots", "control_points", "weights"},
+                                   where("") + ".");
   for (const char* required : {"degrees", "knots", "control_points"})
     if (!item.contains(required)) throw InputError(where(required) + " is missing");
 
@@ -120,8 +119,7 @@ nurbs::Patch patch_from_json(const json& item, const Where& where) {
 std::vector<nurbs::Patch> patches_from_json(const json& document, const std::string& source) {
   if (!document.is_object() || !document.contains("patches"))
     throw InputError(source + ": a patch file is an object with a \"patches\" array");
-  for (const auto& [key, value] : document.items())
-    if (key != "patches") throw InputError(source + ": " + key + ": unknown top-level field");
+  case_json::reject_unknown_fields(document, {"patches"}, source + ": ");
   const json& list = document["patches"];
   if (!list.is_array() || list.empty())
     throw InputError(source + ": patches must be a non-empty array");

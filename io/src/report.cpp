@@ -99,6 +99,10 @@ void Progress::update(const std::string& stage, int iteration, double cost) cons
   }
 }
 
+std::string isospring_version() {
+  return ISOSPRING_VERSION;
+}
+
 nlohmann::json report_header(const std::string& command, const std::string& isospring_version,
                              const std::filesystem::path& input) {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());

@@ -1,7 +1,7 @@
 // The NMSM calibration (fitting module) for Python: isospring.calibrate(case, ...) is
 // fitting::calibrate with its settings as keyword arguments. The case file's own "calibration"
-// object is parsed by the program (apps/calibration_settings.cpp), not by the library, so it is not
-// read here: pass the same values to reproduce `isospring calibrate`.
+// object (io::read_calibration_settings, what `isospring calibrate` applies through
+// io::run_calibrate) is not read here: pass the same values to reproduce the program.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

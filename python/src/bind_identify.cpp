@@ -1,19 +1,15 @@
-// The measured-data loop (fitting::identify) for Python: isospring.identify(case) reads the
-// case's "measurements" (io::read_measurement_settings, io::read_markers_csv), places the markers
-// on the model (fitting::place_markers) and runs the loop, as `isospring identify` does before it
-// writes its report. Not here: the recalibration of the spring model (it needs the case's
-// "calibration" object, which only the program parses) and --drop-outside.
+// The measured-data loop for Python: isospring.identify(case) calls io::run_identify, the function
+// `isospring identify` calls (reading the case's "measurements", placing the markers, the loop).
+// Not here: the recalibration of the spring model (the program writes it to model.json) and
+// --drop-outside.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
 #include "bindings.hpp"
-#include "isospring/fitting/identify.hpp"
 #include "isospring/io/case_file.hpp"
-#include "isospring/io/case_refinement_ladder.hpp"
-#include "isospring/io/markers.hpp"
-#include "isospring/nurbs/error.hpp"
+#include "isospring/io/identify_command.hpp"
 
 namespace py = pybind11;
 
@@ -34,50 +30,21 @@ py::list parameters(const std::vector<fitting::ParameterEstimate>& estimates) {
   return out;
 }
 
-// The default placement tolerance of `isospring identify`: 1e-3 of the control nets' bounding-box
-// diagonal (apps/cmd_identify.cpp, README "measurements").
-double default_tolerance(const std::vector<nurbs::Patch>& patches) {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (const auto& p : patches) {
-    const auto [a, b] = p.control_bounds();
-    lo = lo.cwiseMin(a);
-    hi = hi.cwiseMax(b);
-  }
-  return 1e-3 * (hi - lo).norm();
-}
-
 py::dict identify(const io::Case& c, std::optional<int> max_dofs, bool discretization_check) {
-  if (!c.measurements)
-    throw nurbs::InputError(c.file.string() +
-                            ": no \"measurements\" object; add {\"file\": "
-                            "\"markers.csv\"} (README.md, \"Measured data\")");
-  std::vector<std::string> ids;
-  for (const auto& load : c.problem.load_cases) ids.push_back(load.id);
-  const io::MeasurementSettings settings =
-      io::read_measurement_settings(c.measurements->raw, c.file.parent_path(), c.dimension, ids,
-                                    c.file.string() + ": measurements");
-  const fitting::Measurements data = io::read_markers_csv(settings.file, settings.file_options);
-  const double tolerance =
-      settings.placement_tolerance.value_or(default_tolerance(c.problem.patches));
-  const fitting::PlacementResult placed =
-      fitting::place_markers(c.problem.patches, data.markers, tolerance);
-  if (!placed.outside.empty())
-    throw nurbs::InputError(settings.file.string() + ": " + std::to_string(placed.outside.size()) +
-                            " marker(s) lie farther than " + std::to_string(tolerance) +
-                            " m from the model (measurements.placement_tolerance)");
-
-  fitting::IdentifyOptions options = settings.identify;
-  options.discretization.ladder = io::case_refinement_ladder(c);
-  if (max_dofs) options.discretization.max_dofs = *max_dofs;
-  options.discretization.enabled = options.discretization.enabled && discretization_check;
-  fitting::IdentifyResult r;
+  io::IdentifyCommandOptions options;
+  if (max_dofs) options.max_dofs = *max_dofs;
+  options.discretization_check = discretization_check;
+  options.recalibrate = false;  // not returned here; `isospring identify` writes it to model.json
+  io::IdentifyCommandResult result;
   {
     // The loop holds no Python object: other Python threads may run meanwhile.
     py::gil_scoped_release release;
-    r = fitting::identify(c.problem, data.markers, placed.placements, options);
+    result = io::run_identify(c, options, io::Progress("identify", true));
   }
+  const fitting::IdentifyResult& r = result.identify;
+  const std::vector<fitting::Marker>& markers = result.markers;
   std::vector<Eigen::Vector3d> positions, measured;
-  for (const auto& m : data.markers) {
+  for (const auto& m : markers) {
     positions.push_back(m.position);
     measured.push_back(m.displacement);
   }
@@ -94,7 +61,7 @@ py::dict identify(const io::Case& c, std::optional<int> max_dofs, bool discretiz
   d["noise_estimate"] = r.noise_estimate;
   d["load_case"] = [&] {
     std::vector<std::string> out;
-    for (const auto& m : data.markers) out.push_back(m.load_case);
+    for (const auto& m : markers) out.push_back(m.load_case);
     return out;
   }();
   d["positions"] = rows(positions);

@@ -6,11 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <isospring/fitting/calibration.hpp>
-#include <isospring/fitting/identify.hpp>
+#include <isospring/io/calibrate_command.hpp>
 #include <isospring/io/case_file.hpp>
-#include <isospring/io/case_refinement_ladder.hpp>
-#include <isospring/io/markers.hpp>
+#include <isospring/io/identify_command.hpp>
 #include <nlohmann/json.hpp>
 
 namespace consumer {
@@ -45,59 +43,46 @@ bool agrees(const std::string& what, double ours, double reported) {
 }
 
 bool check_calibration(const char* case_file, const char* report_file) {
-  const isospring::io::Case c = isospring::io::read_case_file(case_file);
-  // The case's "calibration" object, field by field (the program parses it in apps/).
-  const nlohmann::json& cal = c.calibration;
-  isospring::fitting::CalibrationSettings settings;
-  settings.gamma = cal.at("grouping").at("gamma");
-  settings.per_spring = cal.at("grouping").at("per_spring");
-  settings.regularization = cal.at("regularization");
-  settings.fit_cases = cal.at("fit_load_cases").get<std::vector<std::string>>();
-  settings.holdout_cases = cal.at("holdout_load_cases").get<std::vector<std::string>>();
-  settings.damping_alpha = cal.at("damping_alpha");
-  settings.matrix_approach = cal.at("matrix_approach");
-  const isospring::fitting::CalibrationResult result =
-      isospring::fitting::calibrate(c.problem, settings);
+  // io::run_calibrate: the call `isospring calibrate` makes, "calibration" object included.
+  const isospring::io::Progress progress("calibrate", true);
+  const isospring::io::CalibrateCommandResult r =
+      isospring::io::run_calibrate(isospring::io::read_case_file(case_file), progress);
+  const isospring::fitting::CalibrationResult& result = r.calibration;
   const nlohmann::json report = read_json(report_file);
-  std::printf("calibrate %s: %zu springs\n", c.name.c_str(), result.mesh.network.springs.size());
+  std::printf("calibrate %s: %zu springs\n", r.case_name.c_str(),
+              result.mesh.network.springs.size());
   bool ok = report.at("springs") == result.mesh.network.springs.size();
   ok = same_metrics(result.fit, report.at("fit")) && ok;
-  return same_metrics(result.holdout, report.at("holdout")) && ok;
+  ok = same_metrics(result.holdout, report.at("holdout")) && ok;
+  // The library's report.json holds the same numbers (not the timings).
+  const nlohmann::json ours = isospring::io::calibrate_report_json(r);
+  return agrees("percent_e_rms (report)", ours.at("percent_e_rms"), report.at("percent_e_rms")) &&
+         ok;
 }
 
 bool check_identification(const char* case_file, const char* report_file) {
-  const isospring::io::Case c = isospring::io::read_case_file(case_file);
-  std::vector<std::string> ids;
-  for (const auto& load : c.problem.load_cases) ids.push_back(load.id);
-  const isospring::io::MeasurementSettings settings = isospring::io::read_measurement_settings(
-      c.measurements.value().raw, c.file.parent_path(), c.dimension, ids, "measurements");
-  const isospring::fitting::Measurements data =
-      isospring::io::read_markers_csv(settings.file, settings.file_options);
-  // The program's default tolerance: 1e-3 of the control nets' bounding-box diagonal.
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (const auto& p : c.problem.patches) {
-    lo = lo.cwiseMin(p.control_bounds().first);
-    hi = hi.cwiseMax(p.control_bounds().second);
-  }
-  const isospring::fitting::PlacementResult placed = isospring::fitting::place_markers(
-      c.problem.patches, data.markers,
-      settings.placement_tolerance.value_or(1e-3 * (hi - lo).norm()));
-  isospring::fitting::IdentifyOptions options = settings.identify;
-  options.discretization.ladder = isospring::io::case_refinement_ladder(c);
-  const isospring::fitting::IdentifyResult result =
-      isospring::fitting::identify(c.problem, data.markers, placed.placements, options);
+  // io::run_identify: the call `isospring identify` makes (marker placement, the loop, the
+  // recalibration of the spring model).
+  const isospring::io::Progress progress("identify", true);
+  const isospring::io::IdentifyCommandResult r =
+      isospring::io::run_identify(isospring::io::read_case_file(case_file), {}, progress);
+  const isospring::fitting::IdentifyResult& result = r.identify;
 
   const nlohmann::json report = read_json(report_file);
   std::string effects;
   for (const auto& e : result.effects_added) effects += " " + e;
-  std::printf("identify %s: %zu markers, effects added:%s\n", c.name.c_str(), data.markers.size(),
+  std::printf("identify %s: %zu markers, effects added:%s\n", r.case_name.c_str(), r.markers.size(),
               effects.c_str());
-  bool ok = placed.outside.empty() && report.at("effects_added") == result.effects_added;
+  bool ok = r.dropped.empty() && report.at("effects_added") == result.effects_added;
   ok = agrees("rms_after", result.after.rms, report.at("rms_after")) && ok;
   ok = report.at("parameters").size() == result.parameters.size() && ok;
   for (size_t i = 0; ok && i < result.parameters.size(); ++i)
     ok = agrees(result.parameters[i].name, result.parameters[i].value,
                 report.at("parameters").at(i).at("value")) &&
+         ok;
+  if (r.recalibration)
+    ok = agrees("recalibration percent_e_rms", r.recalibration->percent_e_rms,
+                report.at("recalibration").at("percent_e_rms")) &&
          ok;
   return ok;
 }

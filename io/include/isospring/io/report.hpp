@@ -53,6 +53,9 @@ class Progress {
   mutable std::vector<std::string> warnings_;
 };
 
+/// The library's version (the project's), as the reports and model files name it.
+std::string isospring_version();
+
 /// {"command", "isospring_version", "input", "created_utc"}: keys every report.json has (JSON
 /// objects are written with sorted keys).
 nlohmann::json report_header(const std::string& command, const std::string& isospring_version,

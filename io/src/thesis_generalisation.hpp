@@ -9,12 +9,11 @@
 
 #include "isospring/io/report.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 
 /// Runs the six objects (or those named in `objects`), appends report["generalisation"] and a
 /// section of `md`.
 void thesis_generalisation(bool quick, const std::vector<std::string>& objects,
-                           nlohmann::json& report, io::MarkdownReport& md,
-                           const io::Progress& progress);
+                           nlohmann::json& report, MarkdownReport& md, const Progress& progress);
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

@@ -37,7 +37,7 @@
 #include "isospring/fitting/calibration.hpp"
 #include "isospring/fitting/generalising_calibration.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 
 struct CalibrationRequest {
   fitting::CalibrationSettings settings;
@@ -51,6 +51,7 @@ struct CalibrationRequest {
 };
 
 /// Validates and converts `calibration` (null: defaults); `file` names the case in messages.
-CalibrationRequest parse_calibration(const nlohmann::json& calibration, const std::string& file);
+CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
+                                             const std::string& file);
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

@@ -1,6 +1,6 @@
 #pragma once
-// The viewer and figure outputs of `isospring calibrate` (the tables and reports stay in
-// cmd_calibrate.cpp):
+// The viewer and figure outputs of `isospring calibrate` and `isospring demo` (the reports are
+// in calibrate_command.hpp):
 //
 //   OUT/result.vtm + OUT/result/  geometry (sampled and Bezier) and control net with, per load
 //       case <id>, reference_<id> (IGA), model_<id> (spring model) and error_<id> (model -
@@ -9,7 +9,7 @@
 //   OUT/errors_histogram.png      relative control-point errors 100 |e| / o_max of every load
 //       case (fitted and held out), 20 bins.
 //   OUT/errors_vs_position.png    the same errors against the control point's x coordinate, one
-//       panel per load case (io::plot_xy_panels).
+//       panel per load case (plot_xy_panels).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -17,7 +17,7 @@
 #include "isospring/analysis/problem.hpp"
 #include "isospring/fitting/calibration.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 
 struct CalibrationOutputs {
   std::vector<std::string> figures;  // file names of the figures written (gnuplot may be absent)
@@ -36,4 +36,4 @@ std::vector<std::string> write_calibration_figures(const std::filesystem::path& 
                                                    const analysis::Problem& problem,
                                                    const fitting::CalibrationResult& result);
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

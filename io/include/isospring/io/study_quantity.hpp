@@ -11,7 +11,7 @@
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/io/case_file.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 
 struct StudyQuantity {
   enum class Kind { kMaxDisplacement, kStrainEnergy, kDisplacement } kind = Kind::kStrainEnergy;
@@ -23,12 +23,12 @@ struct StudyQuantity {
   /// The value on one level's solution.
   double evaluate(const analysis::Problem& problem, const analysis::LoadCaseResult& result) const;
   /// The analytic solution's value, when the case has one and the quantity is a point value.
-  std::optional<double> exact(const io::Case& c) const;
+  std::optional<double> exact(const Case& c) const;
 };
 
 /// From `--quantity NAME` (strain_energy, max_displacement, displacement), `--point
 /// PATCH:U,V[,W]` and `--component x|y|z|magnitude`; throws nurbs::InputError naming the option.
 StudyQuantity parse_study_quantity(const std::string& quantity, const std::string& point,
-                                   const std::string& component, const io::Case& c);
+                                   const std::string& component, const Case& c);
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

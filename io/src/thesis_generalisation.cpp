@@ -9,11 +9,11 @@
 #include "isospring/fitting/generalising_calibration.hpp"
 #include "isospring/fitting/thesis_experiments.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 namespace {
 
 std::string num(double x) {
-  return std::isfinite(x) ? io::format_number(x, 3) : "-";
+  return std::isfinite(x) ? format_number(x, 3) : "-";
 }
 
 // Candidates per object. Membranes (110 springs; 350 with reach 2) are cheap: both topologies,
@@ -90,8 +90,7 @@ std::string cell_terms_text(const analysis::SpringNetwork& network) {
 }  // namespace
 
 void thesis_generalisation(bool quick, const std::vector<std::string>& objects,
-                           nlohmann::json& report, io::MarkdownReport& md,
-                           const io::Progress& progress) {
+                           nlohmann::json& report, MarkdownReport& md, const Progress& progress) {
   std::vector<std::vector<std::string>> rows;
   for (const std::string name :
        {"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}) {
@@ -203,4 +202,4 @@ void thesis_generalisation(bool quick, const std::vector<std::string>& objects,
            rows);
 }
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

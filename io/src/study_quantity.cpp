@@ -1,21 +1,21 @@
-// Parsing and evaluation of the scalar followed by `study` (see study_quantity.hpp).
-#include "study_quantity.hpp"
+// Parsing and evaluation of the scalar followed by `study` (see isospring/io/study_quantity.hpp).
+#include "isospring/io/study_quantity.hpp"
 
 #include <cmath>
 
-#include "cli_util.hpp"
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/io/number_list.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 
 namespace {
 
 using nurbs::InputError;
 
 // "PATCH:U,V[,W]" -> patch index and parameters, checked against the case's patches.
-void parse_point(const std::string& text, const io::Case& c, StudyQuantity& q) {
+void parse_point(const std::string& text, const Case& c, StudyQuantity& q) {
   const std::string fix = " (give --point PATCH:U,V[,W], e.g. --point 0:1,0.5)";
   const size_t colon = text.find(':');
   if (colon == std::string::npos || colon == 0)
@@ -36,9 +36,8 @@ void parse_point(const std::string& text, const io::Case& c, StudyQuantity& q) {
     const double value = u[static_cast<size_t>(d)];
     if (!(value >= p.param_min(d) && value <= p.param_max(d)))
       throw InputError("--point '" + text + "': parameter " + std::to_string(d) + " = " +
-                       io::format_number(value) + " is outside [" +
-                       io::format_number(p.param_min(d)) + ", " +
-                       io::format_number(p.param_max(d)) + "]");
+                       format_number(value) + " is outside [" + format_number(p.param_min(d)) +
+                       ", " + format_number(p.param_max(d)) + "]");
     q.param[static_cast<size_t>(d)] = value;
   }
 }
@@ -46,7 +45,7 @@ void parse_point(const std::string& text, const io::Case& c, StudyQuantity& q) {
 }  // namespace
 
 StudyQuantity parse_study_quantity(const std::string& quantity, const std::string& point,
-                                   const std::string& component, const io::Case& c) {
+                                   const std::string& component, const Case& c) {
   StudyQuantity q;
   if (quantity == "max_displacement") {
     q.kind = StudyQuantity::Kind::kMaxDisplacement;
@@ -80,7 +79,7 @@ StudyQuantity parse_study_quantity(const std::string& quantity, const std::strin
   }
   std::string params;
   for (int d = 0; d < c.problem.patches[static_cast<size_t>(q.patch)].param_dim(); ++d)
-    params += (d ? ", " : "") + io::format_number(q.param[static_cast<size_t>(d)]);
+    params += (d ? ", " : "") + format_number(q.param[static_cast<size_t>(d)]);
   q.label = (q.component < 0 ? std::string("|u|") : "u_" + name) + " at patch " +
             std::to_string(q.patch) + " parameters (" + params + ")";
   return q;
@@ -103,11 +102,11 @@ double StudyQuantity::evaluate(const analysis::Problem& problem,
   return NAN;
 }
 
-std::optional<double> StudyQuantity::exact(const io::Case& c) const {
+std::optional<double> StudyQuantity::exact(const Case& c) const {
   if (kind != Kind::kDisplacement || !c.analytic) return std::nullopt;
   const Eigen::Vector3d x = c.problem.patches[static_cast<size_t>(patch)].point(param);
   const Eigen::Vector3d u = c.analytic->displacement(x);
   return component < 0 ? u.norm() : u[component];
 }
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

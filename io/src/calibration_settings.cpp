@@ -1,13 +1,14 @@
-// Parsing of the case file's "calibration" object; see calibration_settings.hpp.
-#include "calibration_settings.hpp"
+// Parsing of the case file's "calibration" object; see isospring/io/calibration_settings.hpp.
+#include "isospring/io/calibration_settings.hpp"
 
 #include <cmath>
 #include <set>
 
+#include "case_file_json.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 namespace {
 
 class Fields {
@@ -20,12 +21,8 @@ class Fields {
   }
 
   void expect_only(const std::set<std::string>& known) const {
-    for (const auto& [key, value] : object_.items())
-      if (!known.count(key)) {
-        std::string list;
-        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        fail(key, "unknown field; known fields are " + list);
-      }
+    case_json::reject_unknown_fields(object_, std::vector<std::string>(known.begin(), known.end()),
+                                     where_ + ".");
   }
 
   bool has(const std::string& field) const { return object_.contains(field); }
@@ -111,8 +108,8 @@ std::vector<double> numbers(const Fields& f, const std::string& field, double lo
   std::vector<double> out;
   for (const auto& x : v) {
     if (!x.is_number() || !(x.get<double>() >= lo && x.get<double>() <= hi))
-      f.fail(field, "every entry must be a number in [" + io::format_number(lo) + ", " +
-                        io::format_number(hi) + "] (got " + x.dump() + ")");
+      f.fail(field, "every entry must be a number in [" + format_number(lo) + ", " +
+                        format_number(hi) + "] (got " + x.dump() + ")");
     out.push_back(x.get<double>());
   }
   return out;
@@ -168,7 +165,8 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
 
 }  // namespace
 
-CalibrationRequest parse_calibration(const nlohmann::json& calibration, const std::string& file) {
+CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
+                                             const std::string& file) {
   CalibrationRequest request;
   fitting::CalibrationSettings& s = request.settings;
   if (calibration.is_null()) return request;
@@ -234,4 +232,4 @@ CalibrationRequest parse_calibration(const nlohmann::json& calibration, const st
   return request;
 }
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

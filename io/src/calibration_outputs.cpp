@@ -1,4 +1,4 @@
-#include "calibration_outputs.hpp"
+#include "isospring/io/calibration_outputs.hpp"
 
 #include <map>
 
@@ -6,7 +6,7 @@
 #include "isospring/io/plot.hpp"
 #include "isospring/io/vtk_multiblock.hpp"
 
-namespace isospring::apps {
+namespace isospring::io {
 namespace {
 using Field = std::vector<std::vector<Eigen::Vector3d>>;  // [patch][control point]
 
@@ -29,7 +29,7 @@ CalibrationOutputs write_calibration_outputs(const std::filesystem::path& out_di
   std::map<std::string, size_t> case_index;
   for (size_t k = 0; k < problem.load_cases.size(); ++k) case_index[problem.load_cases[k].id] = k;
 
-  io::VtkScene scene;
+  VtkScene scene;
   scene.patches = problem.patches;
   scene.network = network;
   for (const auto* cases : {&result.fit, &result.holdout})
@@ -39,14 +39,14 @@ CalibrationOutputs write_calibration_outputs(const std::filesystem::path& out_di
       Field model = ref;
       for (size_t p = 0; p < model.size(); ++p)
         for (size_t i = 0; i < model[p].size(); ++i) model[p][i] += error[p][i];
-      scene.fields.control.push_back(io::control_vector_field("reference_" + e.id, ref));
-      scene.fields.control.push_back(io::control_vector_field("model_" + e.id, model));
-      scene.fields.control.push_back(io::control_vector_field("error_" + e.id, error));
+      scene.fields.control.push_back(control_vector_field("reference_" + e.id, ref));
+      scene.fields.control.push_back(control_vector_field("model_" + e.id, model));
+      scene.fields.control.push_back(control_vector_field("error_" + e.id, error));
 
       // Per particle: a merged particle shows the last of its nodes (they agree in u_nmsm).
-      io::PointVectors m{"model_" + e.id, std::vector<Eigen::Vector3d>(network.positions.size(),
-                                                                       Eigen::Vector3d::Zero())};
-      io::PointVectors r{"error_" + e.id, m.values};
+      PointVectors m{"model_" + e.id, std::vector<Eigen::Vector3d>(network.positions.size(),
+                                                                   Eigen::Vector3d::Zero())};
+      PointVectors r{"error_" + e.id, m.values};
       for (int p = 0; p < dofs.num_patches(); ++p)
         for (size_t i = 0; i < dofs.patch_nodes(p).size(); ++i)
           m.values[static_cast<size_t>(particle[static_cast<size_t>(dofs.patch_nodes(p)[i])])] =
@@ -56,7 +56,7 @@ CalibrationOutputs write_calibration_outputs(const std::filesystem::path& out_di
       scene.network_vectors.push_back(std::move(m));
       scene.network_vectors.push_back(std::move(r));
     }
-  io::write_vtk_scene(out_dir / "result.vtm", scene);
+  write_vtk_scene(out_dir / "result.vtm", scene);
   return {write_calibration_figures(out_dir, problem, result)};
 }
 
@@ -65,10 +65,10 @@ std::vector<std::string> write_calibration_figures(const std::filesystem::path& 
                                                    const fitting::CalibrationResult& result) {
   const analysis::DofMap dofs(problem);
   std::vector<double> all_errors;
-  std::vector<io::PlotSeries> by_position;
+  std::vector<PlotSeries> by_position;
   for (const auto* cases : {&result.fit, &result.holdout})
     for (const fitting::CaseErrors& e : *cases) {
-      io::PlotSeries series{e.id + (cases == &result.fit ? " (fitted)" : " (held out)"), {}, {}};
+      PlotSeries series{e.id + (cases == &result.fit ? " (fitted)" : " (held out)"), {}, {}};
       for (size_t a = 0; a < e.node_error.size(); ++a) {
         const double percent = 100.0 * e.node_error[a].norm() / e.control.o_max;
         all_errors.push_back(percent);
@@ -78,18 +78,18 @@ std::vector<std::string> write_calibration_figures(const std::filesystem::path& 
       by_position.push_back(std::move(series));
     }
   std::vector<std::string> figures;
-  io::PlotOptions options;
+  PlotOptions options;
   options.title = "Control-point errors of the spring model (all load cases)";
   options.xlabel = "100 |u_nmsm - u_ref| / o_max [%]";
   options.ylabel = "control points";
-  if (io::plot_histogram(out_dir / "errors_histogram.png", all_errors, 20, options))
+  if (plot_histogram(out_dir / "errors_histogram.png", all_errors, 20, options))
     figures.push_back("errors_histogram.png");
   options.title = "Control-point error against position, one panel per load case";
   options.xlabel = "x [m]";
   options.ylabel = "error / o_max [%]";
-  if (io::plot_xy_panels(out_dir / "errors_vs_position.png", by_position, options))
+  if (plot_xy_panels(out_dir / "errors_vs_position.png", by_position, options))
     figures.push_back("errors_vs_position.png");
   return figures;
 }
 
-}  // namespace isospring::apps
+}  // namespace isospring::io

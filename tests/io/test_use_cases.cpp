@@ -1,0 +1,129 @@
+// The commands' use cases as library calls (io/identify_command.hpp, calibrate_command.hpp,
+// study_command.hpp) on shipped cases: results, reports and files without running the program.
+// tests/apps checks the same runs through `isospring`, with their numbers.
+#include <gtest/gtest.h>
+#include <unistd.h>  // getpid: CTest runs tests in parallel processes
+
+#include <filesystem>
+#include <fstream>
+
+#include "isospring/io/calibrate_command.hpp"
+#include "isospring/io/identify_command.hpp"
+#include "isospring/io/study_command.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::io {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kExamples = std::string(ISOSPRING_SOURCE_DIR) + "/examples/";
+
+fs::path fresh_folder(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("isospring_use_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(IdentifyUseCase, FindsTheHiddenGravityAndWritesTheReports) {
+  const Case c = read_case_file(kExamples + "identify/plate_hidden_gravity.json");
+  IdentifyCommandOptions options;
+  options.discretization_check = false;  // the case's own mesh: fast, enough for gravity
+  const Progress progress("identify", true);
+  const IdentifyCommandResult r = run_identify(c, options, progress);
+  EXPECT_EQ(r.markers.size() + r.dropped.size(), 196u);
+  EXPECT_NE(std::find(r.identify.effects_added.begin(), r.identify.effects_added.end(), "gravity"),
+            r.identify.effects_added.end());
+  EXPECT_LT(r.identify.after.rms, r.identify.before.rms / 10);
+  ASSERT_TRUE(r.recalibration.has_value()) << r.recalibration_error;
+
+  const nlohmann::json report = identify_report_json(r);
+  EXPECT_EQ(report["command"], "identify");
+  EXPECT_EQ(report["markers"], r.markers.size());
+  EXPECT_EQ(report["rms_after"], r.identify.after.rms);
+  EXPECT_EQ(report["effects_added"], r.identify.effects_added);
+  EXPECT_EQ(report["recalibration"]["model"], "model.json");
+  const SpringModel model = identify_spring_model(r);
+  EXPECT_EQ(model.load_cases.size(), 2u);
+  EXPECT_EQ(model.gravity, r.recalibration->gravity);
+
+  const fs::path out = fresh_folder("identify");
+  write_identify_outputs(out, r, progress);
+  for (const auto& name : identify_output_files(r.load_case_ids)) {
+    if (name != "errors_before_after.png" && name != "residuals.gp") {  // gnuplot may be absent
+      EXPECT_TRUE(fs::exists(out / name)) << name;
+    }
+  }
+  EXPECT_EQ(read_json(out / "report.json")["rms_after"], r.identify.after.rms);
+  fs::remove_all(out);
+}
+
+TEST(IdentifyUseCase, ACaseWithoutMeasurementsIsAnInputError) {
+  const Case c = read_case_file(kExamples + "calibrate_square.json");
+  try {
+    run_identify(c, {}, Progress("identify", true));
+    FAIL() << "no error";
+  } catch (const nurbs::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibrate_square.json: no \"measurements\" object"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(CalibrateUseCase, ReportAndModelMatchTheResult) {
+  const Case c = read_case_file(kExamples + "calibrate_square.json");
+  const Progress progress("calibrate", true);
+  const CalibrateCommandResult r = run_calibrate(c, progress);
+  ASSERT_EQ(r.calibration.fit.size(), 3u);
+  ASSERT_EQ(r.calibration.holdout.size(), 1u);
+  EXPECT_TRUE(r.request.settings.per_spring);
+  EXPECT_EQ(r.worst_holdout, r.calibration.holdout[0].control.percent_e_rms);
+
+  const nlohmann::json report = calibrate_report_json(r);
+  EXPECT_EQ(report["command"], "calibrate");
+  EXPECT_EQ(report["springs"], r.calibration.mesh.network.springs.size());
+  EXPECT_EQ(report["holdout"]["load_cases"][0], case_errors_json(r.calibration.holdout[0]));
+  EXPECT_EQ(report["worst_percent_e_rms"], r.worst);
+  const SpringModel model = calibrate_spring_model(r, report);
+  EXPECT_EQ(model.load_cases.size(), 4u);
+  EXPECT_EQ(model.provenance["damping"]["alpha"], 200.0);
+
+  const fs::path out = fresh_folder("calibrate");
+  const nlohmann::json written = write_calibrate_outputs(out, r, std::chrono::steady_clock::now());
+  EXPECT_EQ(written["percent_e_rms"], report["percent_e_rms"]);
+  EXPECT_EQ(read_json(out / "report.json")["percent_e_rms"], report["percent_e_rms"]);
+  for (const std::string name : {"model.json", "springs.vtp", "result.vtm", "u1_x_errors.csv"})
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  fs::remove_all(out);
+}
+
+TEST(StudyUseCase, TwoLevelsOfTheKirschPlate) {
+  const Case c = read_case_file(kExamples + "kirsch_plate.json");
+  StudyCommandOptions options;
+  options.levels = 2;
+  const Progress progress("study", true);
+  const StudyCommandResult r = run_study(c, options, progress);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_TRUE(r.analytic());
+  EXPECT_LT(r.rows[1].l2, r.rows[0].l2);  // refined: smaller error
+  EXPECT_EQ(r.rows[1].elements, 2 * r.rows[0].elements);
+  const StudyReport report = study_report(r);
+  EXPECT_EQ(report.json["degrees"][0]["levels"].size(), 2u);
+  EXPECT_EQ(report.csv.substr(0, report.csv.find('\n')),
+            "degree,level,elements_u,dofs,h,relative_l2_error,relative_energy_error,quantity,"
+            "quantity_error,assembly_seconds,factorization_seconds,solve_seconds");
+
+  options.levels = 0;
+  EXPECT_THROW(run_study(c, options, progress), nurbs::InputError);
+  options.levels = 2;
+  options.load_case = "nope";
+  EXPECT_THROW(run_study(c, options, progress), nurbs::InputError);
+}
+
+}  // namespace
+}  // namespace isospring::io
