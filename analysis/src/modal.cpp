@@ -45,7 +45,8 @@ class ShiftInvertOperator {
 }  // namespace
 
 GeneralizedModes lowest_generalized_modes(const Eigen::SparseMatrix<double>& k,
-                                          const Eigen::SparseMatrix<double>& m, int count) {
+                                          const Eigen::SparseMatrix<double>& m, int count,
+                                          double tolerance) {
   const Eigen::Index n = k.rows();
   if (count < 1 || count > n - 1)
     throw nurbs::InputError("modal analysis: " + std::to_string(count) +
@@ -60,7 +61,7 @@ GeneralizedModes lowest_generalized_modes(const Eigen::SparseMatrix<double>& k,
                                Spectra::GEigsMode::ShiftInvert>
       solver(op, mass_op, count, ncv, sigma);
   solver.init();
-  solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
+  solver.compute(Spectra::SortRule::LargestMagn, 1000, tolerance, Spectra::SortRule::SmallestAlge);
   if (solver.info() != Spectra::CompInfo::Successful)
     throw std::runtime_error("modal analysis: the eigensolver did not converge");
   return {solver.eigenvalues(), solver.eigenvectors()};

@@ -79,7 +79,8 @@ ReducedSpringModel::ReducedSpringModel(const SpringNetwork& network, double dt,
     Eigen::SparseMatrix<double> mass(m.size(), m.size());
     mass.reserve(Eigen::VectorXi::Constant(m.size(), 1));
     for (Eigen::Index d = 0; d < m.size(); ++d) mass.insert(d, d) = m[d];
-    v.leftCols(options.modes) = lowest_generalized_modes(k, mass, options.modes).vectors;
+    v.leftCols(options.modes) =
+        lowest_generalized_modes(k, mass, options.modes, options.mode_tolerance).vectors;
   }
   if (!options.load_shapes.empty()) {
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver;

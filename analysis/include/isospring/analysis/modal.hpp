@@ -33,9 +33,11 @@ struct GeneralizedModes {
 /// The `count` lowest eigenpairs of K x = lambda M x for sparse symmetric K (positive
 /// semi-definite) and M (positive definite), of which only the upper triangles are read: the
 /// shift-invert Lanczos of compute_modes, for any such pair (a spring network's K and M too).
-/// Throws nurbs::InputError when count is not in 1 .. rows - 1, std::runtime_error when the
-/// eigensolver does not converge.
+/// `tolerance`: Spectra's relative convergence tolerance of the Ritz values (a basis for a
+/// reduced model needs the span, not 12 digits of each eigenvalue). Throws nurbs::InputError when
+/// count is not in 1 .. rows - 1, std::runtime_error when the eigensolver does not converge.
 GeneralizedModes lowest_generalized_modes(const Eigen::SparseMatrix<double>& k,
-                                          const Eigen::SparseMatrix<double>& m, int count);
+                                          const Eigen::SparseMatrix<double>& m, int count,
+                                          double tolerance = 1e-12);
 
 }  // namespace isospring::analysis

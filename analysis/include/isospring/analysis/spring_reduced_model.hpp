@@ -33,6 +33,9 @@ struct ReducedModelOptions {
   /// Flat force vectors (network DOFs) whose static responses join the basis; fixed particles'
   /// components are ignored. Needs a supported network (K positive definite).
   std::vector<Eigen::VectorXd> load_shapes;
+  /// Relative tolerance of the Lanczos Ritz values: the Rayleigh-Ritz step diagonalises the
+  /// span again, so the modes need not be converged to round-off.
+  double mode_tolerance = 1e-8;
 };
 
 class ReducedSpringModel {
