@@ -54,14 +54,29 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// PETSc's error handler has already printed the details (function, file, line) on the rank that
-// failed; the exception carries PETSc's short text to the program's exit path.
+// PETSc's first message of the error being returned ("Unable to find requested PC type x").
+thread_local std::string petsc_error_message;
+
+// Replaces PETSc's default traceback handler, which on a rank other than 0 sleeps 10 s and calls
+// exit(0) for an error in a collective call: rank 1 then vanished without MPI_Finalize and
+// mpirun killed rank 0 before it could say why. This one keeps the message and returns the
+// error, which check() turns into an exception on every rank.
+PetscErrorCode record_error(MPI_Comm, int, const char*, const char*, PetscErrorCode code,
+                            PetscErrorType type, const char* message, void*) {
+  if (type == PETSC_ERROR_INITIAL) petsc_error_message = message ? message : "";
+  return code;
+}
+
 void check(PetscErrorCode code, const char* what) {
   if (code == 0) return;
-  const char* text = nullptr;
-  PetscErrorMessage(code, &text, nullptr);
-  throw std::runtime_error(std::string("PETSc: ") + what + " failed (" +
-                           (text ? text : "error " + std::to_string(code)) + ")");
+  std::string text = petsc_error_message;
+  if (text.empty()) {
+    const char* generic = nullptr;
+    PetscErrorMessage(code, &generic, nullptr);
+    text = generic ? generic : "error " + std::to_string(code);
+  }
+  petsc_error_message.clear();
+  throw std::runtime_error(std::string("PETSc: ") + what + " failed: " + text);
 }
 
 // Owns one PETSc object and destroys it on scope exit (exceptions included).
@@ -239,13 +254,16 @@ PetscSession::PetscSession() {
   if (!initialized) {
     check(PetscInitializeNoArguments(), "PetscInitialize");
     finalize_ = true;
+    check(PetscPushErrorHandler(record_error, nullptr), "PetscPushErrorHandler");
   }
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
   MPI_Comm_size(PETSC_COMM_WORLD, &size_);
 }
 
 PetscSession::~PetscSession() {
-  if (finalize_) PetscFinalize();
+  if (!finalize_) return;
+  PetscPopErrorHandler();
+  PetscFinalize();
 }
 
 void PetscSession::on_root(const std::function<void()>& step) const {
@@ -402,7 +420,6 @@ StaticResult solve_static_petsc(const Problem& problem, const PetscSolverOptions
                            nullptr, nullptr),
         "MatZeroRowsColumns");
   check(MatSetOption(K, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
-  check(MatSetOption(K, MAT_SPD, PETSC_TRUE), "MatSetOption");
 
   OwnedKSP ksp;
   check(KSPCreate(comm, &ksp), "KSPCreate");

@@ -183,3 +183,19 @@ TEST(PetscBackend, OnlyRankZeroWritesAndBadOutputFailsOnEveryRank) {
   EXPECT_NE(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("is not a folder"), std::string::npos) << result.output;
 }
+
+TEST(PetscBackend, PetscErrorStopsEveryRankWithItsMessage) {
+  // PETSc's default handler would make rank 1 exit(0) silently on this error and mpirun kill
+  // rank 0 before it reports; every rank must instead exit with status 3 and PETSc's message.
+  TemporaryFolder out;
+  const auto result = run_program("env PETSC_OPTIONS='-pc_type nonexistent' " + mpirun(2) +
+                                  " analyze " + example("cantilever_box.json") + " -o " +
+                                  out.path().string() + " --backend petsc -q");
+  EXPECT_NE(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("error: PETSc: KSPSetFromOptions failed: Unable to find requested "
+                               "PC type nonexistent"),
+            std::string::npos)
+      << result.output;
+  EXPECT_EQ(result.output.find("exiting improperly"), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "report.json"));
+}
