@@ -40,7 +40,9 @@ PetscSession::PetscSession() {
 
 PetscSession::~PetscSession() = default;
 
-void PetscSession::on_root(const std::function<void()>&) const {}
+void PetscSession::on_root(const std::function<void()>& step) const {
+  step();
+}
 
 StaticResult solve_static_petsc(const Problem&, const PetscSolverOptions&) {
   throw nurbs::InputError("this isospring was built without PETSc (see PetscSession)");
