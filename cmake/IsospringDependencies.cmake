@@ -14,6 +14,26 @@ endif()
 add_library(isospring_occt ALIAS isospring::occt)
 add_library(isospring_cholmod ALIAS isospring::cholmod)
 
+# PETSc with MPI: the optional distributed backend (`analyze --backend petsc`). AUTO uses it when
+# found; ON makes it required; OFF builds without it (--backend petsc then says how to get it).
+set(ISOSPRING_WITH_PETSC AUTO CACHE STRING "Build the PETSc/MPI backend: AUTO, ON or OFF")
+set_property(CACHE ISOSPRING_WITH_PETSC PROPERTY STRINGS AUTO ON OFF)
+set(ISOSPRING_HAVE_PETSC OFF)
+if(NOT ISOSPRING_WITH_PETSC STREQUAL "OFF")
+  include(IsospringPetsc)
+  if(ISOSPRING_PETSC_FOUND)
+    set(ISOSPRING_HAVE_PETSC ON)
+    message(STATUS "PETSc ${ISOSPRING_PETSC_VERSION} with MPI: the --backend petsc solver is built")
+  elseif(ISOSPRING_WITH_PETSC STREQUAL "ON")
+    message(FATAL_ERROR "ISOSPRING_WITH_PETSC=ON but PETSc (PETSc.pc) or MPI was not found. "
+                        "Install libpetsc-real-dev and openmpi-bin (bash scripts/setup.sh) or "
+                        "configure with -DISOSPRING_WITH_PETSC=OFF.")
+  else()
+    message(STATUS "PETSc/MPI not found: building without the --backend petsc solver "
+                   "(Debian: libpetsc-real-dev openmpi-bin)")
+  endif()
+endif()
+
 find_package(CGAL 5.5 REQUIRED)
 find_package(Spectra REQUIRED)
 find_package(Ceres 2.1 REQUIRED)

@@ -34,5 +34,6 @@ function(isospring_install_package)
   install(FILES ${PROJECT_BINARY_DIR}/isospringConfig.cmake
                 ${PROJECT_BINARY_DIR}/isospringConfigVersion.cmake
                 ${PROJECT_SOURCE_DIR}/cmake/IsospringSystemLibraries.cmake
+                ${PROJECT_SOURCE_DIR}/cmake/IsospringPetsc.cmake
           DESTINATION ${ISOSPRING_INSTALL_CMAKEDIR})
 endfunction()

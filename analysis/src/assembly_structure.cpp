@@ -12,7 +12,7 @@
 
 namespace isospring::analysis::detail {
 
-AssemblyStructure::AssemblyStructure(const Problem& problem, const DofMap& dofs)
+AssemblyStructure::AssemblyStructure(const Problem& problem, const DofMap& dofs, bool with_pattern)
     : dofs_per_node(dofs.dofs_per_node()), num_nodes(dofs.num_nodes()) {
   quadratures.reserve(problem.patches.size());
   node_offset.push_back(0);
@@ -28,6 +28,7 @@ AssemblyStructure::AssemblyStructure(const Problem& problem, const DofMap& dofs)
       node_offset.push_back(static_cast<int>(nodes.size()));
     }
   }
+  if (!with_pattern) return;
   const int num_elements = static_cast<int>(elements.size());
 
   // Node -> elements.

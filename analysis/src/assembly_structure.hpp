@@ -11,7 +11,10 @@
 namespace isospring::analysis::detail {
 
 struct AssemblyStructure {
-  AssemblyStructure(const Problem& problem, const DofMap& dofs);
+  /// with_pattern = false builds the element list only (no colours, no pattern): the distributed
+  /// backend assembles its own elements into PETSc, and the pattern of every node of a 10^6-DOF
+  /// model would cost each MPI rank ~100 MB it never uses.
+  AssemblyStructure(const Problem& problem, const DofMap& dofs, bool with_pattern = true);
 
   std::vector<PatchQuadrature> quadratures;  // one volume rule per patch
   struct Element {
@@ -42,6 +45,19 @@ Eigen::SparseMatrix<double> assemble_matrix(
     const AssemblyStructure& structure,
     const std::function<void(int element, QuadraturePoint& point, Eigen::MatrixXd& local)>&
         element_matrix);
+
+/// The stiffness matrix of linear elasticity of one element (local DOF a * dim + i, symmetric,
+/// both triangles filled): the kernel of assemble_stiffness and of the PETSc backend.
+class ElementStiffness {
+ public:
+  ElementStiffness(const Problem& problem, const AssemblyStructure& structure);
+  void operator()(int element, QuadraturePoint& point, Eigen::MatrixXd& local) const;
+
+ private:
+  const AssemblyStructure* structure_;
+  int dim_;
+  double lambda_, mu_, thickness_;
+};
 
 /// Physical dimension of the formulation, Jacobian determinant check and gradients: fills
 /// `gradients` (n x dim) = dR/dx and returns det J. Throws InputError when det J <= 0.

@@ -7,59 +7,70 @@
 
 namespace isospring::analysis {
 
+namespace detail {
+
+ElementStiffness::ElementStiffness(const Problem& problem, const AssemblyStructure& structure)
+    : structure_(&structure), dim_(structure.dofs_per_node) {
+  const LameParameters lame = lame_parameters(problem.material, problem.formulation);
+  lambda_ = lame.lambda;
+  mu_ = lame.mu;
+  thickness_ = thickness_factor(problem);
+}
+
+void ElementStiffness::operator()(int e, QuadraturePoint& point, Eigen::MatrixXd& local) const {
+  const int dim = dim_;
+  const auto& element = structure_->elements[static_cast<size_t>(e)];
+  const auto& quadrature = structure_->quadratures[static_cast<size_t>(element.patch)];
+  const int n = quadrature.basis_count();
+  const int nq = quadrature.points_per_element();
+  // Columns of all quadrature points side by side: gradients[c] is n x nq (dR/dx_c), and
+  // weighted[c] the same times w det J. Then int dR_a/dx_i dR_b/dx_j = weighted[i] grad[j]^T
+  // is one matrix product per component pair.
+  thread_local std::array<Eigen::MatrixXd, 3> gradients, weighted;
+  thread_local Eigen::MatrixXd g;
+  for (int c = 0; c < dim; ++c) {
+    gradients[static_cast<size_t>(c)].resize(n, nq);
+    weighted[static_cast<size_t>(c)].resize(n, nq);
+  }
+  g.resize(n, dim);
+  for (int q = 0; q < nq; ++q) {
+    quadrature.evaluate(element.index, q, point);
+    const double det = detail::physical_gradients(point, dim, element.patch, element.index, g);
+    const double w = point.weight * det * thickness_;
+    for (int c = 0; c < dim; ++c) {
+      gradients[static_cast<size_t>(c)].col(q) = g.col(c);
+      weighted[static_cast<size_t>(c)].col(q) = w * g.col(c);
+    }
+  }
+  // sigma = lambda tr(eps) I + 2 mu eps gives the block (i, j) of the pair (a, b):
+  // lambda M_ij + mu M_ji + mu delta_ij sum_k M_kk with M_ij = int dR_a/dx_i dR_b/dx_j.
+  // lazyProduct: Eigen would otherwise start its own OpenMP team for each product when this
+  // loop runs serially, which oversubscribes a loaded machine badly.
+  thread_local Eigen::MatrixXd m, trace_sum;
+  trace_sum.setZero(n, n);
+  for (int c = 0; c < dim; ++c)
+    trace_sum.noalias() +=
+        weighted[static_cast<size_t>(c)].lazyProduct(gradients[static_cast<size_t>(c)].transpose());
+  local.resize(n * dim, n * dim);
+  for (int i = 0; i < dim; ++i)
+    for (int j = i; j < dim; ++j) {
+      m.noalias() = weighted[static_cast<size_t>(i)].lazyProduct(
+          gradients[static_cast<size_t>(j)].transpose());
+      for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) {
+          double v = lambda_ * m(a, b) + mu_ * m(b, a);
+          if (i == j) v += mu_ * trace_sum(a, b);
+          local(a * dim + i, b * dim + j) = v;
+          local(b * dim + j, a * dim + i) = v;
+        }
+    }
+}
+
+}  // namespace detail
+
 Eigen::SparseMatrix<double> assemble_stiffness(const Problem& problem, const DofMap& dofs) {
   const detail::AssemblyStructure structure(problem, dofs);
-  const int dim = dofs.dofs_per_node();
-  const LameParameters lame = lame_parameters(problem.material, problem.formulation);
-  const double thickness = thickness_factor(problem);
-  return detail::assemble_matrix(structure, [&](int e, detail::QuadraturePoint& point,
-                                                Eigen::MatrixXd& local) {
-    const auto& element = structure.elements[static_cast<size_t>(e)];
-    const auto& quadrature = structure.quadratures[static_cast<size_t>(element.patch)];
-    const int n = quadrature.basis_count();
-    const int nq = quadrature.points_per_element();
-    // Columns of all quadrature points side by side: gradients[c] is n x nq (dR/dx_c), and
-    // weighted[c] the same times w det J. Then int dR_a/dx_i dR_b/dx_j = weighted[i] grad[j]^T
-    // is one matrix product per component pair.
-    thread_local std::array<Eigen::MatrixXd, 3> gradients, weighted;
-    thread_local Eigen::MatrixXd g;
-    for (int c = 0; c < dim; ++c) {
-      gradients[static_cast<size_t>(c)].resize(n, nq);
-      weighted[static_cast<size_t>(c)].resize(n, nq);
-    }
-    g.resize(n, dim);
-    for (int q = 0; q < nq; ++q) {
-      quadrature.evaluate(element.index, q, point);
-      const double det = detail::physical_gradients(point, dim, element.patch, element.index, g);
-      const double w = point.weight * det * thickness;
-      for (int c = 0; c < dim; ++c) {
-        gradients[static_cast<size_t>(c)].col(q) = g.col(c);
-        weighted[static_cast<size_t>(c)].col(q) = w * g.col(c);
-      }
-    }
-    // sigma = lambda tr(eps) I + 2 mu eps gives the block (i, j) of the pair (a, b):
-    // lambda M_ij + mu M_ji + mu delta_ij sum_k M_kk with M_ij = int dR_a/dx_i dR_b/dx_j.
-    // lazyProduct: Eigen would otherwise start its own OpenMP team for each product when this
-    // loop runs serially, which oversubscribes a loaded machine badly.
-    thread_local Eigen::MatrixXd m, trace_sum;
-    trace_sum.setZero(n, n);
-    for (int c = 0; c < dim; ++c)
-      trace_sum.noalias() += weighted[static_cast<size_t>(c)].lazyProduct(
-          gradients[static_cast<size_t>(c)].transpose());
-    local.resize(n * dim, n * dim);
-    for (int i = 0; i < dim; ++i)
-      for (int j = i; j < dim; ++j) {
-        m.noalias() = weighted[static_cast<size_t>(i)].lazyProduct(
-            gradients[static_cast<size_t>(j)].transpose());
-        for (int b = 0; b < n; ++b)
-          for (int a = 0; a < n; ++a) {
-            double v = lame.lambda * m(a, b) + lame.mu * m(b, a);
-            if (i == j) v += lame.mu * trace_sum(a, b);
-            local(a * dim + i, b * dim + j) = v;
-            local(b * dim + j, a * dim + i) = v;
-          }
-      }
-  });
+  return detail::assemble_matrix(structure, detail::ElementStiffness(problem, structure));
 }
 
 Eigen::SparseMatrix<double> assemble_consistent_mass(const Problem& problem, const DofMap& dofs) {

@@ -36,6 +36,9 @@ const std::map<std::string, std::string> kNotRun{
     {"bash scripts/fuzz.sh 600 fuzz_markers_csv", "ten minutes of fuzzing"},
     {"source scripts/sanitizer-options.sh && build-asan/fuzz/fuzz_step crash-file",
      "needs the sanitizer build and a crash file (a placeholder name)"},
+    {"mpirun -np 2 isospring analyze examples/cantilever_box.json -o out --backend petsc",
+     "OpenMPI refuses to start as root (CI) without --allow-run-as-root; tests/mpi (label mpi, "
+     "PETSc builds) runs this command with that flag and checks it against the serial solve"},
     {"isospring thesis -o OUT", "OUT is a placeholder for the full run below"},
     {"isospring thesis -o thesis",
      "the full run: several minutes on 2 cores; the command table's quick example (one object of "

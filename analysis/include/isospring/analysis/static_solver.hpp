@@ -22,12 +22,18 @@ struct LoadCaseResult {
   Eigen::Vector3d reaction_sum = Eigen::Vector3d::Zero();  // sum of K u - f over supported DOFs
   double max_displacement = 0;                             // max |u| over control points
   double solve_seconds = 0;
+  // Iterative solves (the PETSc backend): Krylov iterations and the true relative residual
+  // ||b - K u|| / ||b|| of the system solved; 0 for the direct solver.
+  int iterations = 0;
+  double relative_residual = 0;
 };
 
 struct StaticResult {
   std::vector<LoadCaseResult> load_cases;
   int dofs = 0;  // all DOFs, supported ones included
   double assembly_seconds = 0, factorization_seconds = 0;
+  int ranks = 1;               // MPI ranks of the solve (the PETSc backend)
+  std::string preconditioner;  // the PETSc backend's Krylov method and preconditioner
 };
 
 /// Validates the problem, assembles K, applies the supports by elimination and solves every load
