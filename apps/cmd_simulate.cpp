@@ -1,7 +1,7 @@
 // `isospring simulate MODEL.json -o OUTDIR --dt DT [--steps N] [--every K] [--load-case ID]
-// [--gravity gx,gy,gz] [--integrator implicit|verlet]`: a dynamic run of a spring model from rest
-// under a constant load (a model.json load case and/or gravity), written as a ParaView time
-// series OUTDIR/series.pvd (one .vtp per frame in OUTDIR/series/ with "displacement" and
+// [--gravity gx,gy,gz] [--integrator implicit|verlet|reduced]`: a dynamic run of a spring model
+// from rest under a constant load (a model.json load case and/or gravity), written as a ParaView
+// time series OUTDIR/series.pvd (one .vtp per frame in OUTDIR/series/ with "displacement" and
 // "velocity") plus OUTDIR/report.json comparing the last frame with the static equilibrium of
 // the same load (analysis::solve_spring_newton), which a damped run approaches ("static": null
 // when the network is a mechanism at rest and Newton has no linear start). The work is
@@ -64,10 +64,16 @@ void setup_simulate(CLI::App& app) {
   cmd->add_option("--gravity", options->run.gravity,
                   "Gravity gx,gy,gz [m/s^2]; replaces the model's (default: the model's)");
   cmd->add_option("--integrator", options->run.integrator,
-                  "implicit (backward Euler: stable, dissipative) or verlet (explicit, "
-                  "symplectic: dt below the stability limit)")
+                  "implicit (backward Euler: stable, dissipative), verlet (explicit, "
+                  "symplectic: dt below the stability limit) or reduced (the lowest --modes "
+                  "modes plus the load's static shape: O(r^2) a step, docs/reduced_model.md)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"implicit", "verlet"}));
+      ->check(CLI::IsMember({"implicit", "verlet", "reduced"}));
+  cmd->add_option("--modes", options->run.modes,
+                  "reduced: lowest natural modes in the basis; the report gives the error "
+                  "against the full network")
+      ->capture_default_str()
+      ->check(kPositive);
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->footer(
       "Writes OUTDIR/series.pvd + OUTDIR/series/frame_NNNNNN.vtp (the network at its deformed\n"

@@ -20,9 +20,13 @@ struct SimulateCommandOptions {
   /// A load case of the model (its forces plus the model's gravity); empty: the model's first
   /// load case, unless `gravity` is given (then the gravity forces alone).
   std::string load_case;
-  std::string gravity;                  // "gx,gy,gz" [m/s^2]: replaces the model's gravity
-  std::string integrator = "implicit";  // or "verlet"
-  std::string model_file;               // the spring model (model.json)
+  std::string gravity;  // "gx,gy,gz" [m/s^2]: replaces the model's gravity
+  /// implicit | verlet | reduced (analysis::ReducedSpringModel: `modes` lowest modes plus the
+  /// load's static shape, stepped in that subspace; the report gets its error against the full
+  /// network under the same load and steps)
+  std::string integrator = "implicit";
+  int modes = 32;
+  std::string model_file;  // the spring model (model.json)
 };
 
 /// Reads the model, runs, writes OUT/series.pvd and its frames and returns report.json's content
