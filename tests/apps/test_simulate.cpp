@@ -110,45 +110,73 @@ json ladder_model(int rows, double m, double k, double c) {
   return model;
 }
 
-TEST(Simulate, DampedImplicitRunEndsAtTheStaticEquilibrium) {
-  // The ladder's static equilibrium comes from Newton's method on the same network
-  // (analysis::solve_spring_newton), a different code path from the time integration.
+// The 5-row ladder (masses 0.1 kg, springs 500 N/m damped 0.5 N s/m) under gravity -y, run by
+// `simulate` with `flags` for 300 steps of 0.02 s: its network, the gravity forces, the last
+// frame's displacement (flat, 2D) and report.json.
+struct LadderRun {
+  isospring::analysis::SpringNetwork net;
+  Eigen::VectorXd gravity, last;
+  json report;
+};
+LadderRun run_ladder(const std::string& flags) {
   const int rows = 5;
-  const double m = 0.1, k = 500.0, c = 0.5;
-  const json model = ladder_model(rows, m, k, c);
+  const double m = 0.1;
+  const json model = ladder_model(rows, m, 500.0, 0.5);
   TemporaryFolder out;
   std::ofstream(out / "model.json") << model.dump();
-  const auto run = run_isospring("simulate " + (out / "model.json") + " -o " + (out / "sim") +
-                                 " --dt 0.02 --steps 300 --every 100 --gravity 0,-9.81,0 -q");
-  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto run =
+      run_isospring("simulate " + (out / "model.json") + " -o " + (out / "sim") +
+                    " --dt 0.02 --steps 300 --every 100 --gravity 0,-9.81,0 -q " + flags);
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  LadderRun r;
+  r.net = isospring::io::model_from_json(model, "model.json").network;
+  r.gravity = Eigen::VectorXd::Zero(2 * 2 * rows);
+  for (int i = 2; i < 2 * rows; ++i) r.gravity(2 * i + 1) = -m * 9.81;
   const auto frames = read_pvd(out.path() / "sim" / "series.pvd");
-  ASSERT_EQ(frames.size(), 4u);
+  EXPECT_EQ(frames.size(), 4u);
+  if (frames.empty()) return r;
   EXPECT_NEAR(frames.back().time, 6.0, 1e-14);
   auto last = its::read_vtp(out.path() / "sim" / frames.back().file);
   vtkDataArray* u = last->GetPointData()->GetArray("displacement");
-  ASSERT_NE(u, nullptr);
+  EXPECT_NE(u, nullptr);
+  if (!u) return r;
+  r.last.resize(2 * 2 * rows);
+  for (int i = 0; i < 2 * rows; ++i) r.last.segment(2 * i, 2) = its::tuple(u, i).head(2);
+  std::ifstream report_file(out / "sim/report.json");
+  r.report = json::parse(report_file);
+  return r;
+}
 
+// Largest particle difference relative to the largest particle displacement of `expected`.
+double relative_particle_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& expected,
+                                    double* scale) {
+  double worst = 0.0;
+  *scale = 0.0;
+  for (Eigen::Index i = 0; i < a.size() / 2; ++i) {
+    worst = std::max(worst, (a.segment(2 * i, 2) - expected.segment(2 * i, 2)).norm());
+    *scale = std::max(*scale, expected.segment(2 * i, 2).norm());
+  }
+  return worst / *scale;
+}
+
+TEST(Simulate, DampedImplicitRunEndsAtTheStaticEquilibrium) {
+  // The ladder's static equilibrium comes from Newton's method on the same network
+  // (analysis::solve_spring_newton), a different code path from the time integration.
+  const LadderRun run = run_ladder("");
+  ASSERT_EQ(run.last.size(), run.gravity.size());
   using namespace isospring::analysis;
-  const SpringNetwork net = isospring::io::model_from_json(model, "model.json").network;
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * 2 * rows);
-  for (int i = 2; i < 2 * rows; ++i) f(2 * i + 1) = -m * 9.81;
   SpringSolveOptions options;
   options.tolerance = 1e-13;
-  const SpringSolveResult eq = solve_spring_newton(net, f, options);
+  const SpringSolveResult eq = solve_spring_newton(run.net, run.gravity, options);
   ASSERT_TRUE(eq.converged);
-  double worst = 0, scale = 0;
-  for (int i = 0; i < 2 * rows; ++i) {
-    const Eigen::Vector3d expected(eq.displacement(2 * i), eq.displacement(2 * i + 1), 0);
-    worst = std::max(worst, (Eigen::Vector3d(its::tuple(u, i)) - expected).norm());
-    scale = std::max(scale, expected.norm());
-  }
+  double scale = 0.0;
+  const double difference = relative_particle_difference(run.last, eq.displacement, &scale);
   ASSERT_GT(scale, 0.01);  // the load does deform the ladder (1.7 cm)
   // Backward Euler dissipates every mode by 1 / sqrt(1 + (omega dt)^2) a step or more, on top of
   // the springs' damping (slowest mode omega ~ 20 rad/s: >= 7% a step); after 300 steps the
   // transient is at round-off (measured 2.9e-14 of the deflection); 1e-9 leaves a wide margin.
-  EXPECT_LT(worst / scale, 1e-9);
-  std::ifstream report_file(out / "sim/report.json");
-  const json report = json::parse(report_file);
+  EXPECT_LT(difference, 1e-9);
+  const json& report = run.report;
   EXPECT_EQ(report["frames"], 4);
   ASSERT_FALSE(report["static"].is_null());
   EXPECT_TRUE(report["static"]["converged"].get<bool>());
@@ -160,36 +188,16 @@ TEST(Simulate, ReducedModelSettlesAtTheLinearStaticSolution) {
   // The reduced model (4 modes + the load's static shape) of the ladder under gravity: its
   // damped run must end at the full network's LINEAR static solution (a sparse solve of K_rest,
   // analysis::solve_spring_linear), which the load shape makes exact in the subspace.
-  const int rows = 5;
-  const double m = 0.1, k = 500.0, c = 0.5;
-  const json model = ladder_model(rows, m, k, c);
-  TemporaryFolder out;
-  std::ofstream(out / "model.json") << model.dump();
-  const auto run = run_isospring("simulate " + (out / "model.json") + " -o " + (out / "sim") +
-                                 " --integrator reduced --modes 4 --dt 0.02 --steps 300" +
-                                 " --every 100 --gravity 0,-9.81,0 -q");
-  ASSERT_EQ(run.exit_code, 0) << run.output;
-  const auto frames = read_pvd(out.path() / "sim" / "series.pvd");
-  ASSERT_EQ(frames.size(), 4u);
-  auto last = its::read_vtp(out.path() / "sim" / frames.back().file);
-  vtkDataArray* u = last->GetPointData()->GetArray("displacement");
-  ASSERT_NE(u, nullptr);
-  using namespace isospring::analysis;
-  const SpringNetwork net = isospring::io::model_from_json(model, "model.json").network;
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * 2 * rows);
-  for (int i = 2; i < 2 * rows; ++i) f(2 * i + 1) = -m * 9.81;
-  const Eigen::VectorXd linear = solve_spring_linear(net, f).displacement;
-  double worst = 0, scale = 0;
-  for (int i = 0; i < 2 * rows; ++i) {
-    const Eigen::Vector3d expected(linear(2 * i), linear(2 * i + 1), 0);
-    worst = std::max(worst, (Eigen::Vector3d(its::tuple(u, i)) - expected).norm());
-    scale = std::max(scale, expected.norm());
-  }
+  const LadderRun run = run_ladder("--integrator reduced --modes 4");
+  ASSERT_EQ(run.last.size(), run.gravity.size());
+  const Eigen::VectorXd linear =
+      isospring::analysis::solve_spring_linear(run.net, run.gravity).displacement;
+  double scale = 0.0;
+  const double difference = relative_particle_difference(run.last, linear, &scale);
   ASSERT_GT(scale, 0.01);
   // As the full implicit run above: the transient is damped to round-off after 300 steps.
-  EXPECT_LT(worst / scale, 1e-9);
-  std::ifstream report_file(out / "sim/report.json");
-  const json report = json::parse(report_file);
+  EXPECT_LT(difference, 1e-9);
+  const json& report = run.report;
   EXPECT_EQ(report["integrator"], "reduced");
   EXPECT_EQ(report["reduced"]["basis_size"], 5);
   EXPECT_LT(report["reduced"]["static_relative"].get<double>(), 1e-10);
