@@ -1,12 +1,13 @@
-// The commands' use cases as library calls (io/identify_command.hpp, calibrate_command.hpp,
-// study_command.hpp) on shipped cases: results, reports and files without running the program.
-// tests/apps checks the same runs through `isospring`, with their numbers.
+// The commands' use cases as library calls (io/analyze_command.hpp, identify_command.hpp,
+// calibrate_command.hpp, study_command.hpp) on shipped cases: results, reports and files without
+// running the program. tests/apps checks the same runs through `isospring`, with their numbers.
 #include <gtest/gtest.h>
 #include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
 #include <filesystem>
 #include <fstream>
 
+#include "isospring/io/analyze_command.hpp"
 #include "isospring/io/calibrate_command.hpp"
 #include "isospring/io/identify_command.hpp"
 #include "isospring/io/study_command.hpp"
@@ -28,6 +29,30 @@ fs::path fresh_folder(const std::string& name) {
 nlohmann::json read_json(const fs::path& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in);
+}
+
+TEST(AnalyzeUseCase, SolvesTheBoxAndWritesEveryOutput) {
+  AnalyzeCommandOptions options;
+  options.case_file = kExamples + "cantilever_box.json";
+  options.vtk_samples = 2;
+  const Progress progress("analyze", true);
+  int checked = 0;
+  const AnalyzeCommandResult r =
+      run_analyze(options, progress, [&](const Case& c) { checked = c.problem.load_cases.size(); });
+  ASSERT_EQ(checked, 3);  // the hook saw the case before the solve
+  ASSERT_EQ(r.result.load_cases.size(), 3u);
+  const fs::path out = fresh_folder("analyze");
+  fs::create_directories(out);
+  const nlohmann::json report =
+      write_analyze_outputs(r, options, out, progress, std::chrono::steady_clock::now());
+  EXPECT_EQ(report["dofs"], r.result.dofs);
+  EXPECT_EQ(report["load_cases"].size(), 3u);
+  EXPECT_EQ(read_json(out / "report.json")["load_cases"][0]["max_displacement"],
+            r.result.load_cases[0].max_displacement);
+  for (const std::string& csv : analyze_csv_names(r.c)) EXPECT_TRUE(fs::exists(out / csv)) << csv;
+  EXPECT_TRUE(fs::exists(out / "result.vtm"));
+  EXPECT_TRUE(fs::exists(out / "report.md"));
+  fs::remove_all(out);
 }
 
 TEST(IdentifyUseCase, FindsTheHiddenGravityAndWritesTheReports) {
