@@ -103,11 +103,8 @@ TEST(ExportUseCase, FormatsByExtension) {
                           calibrate_spring_model(calibrated, calibrate_report_json(calibrated)));
   ExportCommandOptions options;
   options.input = (dir / "model.json").string();
-  for (const auto& [file, format] :
-       std::vector<std::pair<std::string, std::string>>{{"m.xml", "mjcf"},
-                                                        {"m.scn", "sofa"},
-                                                        {"m.vtp", "vtk"},
-                                                        {"m.json", "json"}}) {
+  for (const auto& [file, format] : std::vector<std::pair<std::string, std::string>>{
+           {"m.xml", "mjcf"}, {"m.scn", "sofa"}, {"m.vtp", "vtk"}, {"m.json", "json"}}) {
     options.output = (dir / file).string();
     const ExportCommandResult r = run_export(options);
     EXPECT_EQ(r.format, format);
