@@ -106,20 +106,27 @@ nlohmann::json run_simulate(const SimulateCommandOptions& given,
   SpringTimeSeriesWriter series(out_dir / "series.pvd", net);
   series.add_frame(0.0, per_particle(state.x - rest, dim), per_particle(state.v, dim));
   for (int step = 1; step <= options.steps; ++step) {
+    const bool frame = step % options.every == 0 || step == options.steps;
     if (reduced) {
       reduced->step(reduced_force);
-      state.x = rest + reduced->displacement();
-      state.v = reduced->basis() * reduced->velocities();
+      // The field costs O(n r): expanded only for the frames written (the last one included).
+      if (frame) {
+        state.x = rest + reduced->displacement();
+        state.v = reduced->basis() * reduced->velocities();
+      }
     } else if (implicit)
       analysis::step_backward_euler(net, state, force, options.dt);
     else
       analysis::step_velocity_verlet(net, state, force, options.dt);
-    if (!state.x.allFinite() || !state.v.allFinite())
+    const bool finite =
+        reduced ? reduced->coordinates().allFinite() && reduced->velocities().allFinite()
+                : state.x.allFinite() && state.v.allFinite();
+    if (!finite)
       throw std::runtime_error("the run diverged at step " + std::to_string(step) +
                                " (t = " + format_number(step * options.dt) +
                                " s): reduce --dt below the explicit stability limit or use "
                                "--integrator implicit");
-    if (step % options.every == 0 || step == options.steps)
+    if (frame)
       series.add_frame(step * options.dt, per_particle(state.x - rest, dim),
                        per_particle(state.v, dim));
   }
