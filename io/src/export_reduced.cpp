@@ -39,11 +39,7 @@ ReducedExport export_reduced_model(const SpringModel& model, const ReducedExport
   std::vector<std::pair<std::string, Eigen::VectorXd>> loads;
   for (size_t k = 0; k < model.load_cases.size(); ++k)
     loads.emplace_back(model.load_cases[k].id, model_force_vector(model, k, true));
-  if (model.gravity.norm() > 0.0) {
-    SpringModel gravity_only = model;
-    gravity_only.load_cases = {ModelLoadCase{"gravity", {}}};
-    loads.emplace_back("gravity", model_force_vector(gravity_only, 0, true));
-  }
+  if (model.gravity.norm() > 0.0) loads.emplace_back("gravity", model_gravity_vector(model));
   analysis::ReducedModelOptions reduction;
   reduction.modes = options.modes;
   if (options.load_shapes)

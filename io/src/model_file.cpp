@@ -407,17 +407,25 @@ ModelLoadCase model_load_case(std::string id, const Eigen::VectorXd& flat, int d
   return load;
 }
 
+Eigen::VectorXd model_gravity_vector(const SpringModel& model) {
+  const analysis::SpringNetwork& network = model.network;
+  const int dim = network.dimension;
+  Eigen::VectorXd f(static_cast<Eigen::Index>(network.positions.size()) * dim);
+  for (size_t p = 0; p < network.positions.size(); ++p)
+    f.segment(static_cast<Eigen::Index>(p) * dim, dim) =
+        network.masses[p] * model.gravity.head(dim);
+  return f;
+}
+
 Eigen::VectorXd model_force_vector(const SpringModel& model, size_t index, bool with_gravity) {
   const analysis::SpringNetwork& network = model.network;
   const int dim = network.dimension;
   Eigen::VectorXd f =
-      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(network.positions.size()) * dim);
+      with_gravity
+          ? model_gravity_vector(model)
+          : Eigen::VectorXd::Zero(static_cast<Eigen::Index>(network.positions.size()) * dim);
   for (const auto& [particle, force] : model.load_cases.at(index).forces)
     f.segment(static_cast<Eigen::Index>(particle) * dim, dim) += force.head(dim);
-  if (with_gravity)
-    for (size_t p = 0; p < network.positions.size(); ++p)
-      f.segment(static_cast<Eigen::Index>(p) * dim, dim) +=
-          network.masses[p] * model.gravity.head(dim);
   return f;
 }
 

@@ -66,6 +66,9 @@ void write_spring_model_json(const std::filesystem::path& path, const SpringMode
 /// gravity forces m_i g when `with_gravity`.
 Eigen::VectorXd model_force_vector(const SpringModel& model, size_t index, bool with_gravity);
 
+/// Flat gravity forces m_i g of every particle (particle * dimension + component).
+Eigen::VectorXd model_gravity_vector(const SpringModel& model);
+
 /// A load case from flat forces on the particles (particle * dimension + component, as
 /// fitting::CalibrationResult::particle_loads): one entry per particle with a non-zero force.
 ModelLoadCase model_load_case(std::string id, const Eigen::VectorXd& flat, int dimension);
