@@ -33,6 +33,7 @@
 #include <random>
 #include <sstream>
 
+#include "cad_block.hpp"
 #include "cad_coons.hpp"
 #include "cad_hexahedron.hpp"
 #include "cad_planar_face.hpp"
@@ -334,7 +335,7 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
       return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
     };
     std::vector<nurbs::Patch> quarters, prism;
-    std::string revolution_why, prism_why;
+    std::string revolution_why, prism_why, remark;
     auto face_patches = [&](const TopoDS_Face& face) {
       return model_face_patches(model, faces.FindIndex(face) - 1);
     };
@@ -353,10 +354,16 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
       model.volume_patches.insert(model.volume_patches.end(), prism.begin(), prism.end());
       model.patch_solid.insert(model.patch_solid.end(), prism.size(), s - 1);
       why.clear();
+    } else if (std::string block_why;
+               detail::block_patches(solids(s), props.Mass(), prism, block_why, remark)) {
+      model.volume_patches.insert(model.volume_patches.end(), prism.begin(), prism.end());
+      model.patch_solid.insert(model.patch_solid.end(), prism.size(), s - 1);
+      why.clear();
     } else {
-      why += "; " + prism_why;
+      why += "; " + prism_why + "; " + block_why;
     }
     model.solid_notes.push_back(why);
+    model.solid_remarks.push_back(remark);
   }
   return model;
 }
@@ -399,11 +406,17 @@ std::string describe(const CadModel& model) {
       << "  bounding box [" << model.bbox_min.transpose() << "] .. [" << model.bbox_max.transpose()
       << "] m\n"
       << "  volume " << model.volume << " m^3, area " << model.area << " m^2\n"
-      << "  volume patches (hexahedral solids, quarters of solids of revolution): "
+      << "  volume patches (hexahedral solids, quarters of solids of revolution, prisms and "
+         "blocks of cut faces): "
       << model.volume_patches.size() << "\n";
-  for (size_t s = 0; s < model.solid_notes.size(); ++s)
+  for (size_t s = 0; s < model.solid_notes.size(); ++s) {
+    const auto patches = std::count(model.patch_solid.begin(), model.patch_solid.end(), s);
     out << "  solid " << s << ": "
-        << (model.solid_notes[s].empty() ? "volume patch(es)" : model.solid_notes[s]) << "\n";
+        << (model.solid_notes[s].empty() ? std::to_string(patches) + " volume patch(es)"
+                                         : model.solid_notes[s]);
+    if (!model.solid_remarks[s].empty()) out << "; " << model.solid_remarks[s];
+    out << "\n";
+  }
   for (const auto& f : model.face_reports)
     out << "  face " << f.index << ": " << f.surface_type << ", " << f.wires << " wire(s), "
         << f.edges << " edges, area " << f.area << " m^2, " << usability(f) << "\n";

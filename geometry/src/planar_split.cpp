@@ -12,15 +12,16 @@
 #include "isospring/geometry/coons.hpp"
 #include "isospring/nurbs/quadrature.hpp"
 #include "isospring/nurbs/refine.hpp"
+#include "planar_split_parts.hpp"
 
 namespace isospring::geometry {
 
-namespace {
+// The ring construction, shared with the block split of solids (planar_split_parts.hpp).
+namespace planar_split_detail {
 
 using Eigen::Vector3d;
 using nurbs::KnotVector;
 using nurbs::Patch;
-using Loop = std::vector<Patch>;
 
 [[noreturn]] void refuse(const std::string& why) {
   throw std::invalid_argument(why);
@@ -53,10 +54,11 @@ double signed_area(const std::vector<Vector3d>& polygon) {
   return area / 2.0;
 }
 
-// Centroid of the region a loop encloses, from the exact curves (Green: A = 1/2 oint x dy - y dx,
-// A cx = 1/2 oint x^2 dy, A cy = -1/2 oint y^2 dx), Gauss on every knot span: to round-off for a
-// circle, so the cuts of a circular hole are symmetric (a polygon of samples is not).
-Vector3d centroid(const Loop& loop) {
+// Area and first moments (A, A cx, A cy) of the region a loop encloses, signed by the loop's
+// sense, from the exact curves (Green: A = 1/2 oint x dy - y dx, A cx = 1/2 oint x^2 dy,
+// A cy = -1/2 oint y^2 dx), Gauss on every knot span: to round-off for a circle, so the cuts of a
+// circular hole are symmetric (a polygon of samples is not).
+Vector3d moments(const Loop& loop) {
   const nurbs::GaussRule rule = nurbs::gauss_legendre(12);
   double area = 0.0, mx = 0.0, my = 0.0;
   for (const Patch& c : loop) {
@@ -74,7 +76,16 @@ Vector3d centroid(const Loop& loop) {
         my -= w * x.y() * x.y() * dx.x() / 2.0;
       }
   }
-  return {mx / area, my / area, 0.0};
+  return {area, mx, my};
+}
+
+Vector3d centroid(const Loop& loop) {
+  const Vector3d m = moments(loop);
+  return {m.y() / m.x(), m.z() / m.x(), 0.0};
+}
+
+double enclosed_area(const Loop& loop) {
+  return std::abs(moments(loop).x());
 }
 
 // The loop running counter-clockwise (the ring construction below relies on it).
@@ -235,17 +246,6 @@ Patch sub_loop(const Loop& loop, LoopPosition from, LoopPosition to) {
   return result;
 }
 
-// A hole (or, for a disk, the outline) with the square of grid cell (col, row) around it.
-struct Ring {
-  Loop loop;
-  Vector3d center = Vector3d::Zero();
-  double extent = 0.0;  // largest |x - cx| or |y - cy| on the loop
-  double half = std::numeric_limits<double>::infinity();  // half side of its square
-  int col = -1, row = -1;
-  bool hole = true;  // the loop inside the square (hole) or outside (outline of a disk)
-  Patch below, right, above, left;  // quarters of the loop, along +x (below, above) or +y
-};
-
 // Coordinates within `tolerance` merged (sorted, first of each cluster kept).
 std::vector<double> merged(std::vector<double> values, double tolerance) {
   std::sort(values.begin(), values.end());
@@ -303,7 +303,37 @@ Patch ring_patch(const Patch& quarter, const Patch& side, bool hole, const std::
   }
 }
 
-}  // namespace
+KnotVector plain_knots(int degree) {
+  std::vector<double> k(static_cast<size_t>(degree) + 1, 0.0);
+  k.insert(k.end(), static_cast<size_t>(degree) + 1, 1.0);
+  return KnotVector(degree, k);
+}
+
+KnotVector common_knots(const std::vector<Patch*>& quarters, int degree) {
+  const KnotVector plain = plain_knots(degree);
+  if (quarters.empty()) return plain;
+  std::vector<Patch> curves{line(Vector3d::Zero(), Vector3d::UnitX(), plain)};
+  for (Patch* q : quarters) curves.push_back(*q);
+  const std::vector<Patch> same = make_compatible(curves);
+  for (size_t k = 0; k < quarters.size(); ++k) *quarters[k] = same[k + 1];
+  return same[0].knots(0);
+}
+
+void prepare_ring(Ring& ring) {
+  const std::vector<Vector3d> samples = loop_samples(ring.loop, 64);
+  ring.center = centroid(ring.loop);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Vector3d& x : samples) {
+    ring.extent = std::max(
+        {ring.extent, std::abs(x.x() - ring.center.x()), std::abs(x.y() - ring.center.y())});
+    nearest = std::min(nearest, (x - ring.center).norm());
+  }
+  if (!ring.hole) ring.extent = nearest;  // the square's half side is half the inner radius
+}
+
+}  // namespace planar_split_detail
+
+using namespace planar_split_detail;
 
 std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolerance) {
   if (region.outline.empty()) refuse("the region has no outline");
@@ -355,18 +385,7 @@ std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolera
     disk.hole = false;
     rings.push_back(disk);
   }
-  for (size_t h = 0; h < rings.size(); ++h) {
-    Ring& ring = rings[h];
-    const std::vector<Vector3d> samples = loop_samples(ring.loop, 64);
-    ring.center = centroid(ring.loop);
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Vector3d& x : samples) {
-      ring.extent = std::max(
-          {ring.extent, std::abs(x.x() - ring.center.x()), std::abs(x.y() - ring.center.y())});
-      nearest = std::min(nearest, (x - ring.center).norm());
-    }
-    if (!ring.hole) ring.extent = nearest;  // the square's half side is half the inner radius
-  }
+  for (Ring& ring : rings) prepare_ring(ring);
   // Half side of each hole's square: as large as the outline allows (no outline corner's line
   // inside it); two holes apart by d along an axis share d in proportion to their sizes (so
   // neither square reaches a line of the other: s_h + s_k <= d); holes on one line (same centre
@@ -440,13 +459,7 @@ std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolera
   for (const Ring& ring : rings)
     for (const Patch* q : {&ring.below, &ring.right, &ring.above, &ring.left})
       degree = std::max(degree, q->degree(0));
-  const KnotVector plain(degree, [&] {
-    std::vector<double> k(static_cast<size_t>(degree) + 1, 0.0);
-    k.insert(k.end(), static_cast<size_t>(degree) + 1, 1.0);
-    return k;
-  }());
-  const Patch straight_unit = line(Vector3d::Zero(), Vector3d::UnitX(), plain);
-  std::vector<KnotVector> col_knots(gx.size() - 1, plain), row_knots(gy.size() - 1, plain);
+  std::vector<KnotVector> col_knots(gx.size() - 1), row_knots(gy.size() - 1);
   for (int axis = 0; axis < 2; ++axis) {
     const size_t cells = axis == 0 ? gx.size() - 1 : gy.size() - 1;
     for (size_t i = 0; i < cells; ++i) {
@@ -461,12 +474,7 @@ std::vector<Patch> split_planar_region(const PlanarRegion& region, double tolera
           quarters.push_back(&ring.right);
         }
       }
-      if (quarters.empty()) continue;
-      std::vector<Patch> curves{straight_unit};
-      for (Patch* q : quarters) curves.push_back(*q);
-      const std::vector<Patch> same = make_compatible(curves);
-      for (size_t k = 0; k < quarters.size(); ++k) *quarters[k] = same[k + 1];
-      (axis == 0 ? col_knots : row_knots)[i] = same[0].knots(0);
+      (axis == 0 ? col_knots : row_knots)[i] = common_knots(quarters, degree);
     }
   }
   std::vector<Patch> patches;

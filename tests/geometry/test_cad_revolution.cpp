@@ -2,9 +2,11 @@
 // volumes against closed forms (Pappus), conforming quarters, boundary on the CAD surfaces.
 #include <gtest/gtest.h>
 
+#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepGProp.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -171,13 +173,18 @@ TEST(CadRevolution, OtherSolidsAreReported) {
   EXPECT_NE(ball.solid_notes[0].find("meridian is not closed"), std::string::npos)
       << ball.solid_notes[0];
   EXPECT_NE(describe(ball).find("solid 0: solid of revolution, but"), std::string::npos);
-  // The bracket (a hole across a leg of an L section): neither hexahedral, of revolution nor a
-  // prism.
-  const CadModel bracket =
-      test::step_round_trip(test::cad_test_parts()["bracket.step"].shape, "bracket_solid.step");
-  EXPECT_TRUE(bracket.volume_patches.empty());
-  EXPECT_NE(bracket.solid_notes[0].find("not hexahedral"), std::string::npos);
-  EXPECT_NE(bracket.solid_notes[0].find("not a prism of a planar face"), std::string::npos);
+  // A block with a blind hole: neither hexahedral, of revolution, a prism nor a block with
+  // through-holes; the note gives every reason.
+  TopoDS_Shape block = BRepPrimAPI_MakeBox(0.04, 0.04, 0.02).Shape();
+  block = BRepAlgoAPI_Cut(block, BRepPrimAPI_MakeCylinder(
+                                     gp_Ax2(gp_Pnt(0.02, 0.02, 0.01), gp_Dir(0, 0, 1)), 0.005, 0.01)
+                                     .Shape())
+              .Shape();
+  const CadModel blind = test::step_round_trip(block, "blind_hole_solid.step");
+  EXPECT_TRUE(blind.volume_patches.empty());
+  EXPECT_NE(blind.solid_notes[0].find("not hexahedral"), std::string::npos);
+  EXPECT_NE(blind.solid_notes[0].find("not a prism of a planar face"), std::string::npos);
+  EXPECT_NE(blind.solid_notes[0].find("a hole ends inside the solid"), std::string::npos);
 }
 
 }  // namespace

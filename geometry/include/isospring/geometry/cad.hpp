@@ -68,6 +68,8 @@ struct CadModel {
                                              // the extruded cut of the base face per prism)
   std::vector<int> patch_solid;              // solid index (0-based) of each volume patch
   std::vector<std::string> solid_notes;      // per solid: empty if a volume patch, else why not
+  std::vector<std::string> solid_remarks;    // per solid: what a user should know about its
+                                             // volume patches (empty: nothing)
 };
 
 /// Reads a STEP or IGES file (by extension, case-insensitive). Throws nurbs::InputError naming the
