@@ -1,9 +1,11 @@
 // Node numbering with conforming-interface gluing by side matching.
 #include "isospring/analysis/dof_map.hpp"
 
+#include <Eigen/Geometry>
 #include <numeric>
 
 #include "isospring/analysis/sides.hpp"
+#include "isospring/nurbs/quadrature.hpp"
 
 namespace isospring::analysis {
 
@@ -37,6 +39,41 @@ std::array<int, 2> oriented(int i, int j, int o, const std::array<int, 2>& b_siz
   if (o & 1) i = b_size[0] - 1 - i;
   if (o & 2) j = b_size[1] - 1 - j;
   return {i, j};
+}
+
+// Measure (length of a curve side, area of a surface side) and centroid of a patch side: Gauss
+// with 4 points per knot span along the side's directions.
+std::pair<double, Eigen::Vector3d> side_moments(const nurbs::Patch& patch, int dir, int end) {
+  const nurbs::GaussRule rule = nurbs::gauss_legendre(4);
+  std::vector<int> along;
+  for (int d = 0; d < patch.param_dim(); ++d)
+    if (d != dir) along.push_back(d);
+  std::array<std::vector<std::pair<double, double>>, 2> points;  // (parameter, weight)
+  for (size_t a = 0; a < along.size(); ++a) {
+    const std::vector<double> breaks = patch.knots(along[a]).unique();
+    for (size_t e = 0; e + 1 < breaks.size(); ++e)
+      for (size_t g = 0; g < rule.points.size(); ++g) {
+        const double h = (breaks[e + 1] - breaks[e]) / 2.0;
+        points[a].push_back({breaks[e] + (rule.points[g] + 1.0) * h, rule.weights[g] * h});
+      }
+  }
+  if (along.size() < 2) points[1] = {{0.0, 1.0}};
+  double measure = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (const auto& [s, ws] : points[0])
+    for (const auto& [t, wt] : points[1]) {
+      nurbs::Param u{0, 0, 0};
+      u[static_cast<size_t>(dir)] = end ? patch.param_max(dir) : patch.param_min(dir);
+      u[static_cast<size_t>(along[0])] = s;
+      if (along.size() > 1) u[static_cast<size_t>(along[1])] = t;
+      const nurbs::PatchDerivatives d = patch.derivatives(u);
+      const Eigen::Vector3d ds = d.first.col(along[0]);
+      const double jacobian =
+          along.size() > 1 ? ds.cross(Eigen::Vector3d(d.first.col(along[1]))).norm() : ds.norm();
+      measure += ws * wt * jacobian;
+      moment += ws * wt * jacobian * d.point;
+    }
+  return {measure, measure > 0.0 ? Eigen::Vector3d(moment / measure) : Eigen::Vector3d::Zero()};
 }
 
 }  // namespace
@@ -84,13 +121,13 @@ DofMap::DofMap(const Problem& problem, double relative_tolerance)
         const SideGrid& sa = sides[a];
         const SideGrid& sb = sides[b];
         if (!problem.glue_patch_seams && sa.patch == sb.patch) continue;
-        if (sa.points.size() != sb.points.size()) continue;
         if ((sa.lo - sb.lo).cwiseAbs().maxCoeff() > tol ||
             (sa.hi - sb.hi).cwiseAbs().maxCoeff() > tol)
           continue;
         // A side whose points all coincide (a collapsed pole) matches nothing meaningfully.
         if ((sa.hi - sa.lo).norm() <= tol) continue;
-        for (int o = 0; o < 8; ++o) {
+        bool glued = false;
+        for (int o = 0; o < 8 && sa.points.size() == sb.points.size(); ++o) {
           const bool transpose = (o & 4) != 0;
           const std::array<int, 2> shape =
               transpose ? std::array<int, 2>{sa.size[1], sa.size[0]} : sa.size;
@@ -115,8 +152,19 @@ DofMap::DofMap(const Problem& problem, double relative_tolerance)
                 ++glued_pairs_;
               }
             }
+          glued = true;
           break;
         }
+        if (glued || sa.patch == sb.patch) continue;
+        // Same box but not glued: do the two sides lie on each other (same measure and
+        // centroid)? Then the interface is non-conforming.
+        const auto [measure_a, centroid_a] =
+            side_moments(problem.patches[static_cast<size_t>(sa.patch)], sa.dir, sa.end);
+        const auto [measure_b, centroid_b] =
+            side_moments(problem.patches[static_cast<size_t>(sb.patch)], sb.dir, sb.end);
+        if (std::abs(measure_a - measure_b) <= 1e-6 * std::max(measure_a, measure_b) &&
+            (centroid_a - centroid_b).norm() <= tol)
+          unglued_.push_back({sa.patch, sa.dir, sa.end, sb.patch, sb.dir, sb.end});
       }
   }
 

@@ -24,6 +24,23 @@ int find_root(std::vector<int>& parent, int i) {
 
 void check_rigid_body_modes(const Problem& problem, const DofMap& dofs,
                             const Constraints& constraints) {
+  if (!dofs.unglued_interfaces().empty()) {
+    // A patch side lying on another one without shared control points: the parts would move
+    // independently there, a silently wrong answer rather than a singular system.
+    const auto side = [](int dir, int end) {
+      return std::string(1, "uvw"[dir]) + (end ? "1" : "0");
+    };
+    const DofMap::UngluedInterface& f = dofs.unglued_interfaces().front();
+    std::ostringstream message;
+    message << "patch " << f.patch_a << " side " << side(f.dir_a, f.end_a) << " and patch "
+            << f.patch_b << " side " << side(f.dir_b, f.end_b) << " lie on each other but their "
+            << "control points differ (" << dofs.unglued_interfaces().size()
+            << " such interface(s)): the knots or degrees along the interface do not match, so "
+               "the patches would not be joined there. Refine every patch alike: the same "
+               "\"degree\" and \"elements\" in every direction (one number each), which keeps "
+               "conforming interfaces conforming";
+    throw nurbs::InputError(message.str());
+  }
   const int dim = dofs.dofs_per_node();
   const int num_patches = dofs.num_patches();
   // Patches sharing a node move together.

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 
+#include <numeric>
 #include "case_file_conditions.hpp"
 #include "case_file_json.hpp"
+#include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/resource_estimate.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_geometry.hpp"
@@ -85,6 +87,24 @@ CaseDiscretization read_discretization(const Field& root,
       field.fail(": degree " + std::to_string(disc.degree[d]) + " or elements " +
                  std::to_string(disc.elements[d]) + " along " + kDirection[d] +
                  " is beyond what isospring supports (degree <= 10, elements <= 100000)");
+  return disc;
+}
+
+/// The coarsest discretisation with one degree and one element count in every direction: the
+/// largest degree of any patch and direction, and the least common multiple of their span counts
+/// (so every span is split equally and interfaces stay conforming).
+CaseDiscretization uniform_discretization(const std::vector<nurbs::Patch>& patches) {
+  int degree = 1, elements = 1;
+  for (const nurbs::Patch& patch : patches)
+    for (int d = 0; d < patch.param_dim(); ++d) {
+      degree = std::max(degree, patch.degree(d));
+      elements = std::lcm(elements, patch.knots(d).num_elements());
+    }
+  CaseDiscretization disc;
+  for (int d = 0; d < patches.front().param_dim(); ++d) {
+    disc.degree[d] = degree;
+    disc.elements[d] = elements;
+  }
   return disc;
 }
 
@@ -350,6 +370,15 @@ Case build_case_from_json(const json& document, const fs::path& case_file,
   c.discretization = read_discretization(root, c.geometry);
   check_solve_fits(c, c.discretization, limits);
   c.problem.patches = discretize_patches(c.geometry, c.discretization, file_label(case_file));
+  if (!root.has("discretization") && c.geometry.size() > 1 &&
+      !analysis::DofMap(c.problem).unglued_interfaces().empty()) {
+    // The largest degree and span count per direction refine patches of different orientations
+    // differently (a CAD block's ring patches run along other axes than its boxes), which
+    // breaks their interfaces; one degree and one element count for every direction keep them.
+    c.discretization = uniform_discretization(c.geometry);
+    check_solve_fits(c, c.discretization, limits);
+    c.problem.patches = discretize_patches(c.geometry, c.discretization, file_label(case_file));
+  }
   add_conditions(c, c.problem.patches, c.problem);
   return c;
 }

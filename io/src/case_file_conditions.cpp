@@ -1,7 +1,10 @@
 #include "case_file_conditions.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 
 namespace isospring::io::case_conditions {
 using case_json::Field;
@@ -42,6 +45,67 @@ analysis::Side read_side(const Field& item, const Context& context) {
              (suggestion.empty() ? "" : "; did you mean '" + suggestion + "'?") +
              " Sides are u0 u1 v0 v1" + (param_dim == 3 ? " w0 w1" : "") +
              " (u0: first knot of direction u, u1: last knot)");
+}
+
+/// Every patch side lying on the plane of `"where": {"x": 0.05}` (one of x, y, z): all its
+/// control points on the plane (a NURBS side lies in a plane exactly when its control points do),
+/// to 1e-6 of the model's bounding-box diagonal, the tolerance the multipatch gluing uses. So a
+/// CAD part's faces are named by where they are, not by patch and side, and the choice survives
+/// refinement and a new cut of the part.
+std::vector<analysis::Side> sides_on_plane(const Field& where, const Context& context) {
+  where.expect_object({"x", "y", "z"});
+  const std::vector<std::string> axes = context.dimension == 3
+                                            ? std::vector<std::string>{"x", "y", "z"}
+                                            : std::vector<std::string>{"x", "y"};
+  int axis = -1;
+  for (int a = 0; a < 3; ++a)
+    if (where.has(std::string(1, "xyz"[a]))) {
+      if (axis >= 0) where.fail(": give one coordinate, e.g. {\"x\": 0.05} (the plane x = 0.05)");
+      axis = a;
+    }
+  if (axis < 0) where.fail(": give one coordinate, e.g. {\"x\": 0.05} (the plane x = 0.05)");
+  const std::string name(1, "xyz"[axis]);
+  if (axis >= context.dimension) where.at(name).fail(": 2D geometry has no z; use x or y");
+  const double value = where.at(name).number();
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const nurbs::Patch& patch : *context.patches)
+    for (const Eigen::Vector3d& x : patch.control_points()) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+  const double tolerance = 1e-6 * (hi - lo).norm();
+  std::vector<analysis::Side> sides;
+  for (int p = 0; p < static_cast<int>(context.patches->size()); ++p) {
+    const nurbs::Patch& patch = (*context.patches)[static_cast<size_t>(p)];
+    for (int dir = 0; dir < patch.param_dim(); ++dir)
+      for (int end = 0; end < 2; ++end) {
+        const int layer = end == 0 ? 0 : patch.num_points(dir) - 1;
+        bool on = true;
+        for (int i = 0; i < patch.num_points() && on; ++i)
+          if (patch.net_position(i)[static_cast<size_t>(dir)] == layer)
+            on = std::abs(patch.control_point(i)[axis] - value) <= tolerance;
+        if (on) sides.push_back({p, dir, end});
+      }
+  }
+  if (sides.empty()) {
+    std::ostringstream why;
+    why << ": no patch side lies on the plane " << name << " = " << value << " (the model spans "
+        << name << " from " << lo[axis] << " to " << hi[axis]
+        << "); give the coordinate of a flat face of the part, in metres";
+    where.at(name).fail(why.str());
+  }
+  return sides;
+}
+
+/// The sides an entry names: "side" (+ "patch"), or every side on the plane of "where".
+std::vector<analysis::Side> read_sides(const Field& item, const Context& context) {
+  if (!item.has("where")) return {read_side(item, context)};
+  if (item.has("side") || item.has("patch"))
+    item.fail(
+        ": give either \"where\" (every patch side on a plane) or \"side\" and "
+        "\"patch\", not both");
+  return sides_on_plane(item.at("where"), context);
 }
 
 /// A control point as a global index in its patch, or as a net position [i, j(, k)] where
@@ -105,23 +169,37 @@ void require_analytic(const Field& field, const Context& context) {
     field.fail(": \"analytic\" needs the case's top-level \"analytic\" object naming the solution");
 }
 
-analysis::Support read_support(const Field& item, const Context& context) {
-  item.expect_object({"side", "patch", "control_point", "fix", "value", "symmetry"});
+// One support per side it names (several with "where").
+std::vector<analysis::Support> read_support(const Field& item, const Context& context) {
+  item.expect_object({"side", "patch", "where", "control_point", "fix", "value", "symmetry"});
   analysis::Support support;
   const int patch = patch_index(item, context);
+  std::vector<analysis::Side> sides;
   if (item.has("control_point")) {
-    if (item.has("side"))
+    if (item.has("side") || item.has("where"))
       item.fail(
-          ": give either \"side\" (every control point of a side) or \"control_point\", "
-          "not both");
+          ": give either \"side\" or \"where\" (every control point of sides) or "
+          "\"control_point\", not both");
     support.side.patch = patch;
     support.control_point = read_control_point(item.at("control_point"),
                                                (*context.patches)[static_cast<size_t>(patch)]);
-  } else if (item.has("side")) {
-    support.side = read_side(item, context);
+  } else if (item.has("side") || item.has("where")) {
+    sides = read_sides(item, context);
   } else {
-    item.fail(": give \"side\" (e.g. \"u0\") or \"control_point\" for this support");
+    item.fail(
+        ": give \"side\" (e.g. \"u0\"), \"where\" (e.g. {\"x\": 0}) or \"control_point\" for "
+        "this support");
   }
+  // The same support on every side named.
+  auto on_sides = [&](const analysis::Support& one) {
+    if (sides.empty()) return std::vector<analysis::Support>{one};
+    std::vector<analysis::Support> all;
+    for (const analysis::Side& side : sides) {
+      all.push_back(one);
+      all.back().side = side;
+    }
+    return all;
+  };
 
   const bool symmetry = item.has("symmetry") && item.at("symmetry").boolean();
   if (symmetry) {
@@ -132,7 +210,7 @@ analysis::Support read_support(const Field& item, const Context& context) {
     if (support.control_point)
       item.fail(": \"symmetry\" needs a side (its normal), not a single control point");
     support.symmetry = true;
-    return support;
+    return on_sides(support);
   }
   if (!item.has("fix") && !item.has("value"))
     item.fail(": say what is fixed: \"fix\": [\"x\", \"y\"" +
@@ -149,7 +227,7 @@ analysis::Support read_support(const Field& item, const Context& context) {
       support.value = read_vector(value, context);
     }
   }
-  return support;
+  return on_sides(support);
 }
 
 /// (patch, dir, end) -> the components fixed on every control point of that side.
@@ -164,7 +242,7 @@ std::map<std::array<int, 3>, std::array<bool, 3>> fixed_sides(
   return sides;
 }
 
-void reject_load_on_fixed_side(const Field& side_field, const analysis::Side& side,
+void reject_load_on_fixed_side(const Field& entry, const analysis::Side& side,
                                const std::vector<analysis::Support>& supports,
                                const Context& context) {
   const auto sides = fixed_sides(supports);
@@ -172,10 +250,11 @@ void reject_load_on_fixed_side(const Field& side_field, const analysis::Side& si
   if (it == sides.end()) return;
   for (int c = 0; c < context.dimension; ++c)
     if (!it->second[c]) return;
-  side_field.fail(": side " + std::string(kSideNames[2 * side.dir + side.end]) + " of patch " +
-                  std::to_string(side.patch) +
-                  " is fully fixed by \"boundary\", so a load there does nothing; load another "
-                  "side or free a component of this one");
+  const Field field = entry.has("side") ? entry.at("side") : entry.at("where");
+  field.fail(": side " + std::string(kSideNames[2 * side.dir + side.end]) + " of patch " +
+             std::to_string(side.patch) +
+             " is fully fixed by \"boundary\", so a load there does nothing; load another "
+             "side or free a component of this one");
 }
 
 analysis::LoadCase read_load_case(const Field& item, const std::vector<analysis::Support>& supports,
@@ -192,10 +271,8 @@ analysis::LoadCase read_load_case(const Field& item, const std::vector<analysis:
 
   if (item.has("tractions")) {
     for (const Field& entry : item.at("tractions").elements()) {
-      entry.expect_object({"side", "patch", "value"});
+      entry.expect_object({"side", "patch", "where", "value"});
       analysis::Traction traction;
-      traction.side = read_side(entry, context);
-      reject_load_on_fixed_side(entry.at("side"), traction.side, supports, context);
       const Field value = entry.at("value");
       if (is_analytic_marker(value)) {
         require_analytic(value, context);
@@ -206,17 +283,23 @@ analysis::LoadCase read_load_case(const Field& item, const std::vector<analysis:
       } else {
         traction.value = read_vector(value, context);
       }
-      load_case.tractions.push_back(traction);
+      for (const analysis::Side& side : read_sides(entry, context)) {
+        reject_load_on_fixed_side(entry, side, supports, context);
+        traction.side = side;
+        load_case.tractions.push_back(traction);
+      }
     }
   }
   if (item.has("pressures")) {
     for (const Field& entry : item.at("pressures").elements()) {
-      entry.expect_object({"side", "patch", "value"});
+      entry.expect_object({"side", "patch", "where", "value"});
       analysis::Pressure pressure;
-      pressure.side = read_side(entry, context);
-      reject_load_on_fixed_side(entry.at("side"), pressure.side, supports, context);
       pressure.value = entry.at("value").number();
-      load_case.pressures.push_back(pressure);
+      for (const analysis::Side& side : read_sides(entry, context)) {
+        reject_load_on_fixed_side(entry, side, supports, context);
+        pressure.side = side;
+        load_case.pressures.push_back(pressure);
+      }
     }
   }
   if (item.has("point_loads")) {
@@ -257,7 +340,7 @@ analysis::LoadCase read_load_case(const Field& item, const std::vector<analysis:
 std::vector<analysis::Support> read_supports(const Field& boundary, const Context& context) {
   std::vector<analysis::Support> supports;
   for (const Field& item : boundary.elements(false))
-    supports.push_back(read_support(item, context));
+    for (analysis::Support& support : read_support(item, context)) supports.push_back(support);
   return supports;
 }
 

@@ -75,7 +75,8 @@ void import_report(const ImportCommandResult& r, const ImportCommandOptions& opt
         {{"index", s},
          {"volume_patches",
           std::count(model.patch_solid.begin(), model.patch_solid.end(), static_cast<int>(s))},
-         {"note", model.solid_notes[s]}});
+         {"note", model.solid_notes[s]},
+         {"remark", model.solid_remarks[s]}});
   j["patch_count"] = patches.size();
   std::vector<std::vector<std::string>> jacobian_rows;
   for (size_t p = 0; p < patches.size(); ++p) {
@@ -132,7 +133,8 @@ void import_report(const ImportCommandResult& r, const ImportCommandOptions& opt
   std::vector<std::string> solid_lines;
   for (size_t s = 0; s < model.solid_notes.size(); ++s)
     solid_lines.push_back("solid " + std::to_string(s) + ": " +
-                          (model.solid_notes[s].empty() ? "volume patches" : model.solid_notes[s]));
+                          (model.solid_notes[s].empty() ? "volume patches" : model.solid_notes[s]) +
+                          (model.solid_remarks[s].empty() ? "" : "; " + model.solid_remarks[s]));
   if (!solid_lines.empty()) {
     md.heading(2, "Solids");
     md.bullets(solid_lines);

@@ -94,6 +94,27 @@ TEST(Validation, RigidBodyModesAreNamed) {
       << input_error(solid);
 }
 
+// Two beams end to end: with the same knots across the shared end they are glued and solve;
+// with different ones (2 elements across against 1) the ends lie on each other but share no
+// control points, which would let the beams come apart there: a named input error.
+TEST(Validation, NonConformingInterfaceIsNamed) {
+  auto shifted_beam = [](int ny) {
+    nurbs::Patch beam = testing::beam(4.0, 1.0, 2, 4, ny);
+    for (int i = 0; i < beam.num_points(); ++i)
+      beam.set_control_point(i, beam.control_point(i) + Eigen::Vector3d(4, 0, 0));
+    return beam;
+  };
+  Problem p = good_beam();
+  p.patches.push_back(shifted_beam(1));
+  p.load_cases[0].tractions[0].side = {1, 0, 1};
+  EXPECT_EQ(input_error(p), "");
+  p.patches[1] = shifted_beam(2);
+  EXPECT_EQ(input_error(p).find("patch 0 side u1 and patch 1 side u0 lie on each other but their "
+                                "control points differ"),
+            0u)
+      << input_error(p);
+}
+
 TEST(Validation, InvertedPatchIsReportedWithElementAndParameter) {
   Problem p = good_beam();
   // Mirror the net in y: the parametrisation becomes left-handed (det J < 0).

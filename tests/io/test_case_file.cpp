@@ -280,6 +280,46 @@ TEST(CaseFile, SidesAndSupports) {
   expect_error(doc, "boundary[0].value: \"analytic\" needs the case's top-level \"analytic\"");
 }
 
+// "where": {"x": c} names every patch side lying on the plane x = c (CAD parts cut into many
+// patches); it must be the same as naming the sides, and a plane with no side is an error.
+TEST(CaseFile, SidesByPlane) {
+  json doc = cantilever();
+  doc["boundary"][0] = {{"where", {{"x", 0.0}}}, {"fix", {"x", "y", "z"}}};
+  doc["load_cases"][0]["tractions"][0] = {{"where", {{"x", 0.1}}}, {"value", {0, 0, -100.0}}};
+  const Case c = build_case_from_json(doc, "case.json");
+  ASSERT_EQ(c.problem.supports.size(), 1u);
+  EXPECT_EQ(c.problem.supports[0].side.patch, 0);
+  EXPECT_EQ(c.problem.supports[0].side.dir, 0);
+  EXPECT_EQ(c.problem.supports[0].side.end, 0);
+  EXPECT_TRUE(c.problem.supports[0].fixed[2]);
+  ASSERT_EQ(c.problem.load_cases[0].tractions.size(), 1u);
+  EXPECT_EQ(c.problem.load_cases[0].tractions[0].side.dir, 0);
+  EXPECT_EQ(c.problem.load_cases[0].tractions[0].side.end, 1);
+  EXPECT_EQ(c.problem.load_cases[0].tractions[0].value.z(), -100.0);
+  // The bottom z = 0 is side w0.
+  doc["load_cases"][0]["tractions"][0]["where"] = {{"z", 0.0}};
+  const Case bottom = build_case_from_json(doc, "case.json");
+  EXPECT_EQ(bottom.problem.load_cases[0].tractions[0].side.dir, 2);
+  EXPECT_EQ(bottom.problem.load_cases[0].tractions[0].side.end, 0);
+
+  doc = cantilever();
+  doc["boundary"][0] = {{"where", {{"x", 0.05}}}, {"fix", {"x"}}};
+  expect_error(doc, "boundary[0].where.x: no patch side lies on the plane x = 0.05",
+               "the model spans x from 0 to 0.1");
+  doc["boundary"][0]["where"] = {{"x", 0.0}, {"y", 0.0}};
+  expect_error(doc, "boundary[0].where: give one coordinate");
+  doc["boundary"][0]["where"] = {{"q", 0.0}};
+  expect_error(doc, "boundary[0].where.q: unknown field");
+  doc["boundary"][0] = {{"where", {{"x", 0.0}}}, {"side", "u0"}, {"fix", {"x"}}};
+  expect_error(doc, "boundary[0]: give either \"where\"");
+  doc = cantilever();
+  doc["load_cases"][0]["tractions"][0] = {{"where", {{"x", 0.0}}}, {"value", {0, 0, 1.0}}};
+  expect_error(doc, "load_cases[0].tractions[0].where: side u0 of patch 0 is fully fixed");
+  doc = plate();
+  doc["boundary"][0] = {{"where", {{"z", 0.0}}}, {"fix", {"x"}}};
+  expect_error(doc, "boundary[0].where.z: 2D geometry has no z");
+}
+
 TEST(CaseFile, LoadCases) {
   json doc = cantilever();
   doc["load_cases"][1]["id"] = "L1";

@@ -37,11 +37,20 @@ class DofMap {
   const std::vector<Eigen::Vector3d>& node_positions() const { return positions_; }
   /// Number of control-point pairs glued across interfaces.
   int glued_pairs() const { return glued_pairs_; }
+  /// Two patch sides that lie on each other (same bounding box, area and centroid to 1e-6) but
+  /// whose control points differ, so they were not glued: a non-conforming interface (different
+  /// knots or degrees along it, e.g. after refining patches of different orientations
+  /// differently). The model would fall apart there; check_rigid_body_modes refuses it.
+  struct UngluedInterface {
+    int patch_a, dir_a, end_a, patch_b, dir_b, end_b;
+  };
+  const std::vector<UngluedInterface>& unglued_interfaces() const { return unglued_; }
 
  private:
   int dofs_per_node_ = 3;
   int num_nodes_ = 0;
   int glued_pairs_ = 0;
+  std::vector<UngluedInterface> unglued_;
   std::vector<std::vector<int>> node_;
   std::vector<Eigen::Vector3d> positions_;
 };
