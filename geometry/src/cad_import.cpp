@@ -42,6 +42,7 @@
 #include "cad_revolution.hpp"
 #include "crash_guard.hpp"
 #include "isospring/geometry/cad.hpp"
+#include "isospring/geometry/conforming_sides.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/geometry/measure.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -445,6 +446,24 @@ std::vector<nurbs::Patch> cad_solid_patches(const CadModel& model, const std::ve
   return patches;
 }
 
+namespace {
+// Every control point of every surface patch on the plane of the first one.
+bool coplanar(const std::vector<nurbs::Patch>& patches) {
+  if (patches.empty() || patches.front().param_dim() != 2) return false;
+  const nurbs::Patch& first = patches.front();
+  const nurbs::PatchDerivatives d =
+      first.derivatives({(first.param_min(0) + first.param_max(0)) / 2,
+                         (first.param_min(1) + first.param_max(1)) / 2, 0});
+  const Eigen::Vector3d normal = d.first.col(0).cross(d.first.col(1)).normalized();
+  for (const nurbs::Patch& patch : patches) {
+    if (patch.param_dim() != 2) return false;
+    for (const Eigen::Vector3d& x : patch.control_points())
+      if (std::abs(normal.dot(x - d.point)) > 1e-9) return false;
+  }
+  return true;
+}
+}  // namespace
+
 std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
                                       const std::vector<int>& faces) {
   const std::string name = model.file.string();
@@ -466,28 +485,30 @@ std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
     if (!report.natural && !report.coons && report.split == 0)
       throw InputError(name + ": face " + std::to_string(f) + " (" + report.surface_type +
                        ") cannot be analysed: " + report.note);
-    const std::vector<nurbs::Patch> face_patches = model_face_patches(model, f);
-    if (thickness == 0.0) {
-      // A face in the plane z = 0 is a 2D region: the analysis needs it right-handed in x-y,
-      // so a face facing -z (e.g. the bottom of a plate) has its u direction reversed.
-      for (const nurbs::Patch& patch : face_patches)
-        patches.push_back(patch.physical_dim() == 2 && jacobian_range(patch).max < 0.0
-                              ? reverse_direction(patch, 0)
-                              : patch);
-      continue;
-    }
-    if (report.surface_type != "plane")
+    if (thickness > 0.0 && report.surface_type != "plane")
       throw InputError(name + ": face " + std::to_string(f) + " is a " + report.surface_type +
                        "; only planar faces can be extruded exactly along their normal (use a "
                        "solid part instead)");
-    for (const nurbs::Patch& patch : face_patches) {
+    for (const nurbs::Patch& patch : model_face_patches(model, f))
+      // A face in the plane z = 0 is a 2D region: the analysis needs it right-handed in x-y,
+      // so a face facing -z (e.g. the bottom of a plate) has its u direction reversed.
+      patches.push_back(thickness == 0.0 && patch.physical_dim() == 2 &&
+                                jacobian_range(patch).max < 0.0
+                            ? reverse_direction(patch, 0)
+                            : patch);
+  }
+  // Faces of one plane analysed together (a specimen split into faces in the CAD program, or a
+  // plate extruded from them) share straight edges that were cut independently: make them
+  // conforming so the analysis glues them.
+  if (chosen.size() > 1 && coplanar(patches)) patches = conform_shared_sides(patches, 1e-9);
+  if (thickness > 0.0)
+    for (nurbs::Patch& patch : patches) {
       const nurbs::PatchDerivatives d =
           patch.derivatives({(patch.param_min(0) + patch.param_max(0)) / 2,
                              (patch.param_min(1) + patch.param_max(1)) / 2, 0});
       const Eigen::Vector3d normal = d.first.col(0).cross(d.first.col(1)).normalized();
-      patches.push_back(extrude(patch, thickness * normal));
+      patch = extrude(patch, thickness * normal);
     }
-  }
   return patches;
 }
 
