@@ -4,11 +4,14 @@
 // The work is io::run_export and io::export_report (isospring/io/export_command.hpp).
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
 #include "isospring/io/export_command.hpp"
+#include "isospring/io/export_formats.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -38,11 +41,11 @@ void setup_export(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->run.output, "Output file")->required();
-  cmd->add_option("--format", options->run.format,
-                  "json | mjcf (MuJoCo 2.2 XML) | sofa (SOFA v22.12 .scn) | vtk (.vtp, or .vtm "
-                  "multiblock) | reduced (modal model for haptic rates, JSON); default from the "
-                  "output's extension (reduced: always give --format)")
-      ->check(CLI::IsMember({"json", "mjcf", "sofa", "vtk", "reduced"}));
+  // The formats, their help and the check all come from io::export_formats().
+  std::vector<std::string> format_names;
+  for (const io::ExportFormat& format : io::export_formats()) format_names.push_back(format.name);
+  cmd->add_option("--format", options->run.format, io::export_formats_help())
+      ->check(CLI::IsMember(format_names));
   cmd->add_option("--gravity", options->run.gravity,
                   "Gravity gx,gy,gz [m/s^2] for mjcf and sofa; default: the model's gravity, else "
                   "0,0,-9.81 (3D) or 0,-9.81,0 (a flat 2D model moves in x-y only)");

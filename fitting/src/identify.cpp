@@ -1010,7 +1010,11 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       result.derived.emplace_back(chosen[e]->name() + "." + d.first, d.second);
     result.effects_added.push_back(chosen[e]->name());
     result.effect_values.emplace_back(chosen[e]->name(), theta.segment(first, count));
-    result.spring_model_notes.push_back(chosen[e]->name() + ": " + chosen[e]->spring_model_note());
+    // The note of what recalibrate_identified does with these values (the same function), on a
+    // scratch copy of the changes: identify itself changes nothing.
+    SpringModelChanges scratch;
+    result.spring_model_notes.push_back(
+        carry_over(chosen[e]->name(), theta.segment(first, count), scratch));
   }
   for (int c = 0; c < setup.dim; ++c) result.component_weights.push_back(setup.component_weight[c]);
   result.model_after = marker_predictions(setup, current, theta, markers.size());

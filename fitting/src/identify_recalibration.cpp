@@ -1,6 +1,7 @@
 // Recalibration of the spring model against the identified (corrected) model.
 #include "isospring/fitting/identify_recalibration.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/fitting/effect.hpp"
 
 namespace isospring::fitting {
 
@@ -42,33 +44,20 @@ Recalibration recalibrate_identified(const analysis::Problem& prior, const Ident
   out.corrected = prior;
   out.corrected.material.youngs_modulus = result.youngs_modulus;
   out.corrected.material.poisson_ratio = result.poisson_ratio;
+  // Each effect carries itself over (its EffectType, effect_<name>.cpp); its note is the one
+  // identify printed for it.
+  SpringModelChanges changes;
+  for (const auto& [name, values] : result.effect_values)
+    out.notes.push_back(carry_over(name, values, changes));
+  if (changes.load_factors.size() > prior.load_cases.size())
+    throw std::invalid_argument("recalibrate_identified: load factors for " +
+                                std::to_string(changes.load_factors.size()) +
+                                " load cases, the "
+                                "problem has " +
+                                std::to_string(prior.load_cases.size()));
+  out.gravity = changes.gravity;
   out.load_factors.assign(prior.load_cases.size(), 1.0);
-  bool carried_gravity = false;
-  for (const auto& [name, values] : result.effect_values) {
-    if (name == "gravity") {
-      for (Eigen::Index c = 0; c < values.size(); ++c) out.gravity[c] = values[c];
-      carried_gravity = true;
-      out.notes.push_back("gravity: carried as forces m_i g on every particle, g = (" +
-                          std::to_string(out.gravity.x()) + ", " + std::to_string(out.gravity.y()) +
-                          ", " + std::to_string(out.gravity.z()) + ") m/s^2");
-    } else if (name == "load_scale") {
-      for (Eigen::Index k = 0; k < values.size(); ++k)
-        out.load_factors[static_cast<size_t>(k + 1)] = 1.0 + values[k];
-      out.notes.push_back("load_scale: carried as scaled loads of the load cases");
-    } else if (name == "stiffness_gradient") {
-      out.notes.push_back(
-          "stiffness_gradient: carried by the reference (the springs are fitted to the "
-          "displacements of the graded material)");
-    } else if (name == "rigid_offset" || name == "rigid_offset_per_load") {
-      out.notes.push_back(name + ": a measurement-frame effect, not part of the model");
-    } else if (name == "support_compliance") {
-      out.notes.push_back(
-          "support_compliance: NOT carried (the spring model's supported particles stay fixed; "
-          "the support motion of the reference is part of the reported error)");
-    } else {
-      out.notes.push_back(name + ": not carried (no spring-model counterpart implemented)");
-    }
-  }
+  std::copy(changes.load_factors.begin(), changes.load_factors.end(), out.load_factors.begin());
   for (size_t l = 0; l < out.corrected.load_cases.size(); ++l) {
     scale_load_case(out.corrected.load_cases[l], out.load_factors[l]);
     out.corrected.load_cases[l].gravity += out.gravity;
@@ -77,8 +66,7 @@ Recalibration recalibrate_identified(const analysis::Problem& prior, const Ident
   settings.reference_displacements = result.corrected_displacements;
   settings.fit_cases.clear();
   settings.holdout_cases.clear();
-  // m_i g equals the consistent self-weight sum_b M_ab g only for row-sum lumped masses.
-  if (carried_gravity) settings.mass_model = MassModel::kLumpedIga;
+  if (changes.lumped_masses) settings.mass_model = MassModel::kLumpedIga;
   // A carry-through that fails only because the grouped fit did not converge within its
   // iterations degrades to coarser groupings (fewer stiffnesses: larger gamma), saying so,
   // before giving up: the identification's result should reach model.json on routine cases.

@@ -1,88 +1,22 @@
-// run_export and its report (see export_command.hpp).
+// run_export and its report (see export_command.hpp); the formats are the table of
+// export_formats.cpp.
 #include "isospring/io/export_command.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
-#include "isospring/io/atomic_file.hpp"
-#include "isospring/io/export_mjcf.hpp"
-#include "isospring/io/export_sofa.hpp"
-#include "isospring/io/number_list.hpp"
-#include "isospring/io/vtk_multiblock.hpp"
-#include "isospring/io/vtk_spring_network.hpp"
+#include "isospring/io/export_formats.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::io {
-namespace {
-namespace fs = std::filesystem;
-
-/// --format, or the output's extension when it is not given.
-std::string format_of(const ExportCommandOptions& options) {
-  if (!options.format.empty()) return options.format;
-  const std::string ext = fs::path(options.output).extension().string();
-  if (ext == ".json") return "json";
-  if (ext == ".xml" || ext == ".mjcf") return "mjcf";
-  if (ext == ".scn") return "sofa";
-  if (ext == ".vtp" || ext == ".vtm") return "vtk";
-  throw nurbs::InputError("-o " + options.output +
-                          ": cannot tell the format from the extension; add --format "
-                          "json|mjcf|sofa|vtk (or use .json, .xml, .scn, .vtp, .vtm)");
-}
-
-// --gravity, or the default for the model (engine_gravity: the model's own, else -z in 3D
-// and -y for a flat model); a z gravity for a flat model is refused.
-Eigen::Vector3d export_gravity(const std::string& text, const SpringModel& model) {
-  std::optional<Eigen::Vector3d> given;
-  if (!text.empty()) {
-    const std::vector<double> g = parse_number_list(text, "--gravity");
-    if (g.size() != 3) throw nurbs::InputError("--gravity: give three numbers gx,gy,gz in m/s^2");
-    given = Eigen::Vector3d(g[0], g[1], g[2]);
-  }
-  return engine_gravity(model.network, model.gravity, given);
-}
-
-}  // namespace
 
 ExportCommandResult run_export(const ExportCommandOptions& options) {
   ExportCommandResult r;
   r.model = read_model_json(options.input);
-  r.format = format_of(options);
-  const SpringModel& model = r.model;
-  const std::string& format = r.format;
-  const fs::path output = options.output;
-  const std::string provenance =
-      "source " + fs::path(options.input).filename().string() +
-      (model.provenance.empty() ? std::string() : "; provenance " + model.provenance.dump());
+  const ExportFormat& format = export_format_of(options);
+  r.format = format.name;
   if (options.timestep < 0) throw nurbs::InputError("--timestep: must be >= 0 (0 = automatic)");
-  if (format == "json") {
-    write_spring_model_json(output, model);  // with its gravity and load cases
-  } else if (format == "mjcf") {
-    MjcfOptions o;
-    o.model_name = fs::path(options.input).stem().string();
-    o.gravity = export_gravity(options.gravity, model);
-    o.timestep = options.timestep;
-    o.comment = provenance;
-    write_mjcf(output, model.network, o);
-  } else if (format == "sofa") {
-    SofaOptions o;
-    o.gravity = export_gravity(options.gravity, model);
-    o.timestep = options.timestep;
-    o.comment = provenance;
-    write_sofa_scene(output, model.network, o);
-  } else if (format == "reduced") {
-    ReducedExportOptions o;
-    o.modes = options.modes;
-    o.timestep = options.timestep > 0.0 ? options.timestep : 1e-3;
-    r.reduced = export_reduced_model(model, o, {{"source", options.input}});
-    write_file_atomically(output, r.reduced->document.dump() + "\n");
-  } else if (output.extension() == ".vtm") {
-    VtkScene scene;
-    scene.network = model.network;
-    write_vtk_scene(output, scene);
-  } else {
-    write_spring_network_vtp(output, model.network);
-  }
+  format.write(options, r);
   return r;
 }
 
@@ -116,7 +50,7 @@ void export_report(const ExportCommandResult& r, const ExportCommandOptions& opt
   };
   j["load_cases"] = model.load_cases.size();
   j["units"] = model.units;
-  if (format == "mjcf" || format == "sofa") {
+  if (export_format(format).engine_scene) {
     const Eigen::Vector3d g = export_gravity(options.gravity, model);
     j["gravity"] = {g.x(), g.y(), g.z()};
     j["timestep"] = options.timestep;

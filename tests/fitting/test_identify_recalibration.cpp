@@ -110,6 +110,27 @@ TEST(IdentifyRecalibration, LoadScaleScalesTheLoadsAndRigidOffsetIsLeftOut) {
               1e-9 * reference.load_cases[l].displacement.norm());
 }
 
+// identify's "carrying over to the spring model" notes are the recalibration's, word for word:
+// one carry-over (EffectType::carry_over) writes both, so the report cannot promise what the
+// recalibration does not do. Here: load_scale carried, rigid_offset not.
+TEST(IdentifyRecalibration, IdentifyNotesAreWhatTheRecalibrationDid) {
+  const Identified id = identify_plate({{"load_scale", Eigen::VectorXd::Constant(1, 0.05)},
+                                        {"rigid_offset", Eigen::Vector3d(3e-6, -2e-6, 4e-5)}});
+  ASSERT_EQ(id.result.spring_model_notes.size(), 2u);
+  const Recalibration rc = recalibrate_identified(id.prior, id.result);
+  ASSERT_GE(rc.notes.size(), id.result.spring_model_notes.size());
+  for (size_t k = 0; k < id.result.spring_model_notes.size(); ++k)
+    EXPECT_EQ(rc.notes[k], id.result.spring_model_notes[k]);
+  for (const auto& note : id.result.spring_model_notes) {
+    if (note.rfind("load_scale: ", 0) == 0) {
+      EXPECT_NE(note.find("load_scale: carried as scaled loads"), std::string::npos) << note;
+      EXPECT_NE(rc.load_factors[1], 1.0);
+    } else {
+      EXPECT_NE(note.find("rigid_offset: NOT carried"), std::string::npos) << note;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace isospring::fitting
 

@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "isospring/fitting/effect.hpp"
 #include "isospring/io/markers.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -118,6 +119,30 @@ TEST(Markers, SettingsRejectUnknownFieldsAndEffects) {
   EXPECT_THROW(
       read_measurement_settings({{"file", "a.csv"}, {"units", "inch"}}, folder, 2, {"L1"}, "m"),
       nurbs::InputError);
+}
+
+// measurements.effects accepts exactly the effect registry (fitting::effect_types()): every
+// registered name, in the order given, and nothing else; the refusal lists the registry.
+TEST(Markers, EffectsAreExactlyTheRegistry) {
+  const auto folder = std::filesystem::temp_directory_path();
+  std::vector<std::string> registered;
+  for (const auto& type : fitting::effect_types()) registered.push_back(type.name);
+  ASSERT_FALSE(registered.empty());
+  const std::vector<std::string> reversed(registered.rbegin(), registered.rend());
+  const MeasurementSettings s =
+      read_measurement_settings({{"file", "a.csv"}, {"effects", reversed}}, folder, 2, {"L1"}, "m");
+  ASSERT_TRUE(s.identify.candidates.has_value());
+  EXPECT_EQ(*s.identify.candidates, reversed);
+  try {
+    read_measurement_settings({{"file", "a.csv"}, {"effects", {"magic"}}}, folder, 2, {"L1"}, "m");
+    FAIL() << "expected an InputError";
+  } catch (const nurbs::InputError& e) {
+    std::string list;
+    for (const auto& n : registered) list += (list.empty() ? "" : ", ") + n;
+    const std::string what = e.what();
+    EXPECT_NE(what.find("is not an effect; use: " + list), std::string::npos) << what;
+    EXPECT_EQ(what.substr(what.size() - list.size()), list) << what;
+  }
 }
 
 }  // namespace

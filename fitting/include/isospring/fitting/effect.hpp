@@ -1,10 +1,12 @@
 #pragma once
 // Effects: physics the nominal model may miss (self-weight, compliant supports, a stiffness
 // gradient, rigid motion of the measuring frame, wrong load factors). Each effect adds parameters
-// and terms to the identification's forward model (identify_model.hpp) and says how it carries
-// over to the spring model.
+// and terms to the identification's forward model (identify_model.hpp) and carries its fitted
+// values over into the spring model's recalibration (identify_recalibration.hpp).
 //
-// Library (effect_names()):
+// The library is a registry (effect_types()): one EffectType per effect, defined in the effect's
+// own file fitting/src/effect_<name>.cpp, listed once in fitting/src/effect_registry.cpp.
+// Library, in registry order:
 //   gravity             self-weight rho * g of the declared density; g (2 or 3 components) fitted
 //   support_compliance  the fixed sides become Robin supports: springs per area k_n (normal) and
 //                       k_t (tangential), fitted as log(k / (E_prior / L))
@@ -24,6 +26,7 @@
 //                       well, and a clamp by support_compliance fitting better
 // x_c is the centre and L the diagonal of the model's bounding box.
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,17 +83,65 @@ class Effect {
     (void)values;
     return {};
   }
-  /// How the effect carries over to the spring model, for people.
-  virtual std::string spring_model_note() const = 0;
 };
 
-/// Names of the effect library, in the order above.
+/// What carrying effects over may change in the recalibration of the spring model
+/// (recalibrate_identified): the corrected problem's loads and the calibration's mass model.
+struct SpringModelChanges {
+  /// Added to every load case; the spring model's particles get m_i g.
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  /// Per load case: every declared load of the case is scaled by it. Shorter than the load cases
+  /// (or empty): the rest are 1.
+  std::vector<double> load_factors;
+  /// The calibration uses row-sum lumped masses (MassModel::kLumpedIga): m_i g is then exactly the
+  /// consistent self-weight the springs were fitted under.
+  bool lumped_masses = false;
+};
+
+/// How an effect reached the spring model.
+enum class CarryOver {
+  kModel,       // it changed SpringModelChanges (the corrected problem the springs are fitted to)
+  kReference,   // only through the corrected reference displacements the springs are fitted to
+  kNotCarried,  // the spring model has no counterpart; what it moves shows up in %e_rms
+};
+
+struct CarryOverResult {
+  CarryOver how = CarryOver::kNotCarried;
+  std::string detail;  // what was done, for people (no name, no "carried" prefix)
+};
+
+/// One effect of the library: everything identify and the recalibration need of it.
+struct EffectType {
+  std::string name;
+  /// Builds the effect for this context, or returns nullptr with `why` set when it cannot apply
+  /// here (e.g. gravity without a density, load_scale with one load case).
+  std::function<std::unique_ptr<Effect>(const EffectContext& context, std::string* why)> make;
+  /// Carries the fitted values into `changes` and says what it did. It is the only source of the
+  /// spring-model notes (identify's and the recalibration's), so a note cannot claim a carry-over
+  /// that is not done. Needs no context: the recalibration has only names and values.
+  std::function<CarryOverResult(const Eigen::VectorXd& values, SpringModelChanges& changes)>
+      carry_over;
+};
+
+/// The effect library, in the order identify tries the candidates.
+const std::vector<EffectType>& effect_types();
+
+/// The registered type of that name; throws nurbs::InputError for an unknown name, listing the
+/// library.
+const EffectType& effect_type(const std::string& name);
+
+/// Names of the effect library, in registry order.
 std::vector<std::string> effect_names();
 
-/// The named effect for this context, or nullptr with `why` set when it cannot apply here (e.g.
-/// gravity without a density, load_scale with one load case). Throws nurbs::InputError for an
+/// The named effect for this context (effect_type(name).make). Throws nurbs::InputError for an
 /// unknown name.
 std::unique_ptr<Effect> make_effect(const std::string& name, const EffectContext& context,
                                     std::string* why);
+
+/// Carries one effect's fitted values into `changes`; returns the note "name: carried ..." that
+/// says what was done (the "how" decides the words: "carried into the model", "carried by the
+/// reference", "NOT carried").
+std::string carry_over(const std::string& name, const Eigen::VectorXd& values,
+                       SpringModelChanges& changes);
 
 }  // namespace isospring::fitting

@@ -3,7 +3,8 @@
 // a calibrated spring model (model.json) for real-time engines and viewers: MuJoCo MJCF, a SOFA
 // scene, VTK poly data, a validated, normalised model.json, or its reduced (modal + load shapes)
 // model for haptic rates (docs/reduced_model.md); and the report of what the engine receives
-// (counts, mass, stiffness and damping ranges, loads; the reduced model's errors).
+// (counts, mass, stiffness and damping ranges, loads; the reduced model's errors). The formats
+// are one table, export_formats.hpp.
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -16,14 +17,14 @@ namespace isospring::io {
 
 struct ExportCommandOptions {
   std::string input, output;
-  std::string format;     // json | mjcf | sofa | vtk | reduced; empty: from the extension
+  std::string format;     // an export_formats() name; empty: from the output's extension
   std::string gravity;    // "gx,gy,gz" for mjcf and sofa; empty: io::engine_gravity's default
   double timestep = 0.0;  // mjcf and sofa: 0 = automatic; reduced: 0 = 1e-3 s
   int modes = 32;         // reduced: lowest natural modes in the basis
 };
 
 struct ExportCommandResult {
-  std::string format;
+  std::string format;  // the export_formats() name written
   SpringModel model;
   std::optional<ReducedExport> reduced;  // format reduced: the document and its errors
 };
