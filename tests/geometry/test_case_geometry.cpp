@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>  // getpid: CTest runs tests in parallel processes
 
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "cad_test_io.hpp"
 #include "isospring/geometry/measure.hpp"
 #include "isospring/io/case_geometry.hpp"
 #include "isospring/io/patch_file.hpp"
@@ -156,10 +160,28 @@ TEST(CaseGeometry, CadSolidsSelection) {
   EXPECT_NE(message({{"type", "cad"}, {"file", "tube.step"}, {"solids", {0}}, {"faces", {0}}})
                 .find("geometry.solids cannot be combined with faces"),
             std::string::npos);
-  // The bracket is not a volume: the message says why and what to do.
-  EXPECT_NE(message({{"type", "cad"}, {"file", "bracket.step"}, {"solids", {0}}})
-                .find("solid 0 cannot be a volume patch"),
-            std::string::npos);
+  // The bracket is a block with a through-hole: 7 volume patches.
+  const auto bracket = build_case_geometry(
+      {{"type", "cad"}, {"file", "bracket.step"}, {"solids", {0}}}, dir, "case.json");
+  EXPECT_EQ(bracket.size(), 7u);
+  // A block with a blind hole is not a volume: the message says why and what to do.
+  TopoDS_Shape blind = BRepPrimAPI_MakeBox(0.04, 0.04, 0.02).Shape();
+  blind = BRepAlgoAPI_Cut(blind, BRepPrimAPI_MakeCylinder(
+                                     gp_Ax2(gp_Pnt(0.02, 0.02, 0.01), gp_Dir(0, 0, 1)), 0.005, 0.01)
+                                     .Shape())
+              .Shape();
+  const geometry::CadModel model = geometry::test::step_round_trip(blind, "blind.step");
+  const std::string refusal = [&] {
+    try {
+      build_case_geometry({{"type", "cad"}, {"file", model.file.filename()}, {"solids", {0}}},
+                          model.file.parent_path(), "case.json");
+    } catch (const nurbs::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  }();
+  EXPECT_NE(refusal.find("solid 0 cannot be a volume patch"), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find("a hole ends inside the solid"), std::string::npos) << refusal;
 }
 
 TEST(CaseGeometry, HelpListsEveryType) {
