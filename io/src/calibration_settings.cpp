@@ -11,69 +11,49 @@
 namespace isospring::io {
 namespace {
 
+// The "calibration" object's fields: type and range checks are case_json::Field's (the one
+// wording of every io reader); what is specific here is the defaults and the hints.
 class Fields {
  public:
-  Fields(const nlohmann::json& object, std::string where)
-      : object_(object), where_(std::move(where)) {}
+  explicit Fields(case_json::Field field) : field_(std::move(field)) {}
 
-  [[noreturn]] void fail(const std::string& field, const std::string& message) const {
-    throw nurbs::InputError(where_ + "." + field + ": " + message);
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
+    throw nurbs::InputError(field_.where() + "." + key + ": " + message);
   }
 
-  void expect_only(const std::set<std::string>& known) const {
-    case_json::reject_unknown_fields(object_, std::vector<std::string>(known.begin(), known.end()),
-                                     where_ + ".");
+  void expect_only(std::initializer_list<const char*> known) const { field_.expect_object(known); }
+
+  bool has(const std::string& key) const { return field_.has(key); }
+  case_json::Field at(const std::string& key) const { return field_.at(key); }
+
+  double number(const std::string& key, double fallback, double minimum, bool open) const {
+    return has(key) ? at(key).at_least(minimum, open) : fallback;
   }
 
-  bool has(const std::string& field) const { return object_.contains(field); }
-
-  double number(const std::string& field, double fallback, double minimum, bool open) const {
-    if (!has(field)) return fallback;
-    const auto& v = object_.at(field);
-    if (!v.is_number()) fail(field, "must be a number");
-    const double x = v.get<double>();
-    if (!std::isfinite(x) || x < minimum || (open && x == minimum))
-      fail(field, std::string("must be a finite number ") + (open ? "> " : ">= ") +
-                      std::to_string(minimum) + " (got " + v.dump() + ")");
-    return x;
+  int integer(const std::string& key, int fallback, int minimum) const {
+    return has(key) ? at(key).integer_at_least(minimum) : fallback;
   }
 
-  int integer(const std::string& field, int fallback, int minimum) const {
-    if (!has(field)) return fallback;
-    const auto& v = object_.at(field);
-    if (!v.is_number_integer() || v.get<long>() < minimum)
-      fail(field, "must be an integer >= " + std::to_string(minimum) + " (got " + v.dump() + ")");
-    return v.get<int>();
+  bool boolean(const std::string& key, bool fallback) const {
+    return has(key) ? at(key).boolean() : fallback;
   }
 
-  bool boolean(const std::string& field, bool fallback) const {
-    if (!has(field)) return fallback;
-    if (!object_.at(field).is_boolean()) fail(field, "must be true or false");
-    return object_.at(field).get<bool>();
+  std::vector<std::string> strings(const std::string& key) const {
+    if (!has(key)) return {};
+    if (!at(key).json().is_array())
+      fail(key, "must be a list of load-case ids, e.g. [\"L1\", \"L2\"]");
+    return at(key).strings();
   }
 
-  std::vector<std::string> strings(const std::string& field) const {
-    std::vector<std::string> out;
-    if (!has(field)) return out;
-    const auto& v = object_.at(field);
-    if (!v.is_array()) fail(field, "must be a list of load-case ids, e.g. [\"L1\", \"L2\"]");
-    for (const auto& item : v) {
-      if (!item.is_string()) fail(field, "must be a list of load-case ids (strings)");
-      out.push_back(item.get<std::string>());
-    }
-    return out;
-  }
-
-  const nlohmann::json& at(const std::string& field) const { return object_.at(field); }
-  const std::string& where() const { return where_; }
+  const case_json::Field& field() const { return field_; }
 
  private:
-  const nlohmann::json& object_;
-  std::string where_;
+  case_json::Field field_;
 };
 
-void parse_grouping(const nlohmann::json& grouping, const std::string& where,
-                    fitting::CalibrationSettings& settings) {
+void parse_grouping(const case_json::Field& field, fitting::CalibrationSettings& settings) {
+  const nlohmann::json& grouping = field.json();
+  const std::string where = field.where();
   if (grouping.is_string()) {
     if (grouping.get<std::string>() != "per_spring")
       throw nurbs::InputError(where + ": unknown grouping " + grouping.dump() +
@@ -83,42 +63,24 @@ void parse_grouping(const nlohmann::json& grouping, const std::string& where,
   }
   if (!grouping.is_object())
     throw nurbs::InputError(where + ": must be \"per_spring\" or an object {\"gamma\": 0.01}");
-  const Fields f(grouping, where);
+  const Fields f(field);
   f.expect_only({"gamma", "gamma_sweep", "per_spring"});
   if (f.has("gamma") && f.has("gamma_sweep"))
     f.fail("gamma_sweep", "give either gamma or gamma_sweep, not both");
-  settings.gamma = f.number("gamma", settings.gamma, 0.0, false);
-  if (settings.gamma >= 1.0) f.fail("gamma", "must be below 1 (a relative rest-length window)");
-  if (f.has("gamma_sweep")) {
-    const auto& sweep = f.at("gamma_sweep");
-    if (!sweep.is_array() || sweep.empty())
-      f.fail("gamma_sweep", "must be a non-empty list of numbers in [0, 1)");
-    for (const auto& g : sweep) {
-      if (!g.is_number() || !(g.get<double>() >= 0.0 && g.get<double>() < 1.0))
-        f.fail("gamma_sweep", "every entry must be a number in [0, 1) (got " + g.dump() + ")");
-      settings.gamma_sweep.push_back(g.get<double>());
-    }
-  }
+  // A relative rest-length window: below 1.
+  if (f.has("gamma")) settings.gamma = f.at("gamma").within(0.0, 1.0, false, true);
+  if (f.has("gamma_sweep"))
+    for (const case_json::Field& g : f.at("gamma_sweep").elements(false))
+      settings.gamma_sweep.push_back(g.within(0.0, 1.0, false, true));
   settings.per_spring = f.boolean("per_spring", false);
 }
 
 std::vector<double> numbers(const Fields& f, const std::string& field, double lo, double hi) {
-  const auto& v = f.at(field);
-  if (!v.is_array() || v.empty()) f.fail(field, "must be a non-empty list of numbers");
-  std::vector<double> out;
-  for (const auto& x : v) {
-    if (!x.is_number() || !(x.get<double>() >= lo && x.get<double>() <= hi))
-      f.fail(field, "every entry must be a number in [" + format_number(lo) + ", " +
-                        format_number(hi) + "] (got " + x.dump() + ")");
-    out.push_back(x.get<double>());
-  }
-  return out;
+  return f.at(field).numbers_within(lo, hi);
 }
 
-void parse_generalisation(const nlohmann::json& g, const std::string& where, bool fit_given,
-                          CalibrationRequest& request) {
-  if (!g.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
-  const Fields f(g, where);
+void parse_generalisation(const case_json::Field& g, bool fit_given, CalibrationRequest& request) {
+  const Fields f(g);
   f.expect_only({"load_suite", "gammas", "prior_weights", "reaches", "volume_terms", "shear_terms",
                  "strain_points", "folds", "prior_iterations"});
   fitting::GeneralisationOptions o;
@@ -126,7 +88,8 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
   if (f.has("gammas")) o.gammas = numbers(f, "gammas", 0.0, 0.999);
   if (f.has("prior_weights")) {
     o.prior_weights.clear();
-    if (!f.at("prior_weights").empty()) o.prior_weights = numbers(f, "prior_weights", 1e-12, 1e6);
+    if (!f.at("prior_weights").json().empty())
+      o.prior_weights = numbers(f, "prior_weights", 1e-12, 1e6);
   }
   if (f.has("reaches")) {
     o.reaches.clear();
@@ -137,15 +100,7 @@ void parse_generalisation(const nlohmann::json& g, const std::string& where, boo
   }
   // Model kinds: lists of booleans, cross-validation picks; default: the calibration's own.
   auto kinds = [&f](const char* key, bool fallback) {
-    if (!f.has(key)) return std::vector<bool>{fallback};
-    const auto& v = f.at(key);
-    if (!v.is_array() || v.empty()) f.fail(key, "must be a non-empty list of booleans");
-    std::vector<bool> out;
-    for (const auto& x : v) {
-      if (!x.is_boolean()) f.fail(key, "entries must be true or false (got " + x.dump() + ")");
-      out.push_back(x.get<bool>());
-    }
-    return out;
+    return f.has(key) ? f.at(key).booleans() : std::vector<bool>{fallback};
   };
   o.volume_terms = kinds("volume_terms", request.settings.mesh.volume_terms);
   o.shear_terms = kinds("shear_terms", request.settings.mesh.shear_terms);
@@ -170,9 +125,7 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
   CalibrationRequest request;
   fitting::CalibrationSettings& s = request.settings;
   if (calibration.is_null()) return request;
-  const std::string where = file + ": calibration";
-  if (!calibration.is_object()) throw nurbs::InputError(where + ": must be an object {...}");
-  const Fields f(calibration, where);
+  const Fields f(case_json::Field(calibration, file, "calibration"));
   f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
                  "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
                  "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
@@ -185,12 +138,12 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
       if (id == fit)
         f.fail("holdout_load_cases",
                "'" + id + "' is also in fit_load_cases; a held-out case must not be fitted");
-  if (f.has("grouping")) parse_grouping(f.at("grouping"), where + ".grouping", s);
+  if (f.has("grouping")) parse_grouping(f.at("grouping"), s);
   s.regularization = f.number("regularization", 0.0, 0.0, false);
   if (s.regularization > 0.0 && !s.per_spring)
     f.fail("regularization", "only applies to per-spring fits (\"grouping\": \"per_spring\")");
   if (f.has("mass")) {
-    const auto& m = f.at("mass");
+    const auto& m = f.at("mass").json();
     if (m == "lumped")
       s.mass_model = fitting::MassModel::kLumpedIga;
     else if (m == "net_cells")
@@ -207,8 +160,8 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
   s.mesh.merge_coincident = f.boolean("merge_coincident", false);
   s.mesh.volume_terms = f.boolean("volume_terms", false);
   s.mesh.shear_terms = f.boolean("shear_terms", false);
-  s.mesh.strain_points = f.integer("strain_points", 0, 0);
-  if (s.mesh.strain_points > 4) f.fail("strain_points", "must be 0 .. 4 points per direction");
+  // Points per direction.
+  s.mesh.strain_points = f.has("strain_points") ? f.at("strain_points").integer_within(0, 4) : 0;
   s.max_iterations = f.integer("max_iterations", s.max_iterations, 1);
   s.field_samples = f.integer("field_samples", s.field_samples, 2);
   // The matrix approach fits central springs only: off by default with cell terms.
@@ -225,8 +178,7 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
       f.fail("generalisation",
              "chooses the grouping itself; remove grouping.per_spring and "
              "grouping.gamma_sweep");
-    parse_generalisation(f.at("generalisation"), where + ".generalisation", !s.fit_cases.empty(),
-                         request);
+    parse_generalisation(f.at("generalisation"), !s.fit_cases.empty(), request);
     request.generalisation->target_percent_e_rms = request.target_percent_e_rms;
   }
   return request;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <sstream>
 
 #include "isospring/nurbs/error.hpp"
 
@@ -119,7 +121,8 @@ double Field::non_negative() const {
 int Field::integer() const {
   if (!value_->is_number_integer()) fail(" must be an integer, got " + type_name(*value_));
   const auto x = value_->get<long long>();
-  if (x < -1000000000LL || x > 1000000000LL) fail(" is out of range");
+  if (x < -1000000000LL || x > 1000000000LL)
+    fail(" is out of range for an integer (|n| <= 1e9), got " + value_->dump());
   return static_cast<int>(x);
 }
 
@@ -144,6 +147,68 @@ Eigen::Vector3d Field::vector(int min_size, int max_size) const {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < value_->size(); ++i) v[static_cast<int>(i)] = at(i).number();
   return v;
+}
+
+namespace {
+std::string bound(double x) {
+  std::ostringstream out;
+  out.precision(12);
+  out << x;  // 0, 0.999, 1e-12, inf
+  return out.str();
+}
+}  // namespace
+
+double Field::within(double lo, double hi, bool lo_open, bool hi_open) const {
+  const double x = number();
+  const bool low_ok = lo_open ? x > lo : x >= lo;
+  const bool high_ok = hi_open ? x < hi : x <= hi;
+  if (low_ok && high_ok) return x;
+  std::string range;
+  if (std::isinf(hi))
+    range = std::string(lo_open ? "> " : ">= ") + bound(lo);
+  else if (std::isinf(lo))
+    range = std::string(hi_open ? "< " : "<= ") + bound(hi);
+  else
+    range = "in " + std::string(lo_open ? "(" : "[") + bound(lo) + ", " + bound(hi) +
+            (hi_open ? ")" : "]");
+  fail(" must be " + range + ", got " + value_->dump());
+}
+
+double Field::at_least(double minimum, bool open) const {
+  return within(minimum, std::numeric_limits<double>::infinity(), open, false);
+}
+
+int Field::integer_within(int lo, int hi) const {
+  const int x = integer();
+  if (x < lo || x > hi)
+    fail(" must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+         value_->dump());
+  return x;
+}
+
+int Field::integer_at_least(int minimum) const {
+  const int x = integer();
+  if (x < minimum)
+    fail(" must be an integer >= " + std::to_string(minimum) + ", got " + value_->dump());
+  return x;
+}
+
+std::vector<double> Field::numbers_within(double lo, double hi, bool allow_empty) const {
+  std::vector<double> out;
+  for (const Field& entry : elements(allow_empty)) out.push_back(entry.within(lo, hi));
+  return out;
+}
+
+std::vector<bool> Field::booleans(bool allow_empty) const {
+  std::vector<bool> out;
+  for (const Field& entry : elements(allow_empty)) out.push_back(entry.boolean());
+  return out;
+}
+
+std::vector<std::string> Field::strings(bool allow_empty) const {
+  std::vector<std::string> out;
+  for (const Field& entry : elements(allow_empty)) out.push_back(entry.string());
+  return out;
 }
 
 }  // namespace isospring::io::case_json

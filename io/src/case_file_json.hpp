@@ -38,6 +38,23 @@ class Field {
   /// A vector of `min_size`..3 finite numbers, padded with zeros to 3.
   Eigen::Vector3d vector(int min_size, int max_size = 3) const;
 
+  // Range checks: every reader of io states a range the same way ("... must be in [0, 1), got
+  // 1.5"), so a user sees one wording whatever file or section the number is in.
+  /// A finite number in the interval from `lo` to `hi` (open ends excluded; infinite ends
+  /// allowed: `at_least`).
+  double within(double lo, double hi, bool lo_open = false, bool hi_open = false) const;
+  /// A finite number >= minimum (> minimum when `open`).
+  double at_least(double minimum, bool open = false) const;
+  /// An integer in [lo, hi].
+  int integer_within(int lo, int hi) const;
+  /// An integer >= minimum.
+  int integer_at_least(int minimum) const;
+  /// Arrays: every entry checked as above, its index in the message; `allow_empty` false
+  /// refuses [].
+  std::vector<double> numbers_within(double lo, double hi, bool allow_empty = false) const;
+  std::vector<bool> booleans(bool allow_empty = false) const;
+  std::vector<std::string> strings(bool allow_empty = true) const;
+
  private:
   const nlohmann::json* value_;
   std::string file_;

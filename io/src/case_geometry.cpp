@@ -104,11 +104,12 @@ class GeometryFields {
   const nlohmann::json& object() const { return object_; }
 
  private:
+  // The type check is case_json::Field's, the one wording of every io reader.
   double to_number(const nlohmann::json& v, const std::string& field) const {
-    if (!v.is_number()) fail(field, "must be a number, got " + v.dump());
-    const double x = v.get<double>();
-    if (!std::isfinite(x)) fail(field, "must be finite");
-    return x;
+    const size_t colon = prefix_.find(": ");
+    const std::string file = prefix_.substr(0, colon);
+    const std::string path = prefix_.substr(colon + 2) + field;
+    return case_json::Field(v, file, path).number();
   }
 
   const nlohmann::json& object_;

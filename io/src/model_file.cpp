@@ -38,19 +38,13 @@ class FieldReader {
     return object.at(key);
   }
 
+  // Type checks are case_json::Field's, the one wording of every io reader.
   double number(const json& value, const std::string& field) const {
-    if (!value.is_number())
-      fail(field, "must be a number (got " + std::string(value.type_name()) + ")");
-    const double x = value.get<double>();
-    if (!std::isfinite(x)) fail(field, "must be finite");
-    return x;
+    return case_json::Field(value, source_, field).number();
   }
 
   int integer(const json& value, const std::string& field) const {
-    if (!value.is_number_integer()) fail(field, "must be an integer");
-    const std::optional<int> x = json_int(value);
-    if (!x) fail(field, "is out of range (got " + value.dump() + ")");
-    return *x;
+    return case_json::Field(value, source_, field).integer();
   }
 
   Eigen::Vector3d vector(const json& value, const std::string& field, int dimension) const {

@@ -64,8 +64,29 @@ TEST(CalibrationSettings, BadFieldsNameTheFileTheFieldAndTheFix) {
             std::string::npos);
   EXPECT_NE(error_of(json::parse(R"({"mass": "heavy"})")).find("calibration.mass: must be"),
             std::string::npos);
-  EXPECT_NE(error_of(json::parse("[1]")).find("case.json: calibration: must be an object"),
-            std::string::npos);
+  // Types and ranges in the one wording of every io reader (case_json::Field).
+  auto expect_message = [](const std::string& document, const std::string& message) {
+    const std::string error = error_of(json::parse(document));
+    EXPECT_NE(error.find(message), std::string::npos) << error;
+  };
+  expect_message("[1]", "case.json: calibration must be an object {...}, got array");
+  expect_message(R"({"grouping": {"gamma": 1.5}})",
+                 "case.json: calibration.grouping.gamma must be in [0, 1), got 1.5");
+  expect_message(R"({"grouping": {"gamma_sweep": [0.1, -1]}})",
+                 "case.json: calibration.grouping.gamma_sweep[1] must be in [0, 1), got -1");
+  expect_message(R"({"damping_ratio": 0})", "case.json: calibration.damping_ratio must be > 0");
+  expect_message(R"({"max_iterations": 0})",
+                 "case.json: calibration.max_iterations must be an integer >= 1, got 0");
+  expect_message(R"({"strain_points": 5})",
+                 "case.json: calibration.strain_points must be an integer in [0, 4], got 5");
+  expect_message(R"({"upper_bounds": "yes"})",
+                 "case.json: calibration.upper_bounds must be true or false, got string");
+  expect_message(R"({"generalisation": {"gammas": [2]}})",
+                 "case.json: calibration.generalisation.gammas[0] must be in [0, 0.999], got 2");
+  expect_message(R"({"generalisation": {"volume_terms": [1]}})",
+                 "case.json: calibration.generalisation.volume_terms[0] must be true or false");
+  expect_message(R"({"fit_load_cases": "L1"})",
+                 "case.json: calibration.fit_load_cases: must be a list of load-case ids");
 }
 
 }  // namespace

@@ -94,7 +94,7 @@ TEST(JsonNumbers, IntegersBeyondAnIntAreErrorsNotWrapped) {
       "springs": [{"i": 4294967296, "j": 1, "k": 1, "L0": 1}]})";
   EXPECT_NE(input_error([&] {
               read_model_json(dir / "model.json");
-            }).find("springs[0].i: is out of range (got 4294967296)"),
+            }).find("springs[0].i is out of range for an integer (|n| <= 1e9), got 4294967296"),
             std::string::npos);
   const nlohmann::json disk = {{"type", "disk"}, {"radius", 1.0}, {"patches", 4294967301LL}};
   EXPECT_NE(input_error([&] {

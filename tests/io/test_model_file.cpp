@@ -101,9 +101,9 @@ TEST(ModelFile, BadFieldsAreNamed) {
   expect_error(with("/springs/2/j", 2), "springs[2].j");
   expect_error(with("/springs/2/L0", 0.0), "springs[2].L0");
   expect_error(with("/springs/2/c", -1.0), "springs[2].c");
-  expect_error(with("/springs/2/k", nullptr), "springs[2].k: must be a number");  // NaN in JSON
-  expect_error(with("/springs/2/k", "12"), "springs[2].k: must be a number");
-  expect_error(with("/springs/0/i", 0.5), "springs[0].i: must be an integer");
+  expect_error(with("/springs/2/k", nullptr), "springs[2].k must be a number");  // NaN in JSON
+  expect_error(with("/springs/2/k", "12"), "springs[2].k must be a number, got string");
+  expect_error(with("/springs/0/i", 0.5), "springs[0].i must be an integer, got number");
   expect_error(with("/particles/1/mass", 0.0), "particles[1].mass");
   expect_error(with("/particles/2/x", json::array({0, 1})), "particles[2].x");
   expect_error(with("/particles/2/fixed", "yes"), "particles[2].fixed");
@@ -159,7 +159,7 @@ TEST(ModelFile, LoadsRoundTripAndAddUp) {
   expect_error(with("/load_cases/0/forces/0", json::array({1, 2.0})),
                "load_cases[0].forces[0]: must be [particle, fx, fy, fz]");
   expect_error(with("/load_cases/1/id", 3), "load_cases[1].id: must be a string");
-  expect_error(with("/gravity", json::array({0, "g", 0})), "gravity[1]: must be a number");
+  expect_error(with("/gravity", json::array({0, "g", 0})), "gravity[1] must be a number");
   fs::remove_all(dir);
 }
 
