@@ -168,26 +168,15 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
                                             "discretization_target"};
   case_json::reject_unknown_fields(m, std::vector<std::string>(fields.begin(), fields.end()),
                                    where + ".");
-  auto string_field = [&](const std::string& key) {
-    if (!m.at(key).is_string()) throw nurbs::InputError(where + "." + key + ": must be a string");
-    return m.at(key).get<std::string>();
-  };
+  // Types and ranges: case_json::Field, the one wording of every io reader.
+  const size_t colon = where.find(": ");
+  const case_json::Field field(m, where.substr(0, colon),
+                               colon == std::string::npos ? where : where.substr(colon + 2));
+  auto string_field = [&](const std::string& key) { return field.at(key).string(); };
   auto number_field = [&](const std::string& key, double lo, double hi) {
-    const auto& v = m.at(key);
-    if (!v.is_number() || !(v.get<double>() > lo) || !(v.get<double>() < hi)) {
-      // %g: "(0, 1e+300)", not std::to_string's 300 digits.
-      char range[96];
-      std::snprintf(range, sizeof range, "(%g, %g)", lo, hi);
-      throw nurbs::InputError(where + "." + key + ": must be a number in " + range + ", got " +
-                              v.dump());
-    }
-    return v.get<double>();
+    return field.at(key).within(lo, hi, true, true);
   };
-  auto bool_field = [&](const std::string& key) {
-    if (!m.at(key).is_boolean())
-      throw nurbs::InputError(where + "." + key + ": must be true or false");
-    return m.at(key).get<bool>();
-  };
+  auto bool_field = [&](const std::string& key) { return field.at(key).boolean(); };
   MeasurementSettings s;
   if (!m.contains("file")) throw nurbs::InputError(where + ".file: missing (the marker CSV file)");
   s.file = case_folder / string_field("file");
@@ -240,12 +229,8 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
     if (w.is_string() && w.get<std::string>() == "mean_abs") {
       s.identify.component_weights_mean_abs = true;
     } else if (w.is_array() && static_cast<int>(w.size()) == dimension) {
-      for (size_t c = 0; c < w.size(); ++c) {
-        if (!w[c].is_number() || !std::isfinite(w[c].get<double>()) || !(w[c].get<double>() > 0))
-          throw nurbs::InputError(where + ".component_weights[" + std::to_string(c) +
-                                  "]: must be a positive number, got " + w[c].dump());
-        s.identify.component_weights.push_back(w[c].get<double>());
-      }
+      for (const case_json::Field& weight : field.at("component_weights").elements())
+        s.identify.component_weights.push_back(weight.at_least(0.0, true));
     } else {
       throw nurbs::InputError(where + ".component_weights: must be \"mean_abs\" or a list of " +
                               std::to_string(dimension) +
