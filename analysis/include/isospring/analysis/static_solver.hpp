@@ -10,7 +10,7 @@ namespace isospring::analysis {
 
 struct SolverOptions {
   enum class Method { kCholesky, kConjugateGradient } method = Method::kCholesky;
-  double cg_tolerance = 1e-10;  // relative residual of the preconditioned CG
+  double cg_tolerance = 1e-10;  // ||f - K u|| / ||f|| of CG (free DOFs)
   int threads = 0;              // 0 = all
 };
 
@@ -22,8 +22,8 @@ struct LoadCaseResult {
   Eigen::Vector3d reaction_sum = Eigen::Vector3d::Zero();  // sum of K u - f over supported DOFs
   double max_displacement = 0;                             // max |u| over control points
   double solve_seconds = 0;
-  // Iterative solves (the PETSc backend): Krylov iterations and the true relative residual
-  // ||b - K u|| / ||b|| of the system solved; 0 for the direct solver.
+  // Iterative solves (kConjugateGradient, the PETSc backend): Krylov iterations and the true
+  // relative residual ||b - K u|| / ||b|| of the system solved; 0 for the direct solver.
   int iterations = 0;
   double relative_residual = 0;
 };
@@ -38,9 +38,9 @@ struct StaticResult {
 
 /// Validates the problem, assembles K, applies the supports by elimination and solves every load
 /// case. Sparse Cholesky (CHOLMOD supernodal) factorises once for all load cases; conjugate
-/// gradients use an incomplete Cholesky preconditioner. Throws nurbs::InputError for bad input
-/// (including supports that leave rigid-body motions free) and std::runtime_error when the
-/// factorisation or CG fails.
+/// gradients use a nodal block-Jacobi preconditioner (block_cg.hpp). Throws nurbs::InputError for
+/// bad input (including supports that leave rigid-body motions free) and std::runtime_error when
+/// the factorisation or CG fails.
 StaticResult solve_static(const Problem& problem, const SolverOptions& options = {});
 
 }  // namespace isospring::analysis
