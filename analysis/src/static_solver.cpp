@@ -103,6 +103,20 @@ void solve_iterative(const Problem& problem, const DofMap& dofs, const Constrain
 
 }  // namespace
 
+SolverChoice choose_solver(int dimension, double free_dofs) {
+  const double threshold = dimension == 3 ? kAutoIterativeDofs3d : kAutoIterativeDofs2d;
+  std::ostringstream reason;
+  reason << static_cast<long long>(free_dofs) << " free DOFs in " << dimension << "D "
+         << (free_dofs > threshold ? "above" : "at or below") << " "
+         << static_cast<long long>(threshold) << ": "
+         << (free_dofs > threshold ? "block-Jacobi conjugate gradients (the direct factor grows "
+                                     "too fast)"
+                                   : "sparse Cholesky (fast at this size, and robust)");
+  return {free_dofs > threshold ? SolverOptions::Method::kConjugateGradient
+                                : SolverOptions::Method::kCholesky,
+          reason.str()};
+}
+
 StaticResult solve_static(const Problem& problem, const SolverOptions& options) {
   validate_problem(problem);
   const ThreadScope threads(options.threads);
@@ -116,7 +130,15 @@ StaticResult solve_static(const Problem& problem, const SolverOptions& options) 
   const Eigen::SparseMatrix<double> stiffness = assemble_stiffness(problem, dofs);
   result.assembly_seconds = seconds_since(start);
 
-  if (options.method == SolverOptions::Method::kConjugateGradient)
+  result.method = options.method;
+  if (options.method == SolverOptions::Method::kAuto) {
+    const SolverChoice choice = choose_solver(
+        spatial_dimension(problem.formulation),
+        static_cast<double>(dofs.num_dofs()) - static_cast<double>(constraints.dofs.size()));
+    result.method = choice.method;
+    result.method_reason = choice.reason;
+  }
+  if (result.method == SolverOptions::Method::kConjugateGradient)
     solve_iterative(problem, dofs, constraints, stiffness, options, result);
   else
     solve_direct(problem, dofs, constraints, stiffness, result);

@@ -87,6 +87,65 @@ TEST(SolverOptions, ConjugateGradientsMatchCholeskyWithPrescribedDisplacements) 
   EXPECT_EQ(a.iterations, 0);
 }
 
+TEST(SolverOptions, AutoChoosesByDimensionAndFreeDofs) {
+  using Method = SolverOptions::Method;
+  EXPECT_EQ(choose_solver(3, 3000).method, Method::kCholesky);
+  EXPECT_EQ(choose_solver(3, kAutoIterativeDofs3d).method, Method::kCholesky);
+  EXPECT_EQ(choose_solver(3, kAutoIterativeDofs3d + 1).method, Method::kConjugateGradient);
+  EXPECT_EQ(choose_solver(3, 114444).method, Method::kConjugateGradient);
+  // 2D factors stay small much longer: the 256^2 square (133,128 DOFs) stays direct.
+  EXPECT_EQ(choose_solver(2, 133128).method, Method::kCholesky);
+  EXPECT_EQ(choose_solver(2, 2e6).method, Method::kConjugateGradient);
+  const std::string reason = choose_solver(3, 114444).reason;
+  EXPECT_NE(reason.find("114444 free DOFs in 3D above 20000"), std::string::npos) << reason;
+  EXPECT_NE(choose_solver(2, 1000).reason.find("sparse Cholesky"), std::string::npos);
+}
+
+// kAuto solves with what it chose, and exactly as the explicit method would: the small ring
+// directly, a 3D cube of 22,800 free DOFs (above the threshold) iteratively.
+TEST(SolverOptions, AutoEqualsTheExplicitMethodItChose) {
+  SolverOptions automatic;
+  automatic.method = SolverOptions::Method::kAuto;
+  const Problem ring = ring_problem();
+  const StaticResult small = solve_static(ring, automatic);
+  EXPECT_EQ(small.method, SolverOptions::Method::kCholesky);
+  EXPECT_NE(small.method_reason.find("2D at or below"), std::string::npos) << small.method_reason;
+  const StaticResult direct = solve_static(ring);
+  EXPECT_TRUE(direct.method_reason.empty());
+  for (size_t l = 0; l < ring.load_cases.size(); ++l)
+    EXPECT_EQ(small.load_cases[l].displacement, direct.load_cases[l].displacement);
+
+  Problem cube;
+  cube.formulation = Formulation::kSolid;
+  cube.material = {210e9, 0.3, 7800, 1.0};
+  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
+  std::vector<Eigen::Vector3d> corners;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) corners.emplace_back(i, j, k);
+  // Trilinear (cheap to assemble), 20^3 control points.
+  cube.patches.push_back(
+      nurbs::k_refine(nurbs::Patch({linear, linear, linear}, corners), {1, 1, 1}, {19, 19, 19}));
+  Support clamp;
+  clamp.side = {0, 0, 0};
+  clamp.fixed = {true, true, true};
+  cube.supports.push_back(clamp);
+  LoadCase tension;
+  tension.id = "tension";
+  tension.tractions.push_back({{0, 0, 1}, {1e6, 0, 0}, {}});
+  cube.load_cases.push_back(tension);
+  const StaticResult large = solve_static(cube, automatic);
+  EXPECT_EQ(large.method, SolverOptions::Method::kConjugateGradient);
+  EXPECT_NE(large.method_reason.find("22800 free DOFs in 3D above"), std::string::npos)
+      << large.method_reason;
+  SolverOptions cg;
+  cg.method = SolverOptions::Method::kConjugateGradient;
+  const StaticResult explicit_cg = solve_static(cube, cg);
+  EXPECT_EQ(large.load_cases[0].iterations, explicit_cg.load_cases[0].iterations);
+  const Eigen::VectorXd& u = explicit_cg.load_cases[0].displacement;
+  EXPECT_LT((large.load_cases[0].displacement - u).norm(), 1e-12 * u.norm());
+}
+
 TEST(SolverOptions, LoadCasesSuperposeAndReactionsBalance) {
   const StaticResult result = solve_static(ring_problem());
   ASSERT_EQ(result.load_cases.size(), 3u);
