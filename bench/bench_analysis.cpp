@@ -4,6 +4,13 @@
 // uses; its speed is that of the BLAS loaded, reported as the `blas` label: run the program once
 // as is and once with LD_LIBRARY_PATH=/usr/lib/x86_64-linux-gnu/openblas-pthread to compare) and
 // Eigen's SimplicialLDLT (no BLAS), the alternative a user would pick. Wall and process CPU time.
+// Iterative solves of the same system to ||b - K u|| / ||b|| < 1e-10 (BM_Iterative*): the
+// incomplete-Cholesky CG `--solver cg` used before, Eigen's default (Jacobi) CG on the upper
+// triangle and on both triangles, and block_cg.hpp's Jacobi and block-Jacobi CG (what
+// `--solver cg` uses now), each with its difference from CHOLMOD's answer. The side-by-side
+// table of README "Performance" is one run of
+//   bench_analysis --benchmark_filter='BM_(FactorCholmod|FactorEigenLDLT|Iterative[A-Za-z]*)/16/'
+// and one with /32 (without FactorEigenLDLT: hours); 32^3 needs about 5 GB and minutes.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
@@ -308,7 +315,13 @@ void BM_IterativeBlockJacobi(benchmark::State& state) {
 }
 
 #define ISOSPRING_ITERATIVE(name) \
-  BENCHMARK(name)->Arg(16)->Arg(32)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime()
+  BENCHMARK(name)                 \
+      ->Arg(16)                   \
+      ->Arg(32)                   \
+      ->Unit(benchmark::kSecond)  \
+      ->Iterations(1)             \
+      ->MeasureProcessCPUTime()   \
+      ->UseRealTime()
 ISOSPRING_ITERATIVE(BM_IterativeEigenIC);
 ISOSPRING_ITERATIVE(BM_IterativeEigenJacobi);
 ISOSPRING_ITERATIVE(BM_IterativeEigenJacobiFull);
