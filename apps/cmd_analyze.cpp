@@ -87,8 +87,10 @@ void setup_analyze(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->output, "Output folder (created if missing)")->required();
   cmd->add_option("--solver", options->run.solver,
-                  "cholesky (sparse direct, default) or cg (conjugate gradients)")
-      ->check(CLI::IsMember({"cholesky", "cg"}));
+                  "auto (default: cholesky up to 20,000 free DOFs in 3D, 500,000 in 2D, cg "
+                  "above; report.json solver_reason says why), cholesky (sparse direct) or cg "
+                  "(block-Jacobi conjugate gradients)")
+      ->check(CLI::IsMember({"auto", "cholesky", "cg"}));
   cmd->add_option("--backend", options->run.backend,
                   "serial (default) or petsc: PETSc with MPI, distributed over the ranks of "
                   "`mpirun -np N isospring analyze ...` (README, \"Running on a cluster\")")

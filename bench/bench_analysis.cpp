@@ -4,16 +4,27 @@
 // uses; its speed is that of the BLAS loaded, reported as the `blas` label: run the program once
 // as is and once with LD_LIBRARY_PATH=/usr/lib/x86_64-linux-gnu/openblas-pthread to compare) and
 // Eigen's SimplicialLDLT (no BLAS), the alternative a user would pick. Wall and process CPU time.
+// Iterative solves of the same system to ||b - K u|| / ||b|| < 1e-10 (BM_Iterative*): the
+// incomplete-Cholesky CG `--solver cg` used before, Eigen's default (Jacobi) CG on the upper
+// triangle and on both triangles, and block_cg.hpp's Jacobi and block-Jacobi CG (what
+// `--solver cg` uses now), each with its difference from CHOLMOD's answer. The side-by-side
+// table of README "Performance" is one run of
+//   bench_analysis --benchmark_filter='BM_(FactorCholmod|FactorEigenLDLT|Iterative[A-Za-z]*)/16/'
+// and one with /32 (without FactorEigenLDLT: hours); 32^3 needs about 5 GB and minutes.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <chrono>
 #include <ctime>
+#include <map>
+#include <memory>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/blas_runtime.hpp"
+#include "isospring/analysis/block_cg.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/nurbs/refine.hpp"
@@ -132,13 +143,200 @@ void factorise(benchmark::State& state) {
 void BM_FactorCholmod(benchmark::State& state) {
   factorise<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>(state);
 }
+// CHOLMOD's fill-reducing ordering (issue 15): arg 1 = 0 its default (AMD, then METIS too when
+// AMD's factor is dense, keeping the better), 1 AMD only, 2 METIS only, 3 NESDIS only (CHOLMOD's
+// nested dissection on METIS's partitioner). Counters: nonzeros and flops of the factor.
+void BM_FactorCholmodOrdering(benchmark::State& state) {
+  const Eigen::SparseMatrix<double> matrix = free_stiffness(static_cast<int>(state.range(0)));
+  const int variant = static_cast<int>(state.range(1));
+  double analyse_wall = 0, lnz = 0, flops = 0;
+  int selected = -1;
+  for (auto _ : state) {
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver;
+    cholmod_common& common = solver.cholmod();
+    if (variant > 0) {
+      common.nmethods = 1;
+      common.method[0].ordering = variant == 1   ? CHOLMOD_AMD
+                                  : variant == 2 ? CHOLMOD_METIS
+                                                 : CHOLMOD_NESDIS;
+      common.postorder = 1;
+    }
+    const auto wall = std::chrono::steady_clock::now();
+    solver.analyzePattern(matrix);
+    analyse_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+    solver.factorize(matrix);
+    if (solver.info() != Eigen::Success) state.SkipWithError("factorisation failed");
+    lnz = common.lnz;
+    flops = common.fl;
+    selected = common.method[common.selected].ordering;
+  }
+  state.counters["analyse_s"] = analyse_wall;
+  state.counters["factor_nnz"] = lnz;
+  state.counters["flops"] = flops;
+  state.counters["ordering"] = selected;  // CHOLMOD_AMD 2, METIS 3, NESDIS 4
+  state.counters["dofs"] = static_cast<double>(matrix.rows());
+  state.counters["peak_MB"] = peak_memory_mb();
+}
 void BM_FactorEigenLDLT(benchmark::State& state) {
   factorise<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper>>(state);
 }
 
+// ---- Iterative solvers on the same system (issue 15): time to reach ||b - K u|| / ||b|| < 1e-10
+// from u = 0, the right-hand side of the unit traction. `diff_vs_direct` is
+// ||u - u_cholmod|| / ||u_cholmod||, the CHOLMOD solution computed once per size (not timed).
+
+struct IterativeCase {
+  Eigen::SparseMatrix<double> upper;   // free DOFs, upper triangle
+  Eigen::VectorXd rhs;                 // free DOFs
+  Eigen::SparseMatrix<double> global;  // all DOFs, upper triangle
+  std::vector<bool> fixed;             // global DOF is clamped
+  Eigen::VectorXd global_rhs;          // 0 on clamped DOFs
+  std::vector<int> free_dofs;
+  Eigen::VectorXd direct;  // CHOLMOD's free solution
+};
+
+const IterativeCase& iterative_case(int n) {
+  static std::map<int, IterativeCase> cases;
+  auto found = cases.find(n);
+  if (found != cases.end()) return found->second;
+  IterativeCase& c = cases[n];
+  const analysis::Problem problem = box_problem(3, 2, n);
+  const analysis::DofMap dofs(problem);
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  c.global = analysis::assemble_stiffness(problem, dofs);
+  c.upper = free_stiffness(n);
+  c.fixed.assign(static_cast<size_t>(c.global.rows()), false);
+  for (int d : constraints.dofs) c.fixed[static_cast<size_t>(d)] = true;
+  c.global_rhs = analysis::assemble_load(problem, dofs, problem.load_cases[0]);
+  for (Eigen::Index k = 0; k < c.global_rhs.size(); ++k)
+    if (c.fixed[static_cast<size_t>(k)])
+      c.global_rhs[k] = 0;
+    else
+      c.free_dofs.push_back(static_cast<int>(k));
+  c.rhs.resize(static_cast<Eigen::Index>(c.free_dofs.size()));
+  for (size_t k = 0; k < c.free_dofs.size(); ++k)
+    c.rhs[static_cast<Eigen::Index>(k)] = c.global_rhs[c.free_dofs[k]];
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky(c.upper);
+  c.direct = cholesky.solve(c.rhs);
+  return c;
+}
+
+// Wall and process CPU seconds of `work`.
+template <class Work>
+std::pair<double, double> timed(Work&& work) {
+  const auto wall = std::chrono::steady_clock::now();
+  const std::clock_t cpu = std::clock();
+  work();
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count(),
+          static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC};
+}
+
+void iterative_counters(benchmark::State& state, const IterativeCase& c,
+                        const Eigen::VectorXd& solution, int iterations,
+                        std::pair<double, double> setup, std::pair<double, double> solve) {
+  state.counters["dofs"] = static_cast<double>(c.rhs.size());
+  state.counters["iterations"] = iterations;
+  state.counters["setup_s"] = setup.first;
+  state.counters["setup_cpu_s"] = setup.second;
+  state.counters["solve_s"] = solve.first;
+  state.counters["solve_cpu_s"] = solve.second;
+  state.counters["diff_vs_direct"] = (solution - c.direct).norm() / c.direct.norm();
+  state.counters["residual"] =
+      (c.rhs - c.upper.selfadjointView<Eigen::Upper>() * solution).norm() / c.rhs.norm();
+  state.counters["peak_MB"] = peak_memory_mb();
+}
+
+constexpr double kTolerance = 1e-10;
+
+template <class Solver>
+void eigen_cg(benchmark::State& state, const Eigen::SparseMatrix<double>& matrix,
+              const IterativeCase& c) {
+  Eigen::VectorXd solution;
+  std::pair<double, double> setup, solve;
+  int iterations = 0;
+  for (auto _ : state) {
+    Solver solver;
+    solver.setTolerance(kTolerance);
+    solver.setMaxIterations(100000);
+    setup = timed([&] { solver.compute(matrix); });
+    solve = timed([&] { solution = solver.solve(c.rhs); });
+    if (solver.info() != Eigen::Success) state.SkipWithError("CG did not converge");
+    iterations = static_cast<int>(solver.iterations());
+  }
+  iterative_counters(state, c, solution, iterations, setup, solve);
+}
+
+// What `--solver cg` used before: incomplete Cholesky, upper triangle.
+void BM_IterativeEigenIC(benchmark::State& state) {
+  const IterativeCase& c = iterative_case(static_cast<int>(state.range(0)));
+  eigen_cg<Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Upper,
+                                    Eigen::IncompleteCholesky<double, Eigen::Upper>>>(state,
+                                                                                      c.upper, c);
+}
+// Eigen's default: diagonal (Jacobi) preconditioner, upper triangle (one-thread product).
+void BM_IterativeEigenJacobi(benchmark::State& state) {
+  const IterativeCase& c = iterative_case(static_cast<int>(state.range(0)));
+  eigen_cg<Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Upper>>(state, c.upper, c);
+}
+// Eigen's default on both triangles, row-major: the product runs on all OpenMP threads.
+void BM_IterativeEigenJacobiFull(benchmark::State& state) {
+  const IterativeCase& c = iterative_case(static_cast<int>(state.range(0)));
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> full = c.upper.selfadjointView<Eigen::Upper>();
+  eigen_cg<Eigen::ConjugateGradient<Eigen::SparseMatrix<double, Eigen::RowMajor>,
+                                    Eigen::Lower | Eigen::Upper>>(state, full, c);
+}
+
+void block(benchmark::State& state, analysis::BlockCgOptions::Preconditioner preconditioner) {
+  const IterativeCase& c = iterative_case(static_cast<int>(state.range(0)));
+  Eigen::VectorXd solution;
+  std::pair<double, double> setup, solve;
+  analysis::BlockCgResult out;
+  for (auto _ : state) {
+    std::unique_ptr<analysis::SymmetricBlockMatrix> matrix;
+    setup = timed(
+        [&] { matrix = std::make_unique<analysis::SymmetricBlockMatrix>(c.global, 3, c.fixed); });
+    analysis::BlockCgOptions options;
+    options.preconditioner = preconditioner;
+    options.tolerance = kTolerance;
+    Eigen::VectorXd global;
+    solve = timed([&] { out = analysis::block_cg(*matrix, c.global_rhs, global, options); });
+    if (!out.converged) state.SkipWithError("CG did not converge");
+    solution.resize(c.rhs.size());
+    for (size_t k = 0; k < c.free_dofs.size(); ++k)
+      solution[static_cast<Eigen::Index>(k)] = global[c.free_dofs[k]];
+  }
+  iterative_counters(state, c, solution, out.iterations, setup, solve);
+}
+void BM_IterativeJacobi(benchmark::State& state) {
+  block(state, analysis::BlockCgOptions::Preconditioner::kJacobi);
+}
+void BM_IterativeBlockJacobi(benchmark::State& state) {
+  block(state, analysis::BlockCgOptions::Preconditioner::kBlockJacobi);
+}
+
+#define ISOSPRING_ITERATIVE(name) \
+  BENCHMARK(name)                 \
+      ->Arg(16)                   \
+      ->Arg(32)                   \
+      ->Unit(benchmark::kSecond)  \
+      ->Iterations(1)             \
+      ->MeasureProcessCPUTime()   \
+      ->UseRealTime()
+ISOSPRING_ITERATIVE(BM_IterativeEigenIC);
+ISOSPRING_ITERATIVE(BM_IterativeEigenJacobi);
+ISOSPRING_ITERATIVE(BM_IterativeEigenJacobiFull);
+ISOSPRING_ITERATIVE(BM_IterativeJacobi);
+ISOSPRING_ITERATIVE(BM_IterativeBlockJacobi);
+
 BENCHMARK(BM_FactorCholmod)
     ->Arg(16)
     ->Arg(32)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_FactorCholmodOrdering)
+    ->ArgsProduct({{16, 32}, {0, 1, 2, 3}})
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->MeasureProcessCPUTime()

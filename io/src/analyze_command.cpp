@@ -5,6 +5,7 @@
 #include "isospring/io/report_case.hpp"
 #include "isospring/io/vtk_multiblock.hpp"
 #include "isospring/io/vtk_solution.hpp"
+#include "isospring/nurbs/error.hpp"
 
 namespace isospring::io {
 namespace {
@@ -15,7 +16,22 @@ nlohmann::json vector_json(const Eigen::Vector3d& v, int dimension) {
   return out;
 }
 
+analysis::SolverOptions::Method solver_method(const std::string& name) {
+  using Method = analysis::SolverOptions::Method;
+  if (name == "auto") return Method::kAuto;
+  if (name == "cholesky") return Method::kCholesky;
+  if (name == "cg") return Method::kConjugateGradient;
+  throw nurbs::InputError("analyze: unknown solver \"" + name + "\" (auto, cholesky or cg)");
+}
+
 }  // namespace
+
+std::string solver_name(analysis::SolverOptions::Method method) {
+  using Method = analysis::SolverOptions::Method;
+  return method == Method::kConjugateGradient ? "cg"
+         : method == Method::kAuto            ? "auto"
+                                              : "cholesky";
+}
 
 AnalyzeCommandResult run_analyze(const AnalyzeCommandOptions& options, const Progress& progress,
                                  const std::function<void(const Case&)>& before_solve) {
@@ -34,8 +50,7 @@ AnalyzeCommandResult run_analyze(const AnalyzeCommandOptions& options, const Pro
     r.result = analysis::solve_static_petsc(r.c.problem, solver);
   } else {
     analysis::SolverOptions solver;
-    solver.method = options.solver == "cg" ? analysis::SolverOptions::Method::kConjugateGradient
-                                           : analysis::SolverOptions::Method::kCholesky;
+    solver.method = solver_method(options.solver);
     solver.threads = options.threads;
     r.result = analysis::solve_static(r.c.problem, solver);
   }
@@ -63,7 +78,13 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
   const bool petsc = options.backend == "petsc";
   nlohmann::json report = report_header("analyze", isospring_version(), options.case_file);
   report["case"] = case_summary(c, c.problem);
-  report["solver"] = petsc ? "petsc" : options.solver;
+  // The solver used; with --solver auto also what was asked and why this one was chosen.
+  const std::string used = petsc ? "petsc" : solver_name(result.method);
+  report["solver"] = used;
+  if (!petsc && options.solver == "auto") {
+    report["solver_requested"] = options.solver;
+    report["solver_reason"] = result.method_reason;
+  }
   report["backend"] = options.backend;
   if (petsc) {
     report["mpi_ranks"] = result.ranks;
@@ -96,7 +117,7 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
                             {"reaction_sum", vector_json(lc.reaction_sum, c.dimension)},
                             {"solve_seconds", lc.solve_seconds},
                             {"control_displacements_file", csv}};
-    if (petsc) {
+    if (petsc || result.method == analysis::SolverOptions::Method::kConjugateGradient) {
       entry["iterations"] = lc.iterations;
       entry["relative_residual"] = lc.relative_residual;
     }
@@ -131,9 +152,12 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
   md.table({"load case", "max abs(u) [m]", "strain energy [J]", "reaction sum [N]", "solve [s]",
             "control displacements"},
            rows);
-  const std::string method = petsc ? "PETSc " + result.preconditioner + " on " +
-                                         std::to_string(result.ranks) + " MPI rank(s)"
-                                   : options.solver;
+  const std::string method =
+      petsc ? "PETSc " + result.preconditioner + " on " + std::to_string(result.ranks) +
+                  " MPI rank(s)"
+            : used + (result.method_reason.empty()
+                          ? std::string()
+                          : ", chosen by --solver auto: " + result.method_reason);
   md.paragraph(
       std::to_string(result.dofs) + " DOFs (" + method + "); assembly " +
       format_number(result.assembly_seconds, 3) + " s, " +

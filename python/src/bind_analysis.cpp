@@ -97,11 +97,12 @@ void bind_analysis(py::module_& m) {
   m.def(
       "analyze",
       [](const io::Case& c, const std::string& solver, int threads) {
-        if (solver != "cholesky" && solver != "cg")
-          throw nurbs::InputError("analyze: solver must be \"cholesky\" or \"cg\"");
+        if (solver != "cholesky" && solver != "cg" && solver != "auto")
+          throw nurbs::InputError("analyze: solver must be \"cholesky\", \"cg\" or \"auto\"");
         analysis::SolverOptions options;
-        options.method = solver == "cg" ? analysis::SolverOptions::Method::kConjugateGradient
-                                        : analysis::SolverOptions::Method::kCholesky;
+        options.method = solver == "cg"     ? analysis::SolverOptions::Method::kConjugateGradient
+                         : solver == "auto" ? analysis::SolverOptions::Method::kAuto
+                                            : analysis::SolverOptions::Method::kCholesky;
         options.threads = threads;
         // The solve holds no Python object: other Python threads may run meanwhile.
         py::gil_scoped_release release;

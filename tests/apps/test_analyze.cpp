@@ -78,6 +78,11 @@ TEST(Analyze, CantileverReactionsBalanceTheLoadsAndTablesMatchTheReport) {
   EXPECT_EQ(report["command"], "analyze");
   EXPECT_EQ(report["case"]["name"], "cantilever_box");
   EXPECT_EQ(report["dofs"], 3 * 22 * 6 * 6);
+  // --solver auto (the default) takes the direct solver at this size and says why.
+  EXPECT_EQ(report["solver"], "cholesky");
+  EXPECT_EQ(report["solver_requested"], "auto");
+  EXPECT_NE(report["solver_reason"].get<std::string>().find("sparse Cholesky"), std::string::npos)
+      << report["solver_reason"];
   ASSERT_EQ(report["load_cases"].size(), 3u);
   // Applied: traction 100 Pa on 0.02 x 0.02 m; 50 Pa sideways; weight 1100 * 9.81 * volume.
   const double area = 0.02 * 0.02, volume = 0.1 * area;
@@ -108,6 +113,26 @@ TEST(Analyze, CantileverReactionsBalanceTheLoadsAndTablesMatchTheReport) {
   EXPECT_FALSE(blas.empty());
   EXPECT_TRUE(std::filesystem::exists(report["blas"]["library"].get<std::string>()));
   EXPECT_NE(text.str().find("BLAS/LAPACK: " + blas), std::string::npos);
+}
+
+TEST(Analyze, ConjugateGradientsReportIterationsAndAgreeWithTheDefault) {
+  TemporaryFolder direct, iterative;
+  for (const auto& [out, flag] : {std::pair{&direct, ""}, std::pair{&iterative, " --solver cg"}}) {
+    const auto result = run_isospring("analyze " + example("cantilever_box.json") + " -o " +
+                                      out->path().string() + " --quiet" + flag);
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+  }
+  const json a = read_json(direct / "report.json"), b = read_json(iterative / "report.json");
+  EXPECT_EQ(b["solver"], "cg");
+  EXPECT_FALSE(b.contains("solver_reason"));  // chosen by the user
+  EXPECT_FALSE(a["load_cases"][0].contains("iterations"));
+  for (size_t k = 0; k < 3; ++k) {
+    const json& lc = b["load_cases"][k];
+    EXPECT_GT(lc["iterations"].get<int>(), 0);
+    EXPECT_LT(lc["relative_residual"].get<double>(), 1e-9);
+    const double max_u = a["load_cases"][k]["max_displacement"].get<double>();
+    EXPECT_NEAR(lc["max_displacement"].get<double>(), max_u, 1e-8 * max_u);
+  }
 }
 
 TEST(Analyze, ReportsTheBlasThatTheDynamicLinkerChose) {

@@ -20,7 +20,7 @@ namespace isospring::io {
 
 struct AnalyzeCommandOptions {
   std::string case_file;
-  std::string solver = "cholesky";      // serial: cholesky | cg
+  std::string solver = "auto";          // serial: auto | cholesky | cg
   std::string backend = "serial";       // serial | petsc (needs an analysis::PetscSession)
   std::string preconditioner = "gamg";  // petsc: gamg | hypre | lu
   double tolerance = 1e-12;             // petsc: CG's relative residual
@@ -40,6 +40,9 @@ struct AnalyzeCommandResult {
 /// long solve is not wasted). Throws nurbs::InputError for a bad case or options.
 AnalyzeCommandResult run_analyze(const AnalyzeCommandOptions& options, const Progress& progress,
                                  const std::function<void(const Case&)>& before_solve = {});
+
+/// "cholesky", "cg" or "auto": the --solver name of a method.
+std::string solver_name(analysis::SolverOptions::Method method);
 
 /// The names of the per-load-case CSV files the outputs will hold.
 std::vector<std::string> analyze_csv_names(const Case& c);
