@@ -1,7 +1,7 @@
-// The NMSM calibration (fitting module) for Python: isospring.calibrate(case, ...) is
-// fitting::calibrate with its settings as keyword arguments. The case file's own "calibration"
-// object (io::read_calibration_settings, what `isospring calibrate` applies through
-// io::run_calibrate) is not read here: pass the same values to reproduce the program.
+// The NMSM calibration for Python: isospring.calibrate(case, **settings) is io::run_calibrate,
+// the call `isospring calibrate` makes, on the case's own "calibration" object with the keyword
+// arguments laid over it. The settings are read by io::read_calibration_settings, so they have
+// the case file's names, defaults, checks and error messages (as exceptions).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -9,7 +9,9 @@
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/fitting/calibration.hpp"
+#include "isospring/io/calibrate_command.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace py = pybind11;
@@ -76,10 +78,11 @@ py::dict calibration_result(const fitting::CalibrationResult& r) {
   return d;
 }
 
-fitting::MassModel mass_model(const std::string& name) {
-  if (name == "lumped") return fitting::MassModel::kLumpedIga;
-  if (name == "net_cells") return fitting::MassModel::kNetCells;
-  throw nurbs::InputError("calibrate: mass must be \"lumped\" or \"net_cells\"");
+// A Python value (numbers, strings, booleans, lists, dicts) as JSON, through Python's own json
+// module: exactly what the same value written in a case file would be.
+nlohmann::json to_json(const py::handle& value) {
+  const std::string text = py::str(py::module_::import("json").attr("dumps")(value));
+  return nlohmann::json::parse(text);
 }
 
 }  // namespace
@@ -87,47 +90,42 @@ fitting::MassModel mass_model(const std::string& name) {
 void bind_fitting(py::module_& m) {
   m.def(
       "calibrate",
-      [](const io::Case& c, double gamma, const std::vector<double>& gamma_sweep, bool per_spring,
-         double regularization, const std::vector<std::string>& fit_load_cases,
-         const std::vector<std::string>& holdout_load_cases, const std::string& mass,
-         bool merge_coincident, double damping_alpha, double damping_ratio, bool upper_bounds,
-         int max_iterations, int field_samples, bool matrix_approach) {
-        fitting::CalibrationSettings s;
-        s.gamma = gamma;
-        s.gamma_sweep = gamma_sweep;
-        s.per_spring = per_spring;
-        s.regularization = regularization;
-        s.fit_cases = fit_load_cases;
-        s.holdout_cases = holdout_load_cases;
-        s.mass_model = mass_model(mass);
-        s.mesh.merge_coincident = merge_coincident;
-        s.damping_alpha = damping_alpha;
-        s.damping_ratio = damping_ratio;
-        s.upper_bounds = upper_bounds;
-        s.max_iterations = max_iterations;
-        s.field_samples = field_samples;
-        s.matrix_approach = matrix_approach;
-        fitting::CalibrationResult r;
+      [](const io::Case& c, const py::kwargs& settings) {
+        io::Case with = c;
+        if (!with.calibration.is_object()) with.calibration = nlohmann::json::object();
+        for (const auto& [key, value] : settings) {
+          const std::string name = py::str(key);
+          // The grouping's fields may be given flat (gamma=0.1), as in earlier versions.
+          if (name == "gamma" || name == "gamma_sweep" || name == "per_spring") {
+            nlohmann::json& grouping = with.calibration["grouping"];
+            if (!grouping.is_object())
+              grouping = grouping == "per_spring" ? nlohmann::json{{"per_spring", true}}
+                                                  : nlohmann::json::object();
+            grouping[name] = to_json(value);
+          } else {
+            with.calibration[name] = to_json(value);
+          }
+        }
+        io::CalibrateCommandResult r;
         {
           // The fit holds no Python object: other Python threads may run meanwhile.
           py::gil_scoped_release release;
-          r = fitting::calibrate(c.problem, s);
+          r = io::run_calibrate(std::move(with), io::Progress("calibrate", true));
         }
-        return calibration_result(r);
+        py::dict result = calibration_result(r.calibration);
+        result["worst_fitted_percent_e_rms"] = r.worst_fitted;
+        result["worst_holdout_percent_e_rms"] = r.worst_holdout;
+        return result;
       },
-      py::arg("case"), py::kw_only(), py::arg("gamma") = 0.01,
-      py::arg("gamma_sweep") = std::vector<double>{}, py::arg("per_spring") = false,
-      py::arg("regularization") = 0.0, py::arg("fit_load_cases") = std::vector<std::string>{},
-      py::arg("holdout_load_cases") = std::vector<std::string>{}, py::arg("mass") = "lumped",
-      py::arg("merge_coincident") = false, py::arg("damping_alpha") = 0.0,
-      py::arg("damping_ratio") = 0.0, py::arg("upper_bounds") = false,
-      py::arg("max_iterations") = 200, py::arg("field_samples") = 11,
-      py::arg("matrix_approach") = false,
-      "NMSM calibration of a case against its IGA reference (docs/calibration.md; the keyword "
-      "arguments are the case file's \"calibration\" fields). Returns a dict: springs (s, 2), "
-      "stiffness, damping, rest_length, group, positions (n, 3), masses, fixed, gamma, "
-      "parameters, fit and holdout (per load case: id, control/field/surface %e metrics, "
-      "node_error), warnings, fit_seconds.");
+      py::arg("case"),
+      "NMSM calibration of a case against its IGA reference, as `isospring calibrate` does it "
+      "(docs/calibration.md): the case's own \"calibration\" object, with keyword arguments "
+      "laid over it under the same names (gamma, gamma_sweep and per_spring may also be given "
+      "flat; e.g. calibrate(case, fit_load_cases=[\"L1\"], grouping={\"gamma\": 0.1})). Bad "
+      "settings raise the program's error. Returns a dict: springs (s, 2), stiffness, damping, "
+      "rest_length, group, positions (n, 3), masses, fixed, gamma, parameters, fit and holdout "
+      "(per load case: id, control/field/surface %e metrics, node_error), warnings, "
+      "fit_seconds, worst_fitted_percent_e_rms, worst_holdout_percent_e_rms.");
 }
 
 }  // namespace isospring::python

@@ -172,18 +172,10 @@ def test_analysis_matches_the_program():
 
 
 def test_calibration_matches_the_program():
-    """calibrate() with the case's "calibration" values gives the program's report."""
+    """calibrate(case) applies the case's own "calibration" object, as the program does."""
     case_file = os.path.join(EXAMPLES, "calibrate_square.json")
-    with open(case_file) as f:
-        settings = json.load(f)["calibration"]
     case = isospring.read_case(case_file)
-    result = isospring.calibrate(
-        case, gamma=settings["grouping"]["gamma"],
-        per_spring=settings["grouping"]["per_spring"],
-        regularization=settings["regularization"],
-        fit_load_cases=settings["fit_load_cases"],
-        holdout_load_cases=settings["holdout_load_cases"],
-        damping_alpha=settings["damping_alpha"], matrix_approach=settings["matrix_approach"])
+    result = isospring.calibrate(case)
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([PROGRAM, "calibrate", case_file, "-o", folder, "-q"], check=True)
         with open(os.path.join(folder, "report.json")) as f:
@@ -201,6 +193,28 @@ def test_calibration_matches_the_program():
                              result["positions"][result["springs"][:, 1]], axis=1)
     assert np.max(np.abs(lengths - result["rest_length"])) < 1e-12
     assert np.all(result["stiffness"] > 0)
+
+
+def test_calibration_settings_are_the_case_files():
+    """Keyword arguments are laid over the case's settings, under the case file's names, and are
+    checked by the same reader (the program's messages, as exceptions)."""
+    case = isospring.read_case(os.path.join(EXAMPLES, "calibrate_square.json"))
+    # Grouped instead of per spring, fitted on one load case: fewer parameters, one fitted case.
+    grouped = isospring.calibrate(case, grouping={"gamma": 0.5}, regularization=0.0,
+                                  fit_load_cases=["u1_x"], holdout_load_cases=["v1_x"])
+    assert [e["id"] for e in grouped["fit"]] == ["u1_x"]
+    assert [e["id"] for e in grouped["holdout"]] == ["v1_x"]
+    assert grouped["gamma"] == 0.5
+    for settings, message in (
+            ({"gamma": 1.5, "per_spring": False, "regularization": 0.0},
+             "calibration.grouping.gamma must be in [0, 1), got 1.5"),
+            ({"regularisation": 0.1},
+             "calibration.regularisation: unknown field; did you mean 'regularization'")):
+        try:
+            isospring.calibrate(case, **settings)
+            raise AssertionError(f"{settings} were accepted")
+        except isospring.InputError as e:
+            assert message in str(e), str(e)
 
 
 def test_identify_matches_the_program():
