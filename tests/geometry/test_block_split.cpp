@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <cmath>
@@ -119,6 +121,21 @@ TEST(CadBlock, LSectionWithHolesThroughBothLegs) {
   EXPECT_NE(describe(model).find("solid 0: " + std::to_string(model.volume_patches.size()) +
                                  " volume patch(es)"),
             std::string::npos);
+}
+
+// A stepped block (a 2 x 2 x 1 box with a 1 x 1 x 1 box on one corner) is a prism along no
+// axis; without holes it is a block of 2 + 1 boxes, glued, its volume and surface exact.
+TEST(CadBlock, SteppedBlockWithoutHoles) {
+  const TopoDS_Shape stepped =
+      BRepAlgoAPI_Fuse(BRepPrimAPI_MakeBox(0.02, 0.02, 0.01).Shape(),
+                       BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0.01), 0.01, 0.01, 0.01).Shape())
+          .Shape();
+  const CadModel model = test::step_round_trip(stepped, "stepped_block.step");
+  ASSERT_EQ(model.solid_notes.size(), 1u);
+  EXPECT_EQ(model.solid_notes[0], "");
+  EXPECT_EQ(model.volume_patches.size(), 5u);  // 4 below (the grid's 2 x 2 cells), 1 on top
+  EXPECT_NEAR(measure(model.volume_patches) / 5e-6, 1.0, 1e-12);
+  EXPECT_NEAR(test::unshared_face_area(model.volume_patches, 1e-12) / model.area, 1.0, 1e-12);
 }
 
 }  // namespace
