@@ -109,13 +109,14 @@ std::vector<Patch> conform_shared_sides(std::vector<Patch> patches, double toler
         bool changed_here = refine_to(pa, along_a, false, degree, {});
         changed_here |= refine_to(pb, along_b, reversed, degree, {});
         std::map<double, int> wanted = normalised_knots(pa, along_a, false);
-        for (const auto& [t, m] : normalised_knots(pb, along_b, reversed)) {
+        for (const auto& knot : normalised_knots(pb, along_b, reversed)) {
+          const double t = knot.first;  // a plain variable: clang 14 cannot capture a binding
           auto close = std::find_if(wanted.begin(), wanted.end(),
-                                    [&](const auto& w) { return std::abs(w.first - t) <= 1e-10; });
+                                    [t](const auto& w) { return std::abs(w.first - t) <= 1e-10; });
           if (close == wanted.end())
-            wanted[t] = m;
+            wanted[t] = knot.second;
           else
-            close->second = std::max(close->second, m);
+            close->second = std::max(close->second, knot.second);
         }
         changed_here |= refine_to(pa, along_a, false, degree, wanted);
         changed_here |= refine_to(pb, along_b, reversed, degree, wanted);
