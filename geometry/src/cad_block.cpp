@@ -1,5 +1,5 @@
 // Orthogonal solids with through-holes -> conforming volume patches (see cad_block.hpp).
-#include "cad_block.hpp"
+#include "cad_solid_recognisers.hpp"
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepClass3d_SolidClassifier.hxx>
@@ -71,8 +71,6 @@ std::optional<int> axis_of(const Eigen::Matrix3d& frame, const Vector3d& d) {
     if (std::abs(std::abs(frame.col(q).dot(d)) - 1.0) < kParallel) return q;
   return std::nullopt;
 }
-
-}  // namespace
 
 bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::Patch>& patches,
                    std::string& why, std::string& remark) {
@@ -252,6 +250,22 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
   }
   patches = std::move(cut);
   return true;
+}
+
+}  // namespace
+
+// When every planar face of the solid is normal to one of three orthogonal axes, every other
+// face is the wall of a straight hole along one of them, and each hole runs from an inner wire
+// of one face to an inner wire of a parallel face, the solid's conforming volume patches
+// (split_block_region) with positive Jacobians (sampled 4 per element and direction) and
+// `volume` (OpenCascade's) matched to 1e-9, or to within what the file's holes disagree
+// between their two ends times their length (then `remark` says so; otherwise it is empty). A
+// hole whose wall is a cylinder is built from the cylinder, exactly. Otherwise not recognised, with
+// why.
+SolidRecognition recognise_block(const SolidContext& context) {
+  SolidRecognition r;
+  r.recognised = block_patches(context.solid, context.volume, r.patches, r.why, r.remark);
+  return r;
 }
 
 }  // namespace isospring::geometry::detail

@@ -1,5 +1,5 @@
 // Hexahedral solids (six 4-sided faces) -> one NURBS volume by transfinite interpolation.
-#include "cad_hexahedron.hpp"
+#include "cad_solid_recognisers.hpp"
 
 #include <BRepGProp.hxx>
 #include <BRep_Tool.hxx>
@@ -137,8 +137,6 @@ bool prism_patch(const TopoDS_Shape& solid, const TopTools_IndexedMapOfShape& fa
     }
   return false;
 }
-
-}  // namespace
 
 bool hexahedron_patch(const TopoDS_Shape& solid,
                       const std::function<const nurbs::Patch*(const TopoDS_Shape&)>& natural_patch,
@@ -291,6 +289,25 @@ bool hexahedron_patch(const TopoDS_Shape& solid,
     return false;
   }
   return true;
+}
+
+}  // namespace
+
+// A solid with 8 vertices, 12 edges and 6 faces of one wire and 4 edges each as the trivariate
+// Coons volume of its faces, each face the Coons patch of its (exactly converted, compatible)
+// edges. Planar faces with straight edges give the exact trilinear block. Accepted when every
+// face's Coons patch lies on the CAD face's surface, the Jacobian is positive and the volume
+// matches OCCT's to 1e-6. Corners are numbered right-handed with u, v, w most along x, y, z.
+// When a face is not the blend of its edges, the solid may still be a prism: two opposite faces
+// whose natural patches (from `natural_patch`, nullptr if none) are translates of each other give
+// the exact ruled (extruded) volume, accepted when the four side faces lie on the CAD faces and
+// the volume matches. Otherwise not recognised, with why.
+SolidRecognition recognise_hexahedron(const SolidContext& context) {
+  SolidRecognition r;
+  nurbs::Patch patch;
+  r.recognised = hexahedron_patch(context.solid, context.natural_patch, patch, r.why);
+  if (r.recognised) r.patches = {patch};
+  return r;
 }
 
 }  // namespace isospring::geometry::detail

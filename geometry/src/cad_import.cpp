@@ -33,13 +33,10 @@
 #include <random>
 #include <sstream>
 
-#include "cad_block.hpp"
 #include "cad_coons.hpp"
-#include "cad_hexahedron.hpp"
 #include "cad_planar_face.hpp"
-#include "cad_prism.hpp"
 #include "cad_reader.hpp"
-#include "cad_revolution.hpp"
+#include "cad_solid_recognisers.hpp"
 #include "crash_guard.hpp"
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/conforming_sides.hpp"
@@ -327,41 +324,37 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
     model.face_reports.push_back(report);
   }
   for (int s = 1; s <= model.solids; ++s) {
-    nurbs::Patch patch;
-    std::string why;
-    auto natural = [&](const TopoDS_Shape& face) -> const nurbs::Patch* {
-      const int f = faces.FindIndex(face) - 1;
-      if (f < 0 || !model.face_reports[static_cast<size_t>(f)].natural) return nullptr;
-      const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
-      return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
-    };
-    std::vector<nurbs::Patch> quarters, prism;
-    std::string revolution_why, prism_why, remark;
-    auto face_patches = [&](const TopoDS_Face& face) {
-      return model_face_patches(model, faces.FindIndex(face) - 1);
-    };
     GProp_GProps props;
     BRepGProp::VolumeProperties(solids(s), props, 1e-9);
-    if (detail::hexahedron_patch(solids(s), natural, patch, why)) {
-      model.volume_patches.push_back(patch);
-      model.patch_solid.push_back(s - 1);
-    } else if (detail::revolution_patches(solids(s), quarters, revolution_why)) {
-      model.volume_patches.insert(model.volume_patches.end(), quarters.begin(), quarters.end());
-      model.patch_solid.insert(model.patch_solid.end(), quarters.size(), s - 1);
-      why.clear();
-    } else if (revolution_why.rfind("not ", 0) != 0) {
-      why = revolution_why;  // it is a solid of revolution: say what stopped it
-    } else if (detail::prism_patches(solids(s), face_patches, props.Mass(), prism, prism_why)) {
-      model.volume_patches.insert(model.volume_patches.end(), prism.begin(), prism.end());
-      model.patch_solid.insert(model.patch_solid.end(), prism.size(), s - 1);
-      why.clear();
-    } else if (std::string block_why;
-               detail::block_patches(solids(s), props.Mass(), prism, block_why, remark)) {
-      model.volume_patches.insert(model.volume_patches.end(), prism.begin(), prism.end());
-      model.patch_solid.insert(model.patch_solid.end(), prism.size(), s - 1);
-      why.clear();
-    } else {
-      why += "; " + prism_why + "; " + block_why;
+    const detail::SolidContext context{
+        solids(s), props.Mass(),
+        [&](const TopoDS_Shape& face) -> const nurbs::Patch* {
+          const int f = faces.FindIndex(face) - 1;
+          if (f < 0 || !model.face_reports[static_cast<size_t>(f)].natural) return nullptr;
+          const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
+          return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
+        },
+        [&](const TopoDS_Face& face) {
+          return model_face_patches(model, faces.FindIndex(face) - 1);
+        }};
+    // The first recogniser that builds the solid wins (the list's order is part of the result);
+    // otherwise the note says why each failed, or only why the one that knows the solid's kind
+    // (final) failed.
+    std::string why, remark;
+    for (const detail::SolidRecogniser& recogniser : detail::solid_recognisers()) {
+      detail::SolidRecognition r = recogniser.recognise(context);
+      if (r.recognised) {
+        model.volume_patches.insert(model.volume_patches.end(), r.patches.begin(), r.patches.end());
+        model.patch_solid.insert(model.patch_solid.end(), r.patches.size(), s - 1);
+        why.clear();
+        remark = r.remark;
+        break;
+      }
+      if (r.final) {
+        why = r.why;
+        break;
+      }
+      if (!r.why.empty()) why += (why.empty() ? "" : "; ") + r.why;
     }
     model.solid_notes.push_back(why);
     model.solid_remarks.push_back(remark);

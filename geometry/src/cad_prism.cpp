@@ -1,5 +1,5 @@
 // Prismatic solids -> the patches of their base face extruded (exact: a linear sweep).
-#include "cad_prism.hpp"
+#include "cad_solid_recognisers.hpp"
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepGProp.hxx>
@@ -84,8 +84,6 @@ std::string not_prism_of(const TopoDS_Shape& solid, const TopoDS_Face& base, gp_
   return "";
 }
 
-}  // namespace
-
 bool prism_patches(const TopoDS_Shape& solid, const FacePatches& face_patches, double volume,
                    std::vector<nurbs::Patch>& patches, std::string& why) {
   // Every planar face that passes the topological test is a candidate base; the far cap of a
@@ -138,6 +136,20 @@ bool prism_patches(const TopoDS_Shape& solid, const FacePatches& face_patches, d
   if (best <= 1e-9) return true;
   why = "not a prism of a planar face (" + (first_why.empty() ? "no planar face" : first_why) + ")";
   return false;
+}
+
+}  // namespace
+
+// When the solid is a prism of one of its planar faces (every vertex on that face's plane or on
+// one parallel plane at depth t, every other face either that opposite cap, with the same area,
+// or a plane/cylinder/extrusion containing the normal direction), the volume patches of the
+// face's patches extruded by t into the solid, right-handed, and `volume` (OpenCascade's) matched
+// to 1e-9. Otherwise not recognised, with why.
+SolidRecognition recognise_prism(const SolidContext& context) {
+  SolidRecognition r;
+  r.recognised =
+      prism_patches(context.solid, context.face_patches, context.volume, r.patches, r.why);
+  return r;
 }
 
 }  // namespace isospring::geometry::detail
