@@ -7,6 +7,7 @@
 #include <map>
 
 #include "isospring/analysis/sides.hpp"
+#include "isospring/analysis/validation.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "patch_quadrature.hpp"
 
@@ -167,6 +168,14 @@ Constraints build_constraints(const Problem& problem, const DofMap& dofs) {
     constraints.values.push_back(p.value);
   }
   return constraints;
+}
+
+SupportedProblem number_and_support(const Problem& problem) {
+  validate_problem(problem);
+  SupportedProblem supported{DofMap(problem), {}};
+  supported.constraints = build_constraints(problem, supported.dofs);
+  check_rigid_body_modes(problem, supported.dofs, supported.constraints);
+  return supported;
 }
 
 }  // namespace isospring::analysis

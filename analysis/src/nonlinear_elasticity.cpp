@@ -18,7 +18,6 @@
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/tangent_solver.hpp"
 #include "isospring/analysis/thread_scope.hpp"
-#include "isospring/analysis/validation.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "reduced_system.hpp"
 
@@ -262,11 +261,10 @@ StepOutcome newton(const SvkAssembler& assembler, const LameParameters& lame,
 
 std::vector<NonlinearLoadCaseResult> solve_static_nonlinear(const Problem& problem,
                                                             const NonlinearOptions& options) {
-  validate_problem(problem);
   const ThreadScope threads(options.threads);
-  const DofMap dofs(problem);
-  const Constraints constraints = build_constraints(problem, dofs);
-  check_rigid_body_modes(problem, dofs, constraints);
+  const SupportedProblem supported = number_and_support(problem);
+  const DofMap& dofs = supported.dofs;
+  const Constraints& constraints = supported.constraints;
   const SvkAssembler assembler(problem, dofs);
   const LameParameters lame = lame_parameters(problem.material, problem.formulation);
   const int dim = dofs.dofs_per_node();

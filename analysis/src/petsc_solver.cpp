@@ -19,7 +19,6 @@
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/thread_scope.hpp"
-#include "isospring/analysis/validation.hpp"
 #include "static_result.hpp"
 #endif
 
@@ -291,11 +290,10 @@ StaticResult solve_static_petsc(const Problem& problem, const PetscSolverOptions
   MPI_Comm_size(comm, &size);
 
   // Every rank validates and numbers the same problem, so input errors are found by all alike.
-  validate_problem(problem);
   const ThreadScope threads(options.threads);
-  const DofMap dofs(problem);
-  const Constraints constraints = build_constraints(problem, dofs);
-  check_rigid_body_modes(problem, dofs, constraints);
+  const SupportedProblem supported = number_and_support(problem);
+  const DofMap& dofs = supported.dofs;
+  const Constraints& constraints = supported.constraints;
 
   StaticResult result;
   result.dofs = dofs.num_dofs();

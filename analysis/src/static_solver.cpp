@@ -15,7 +15,6 @@
 #include "isospring/analysis/block_cg.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/thread_scope.hpp"
-#include "isospring/analysis/validation.hpp"
 #include "reduced_system.hpp"
 #include "static_result.hpp"
 
@@ -118,11 +117,10 @@ SolverChoice choose_solver(int dimension, double free_dofs) {
 }
 
 StaticResult solve_static(const Problem& problem, const SolverOptions& options) {
-  validate_problem(problem);
   const ThreadScope threads(options.threads);
-  const DofMap dofs(problem);
-  const Constraints constraints = build_constraints(problem, dofs);
-  check_rigid_body_modes(problem, dofs, constraints);
+  const SupportedProblem supported = number_and_support(problem);
+  const DofMap& dofs = supported.dofs;
+  const Constraints& constraints = supported.constraints;
 
   StaticResult result;
   result.dofs = dofs.num_dofs();

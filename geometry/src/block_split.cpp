@@ -29,11 +29,6 @@ struct Hole {
   std::string name;
 };
 
-// a + g (b - a), exactly b at g = 1 (shared faces get bitwise equal control points).
-double lerp(double a, double b, double g) {
-  return g == 1.0 ? b : a + g * (b - a);
-}
-
 // The box [lo, hi] with the given knots per axis: control points at the Greville abscissae.
 Patch box(const Vector3d& lo, const Vector3d& hi, const std::array<KnotVector, 3>& knots) {
   const std::vector<double> gx = greville_abscissae(knots[0]), gy = greville_abscissae(knots[1]),

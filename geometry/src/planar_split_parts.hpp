@@ -46,6 +46,8 @@ nurbs::KnotVector plain_knots(int degree);
 /// Makes the quarters running along one grid column (row) compatible with each other and with
 /// a straight line of `degree` (same degree, union of knots over [0, 1]); returns those knots.
 nurbs::KnotVector common_knots(const std::vector<nurbs::Patch*>& quarters, int degree);
+/// a + g (b - a), exactly b at g = 1: shared sides get bitwise equal control points.
+double lerp(double a, double b, double g);
 /// The segment a -> b with the given knots, parametrised linearly (control points at the
 /// Greville abscissae), weights 1.
 nurbs::Patch line(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

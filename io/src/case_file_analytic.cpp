@@ -182,10 +182,8 @@ AnalyticSolution make_analytic_solution(const nlohmann::json& analytic,
                                         analysis::Formulation formulation,
                                         const std::string& where) {
   // `where` is "file: path"; split it back so nested fields are named the same way.
-  const size_t colon = where.find(": ");
-  const std::string file = colon == std::string::npos ? where : where.substr(0, colon);
-  const std::string path = colon == std::string::npos ? "analytic" : where.substr(colon + 2);
-  const Field field(analytic, file, path);
+  const Field field = where.find(": ") == std::string::npos ? Field(analytic, where, "analytic")
+                                                            : Field::at_where(analytic, where);
   if (!analytic.is_object()) field.fail(" must be an object {\"type\": ..., parameters}");
   const Field type_field = field.at("type");
   const std::string type = type_field.string();

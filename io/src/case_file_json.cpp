@@ -45,6 +45,12 @@ std::string closest_word(const std::string& word, const std::vector<std::string>
   return best_distance <= limit ? best : "";
 }
 
+Field Field::at_where(const nlohmann::json& value, const std::string& where) {
+  const size_t colon = where.find(": ");
+  if (colon == std::string::npos) return Field(value, where, "");
+  return Field(value, where.substr(0, colon), where.substr(colon + 2));
+}
+
 std::string Field::where() const {
   return file_ + ": " + (path_.empty() ? "(document)" : path_);
 }

@@ -15,6 +15,9 @@ class Field {
   Field(const nlohmann::json& value, std::string file, std::string path)
       : value_(&value), file_(std::move(file)), path_(std::move(path)) {}
 
+  /// The field a message prefix "file: path" names (readers that are handed such a prefix).
+  static Field at_where(const nlohmann::json& value, const std::string& where);
+
   const nlohmann::json& json() const { return *value_; }
   const std::string& path() const { return path_; }
   /// "case.json: path" for messages.

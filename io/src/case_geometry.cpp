@@ -106,10 +106,7 @@ class GeometryFields {
  private:
   // The type check is case_json::Field's, the one wording of every io reader.
   double to_number(const nlohmann::json& v, const std::string& field) const {
-    const size_t colon = prefix_.find(": ");
-    const std::string file = prefix_.substr(0, colon);
-    const std::string path = prefix_.substr(colon + 2) + field;
-    return case_json::Field(v, file, path).number();
+    return case_json::Field::at_where(v, prefix_ + field).number();
   }
 
   const nlohmann::json& object_;

@@ -169,9 +169,7 @@ MeasurementSettings read_measurement_settings(const nlohmann::json& m,
   case_json::reject_unknown_fields(m, std::vector<std::string>(fields.begin(), fields.end()),
                                    where + ".");
   // Types and ranges: case_json::Field, the one wording of every io reader.
-  const size_t colon = where.find(": ");
-  const case_json::Field field(m, where.substr(0, colon),
-                               colon == std::string::npos ? where : where.substr(colon + 2));
+  const case_json::Field field = case_json::Field::at_where(m, where);
   auto string_field = [&](const std::string& key) { return field.at(key).string(); };
   auto number_field = [&](const std::string& key, double lo, double hi) {
     return field.at(key).within(lo, hi, true, true);

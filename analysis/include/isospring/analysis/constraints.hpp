@@ -30,4 +30,12 @@ Constraints build_constraints(const Problem& problem, const DofMap& dofs);
 void check_rigid_body_modes(const Problem& problem, const DofMap& dofs,
                             const Constraints& constraints);
 
+/// What every static solver starts with: validate_problem, the DofMap, the constraints and
+/// check_rigid_body_modes, in that order.
+struct SupportedProblem {
+  DofMap dofs;
+  Constraints constraints;
+};
+SupportedProblem number_and_support(const Problem& problem);
+
 }  // namespace isospring::analysis
