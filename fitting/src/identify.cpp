@@ -309,6 +309,10 @@ struct NewColumnProjection {
   bool done = false;
   int rank = 0;
   double residual = 0.0, model_error = 0.0, rss = 0.0;
+  /// One Gauss-Newton step of the new parameters from theta (the earlier ones refitted with them
+  /// to first order) and its standard errors, with the noise variance estimated from what is
+  /// left, (rss - residual) / (rows - total); empty when the new columns are rank deficient.
+  Eigen::VectorXd step, step_error;
 };
 
 NewColumnProjection project_on_new_columns(const Setup& setup, const Model& model,
@@ -345,8 +349,26 @@ NewColumnProjection project_on_new_columns(const Setup& setup, const Model& mode
   out.rank = static_cast<int>(qr.rank());
   if (out.rank == 0) return out;
   out.rss = residual.squaredNorm();
-  out.residual = std::min((added * qr.solve(residual)).squaredNorm(), out.rss);
+  const Eigen::VectorXd step = qr.solve(residual);
+  out.residual = std::min((added * step).squaredNorm(), out.rss);
   if (model_error) out.model_error = (added * qr.solve(error)).squaredNorm();
+  const Eigen::Index dof = rows - total;
+  if (out.rank == added.cols() && dof > 0) {
+    // The step and covariance of the new parameters are those of the regression on the
+    // orthogonalised columns (Frisch-Waugh-Lovell), undone column scaling.
+    const double variance = (out.rss - out.residual) / static_cast<double>(dof);
+    const Eigen::MatrixXd inverse_normal =
+        (added.transpose() * added)
+            .ldlt()
+            .solve(Eigen::MatrixXd::Identity(added.cols(), added.cols()));
+    out.step.resize(added.cols());
+    out.step_error.resize(added.cols());
+    for (Eigen::Index c = 0; c < added.cols(); ++c) {
+      const double s = scale[first_new + c] > 0.0 ? scale[first_new + c] : 1.0;
+      out.step[c] = step[c] / s;
+      out.step_error[c] = std::sqrt(std::max(0.0, variance * inverse_normal(c, c))) / s;
+    }
+  }
   out.done = true;
   return out;
 }
@@ -360,6 +382,9 @@ struct ScoreTest {
   double reduction = 0.0, f_statistic = 0.0, p_value = 1.0;
   int q = 0, d2 = 0;  // the F-test's degrees of freedom
   double rss = 0.0;   // at the current fit
+  /// The candidate's parameters after one Gauss-Newton step from its neutral values, and their
+  /// standard errors (empty when not estimable).
+  Eigen::VectorXd estimate, estimate_error;
 
   /// F and p again with another allowance.
   void widen(double allowance) {
@@ -385,9 +410,35 @@ ScoreTest score_test(const Setup& setup, const Model& candidate, const Fit& curr
   out.reduction = projection.residual;
   if (d2 <= 0 || !(projection.rss - out.reduction > 0.0)) return out;
   out.q = q, out.d2 = d2, out.rss = projection.rss;
+  if (projection.step.size() == neutral.size()) {
+    out.estimate = neutral + projection.step;
+    out.estimate_error = projection.step_error;
+  }
   out.done = true;
   out.widen(allowance);
   return out;
+}
+
+// The first expected value of `effect` (Effect::expected_values) that its estimated parameters
+// contradict, as a note for the report; empty when every one is consistent or not estimable.
+// Records the estimate in the candidate's test.
+std::string contradicted_expectation(const Effect& effect, const Eigen::VectorXd& values,
+                                     const Eigen::VectorXd& errors, const std::string& how,
+                                     CandidateTest& test) {
+  for (const ExpectedValue& expected : effect.expected_values()) {
+    if (expected.index >= values.size() || expected.index >= errors.size()) continue;
+    const double estimate = values[expected.index], error = errors[expected.index];
+    if (!std::isfinite(estimate) || !std::isfinite(error)) continue;
+    test.expected_parameter = effect.parameter_names()[static_cast<size_t>(expected.index)];
+    test.expected_estimate = estimate;
+    test.expected_error = error;
+    if (std::abs(estimate - expected.value) <= expected.tolerance + 3.0 * error) continue;
+    return "not added: " + how + " " + test.expected_parameter + " = " + std::to_string(estimate) +
+           " +- " + std::to_string(error) + ", inconsistent with " +
+           std::to_string(expected.value) + " (tolerance " + std::to_string(expected.tolerance) +
+           " + 3 standard errors): " + expected.meaning;
+  }
+  return {};
 }
 
 ErrorSummary summarize(const std::vector<Eigen::Vector3d>& residuals, const std::vector<int>& rows,
@@ -708,9 +759,12 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
         residual[m] = markers[m].displacement - predicted[m];
       round.residual = describe(residual);
     }
-    for (const std::string& note : unavailable)
-      round.candidates.push_back(
-          {note.substr(0, note.find(':')), 0, 0, 0, 1, note.substr(note.find(':') + 2)});
+    for (const std::string& note : unavailable) {
+      CandidateTest test;
+      test.effect = note.substr(0, note.find(':'));
+      test.note = note.substr(note.find(':') + 2);
+      round.candidates.push_back(test);
+    }
     int tried = 0;
     double best_p = 2.0, best_bic = 0.0;
     const Effect* best = nullptr;
@@ -754,6 +808,24 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           round.candidates.push_back(test);
           continue;
         }
+        // An effect whose physics fixes a parameter must find it near that value: its one-step
+        // estimate from the score test is exact for a parameter the prediction is linear in
+        // (the nonlinear blend weight), to first order in the others.
+        if (score.done) {
+          const std::string contradiction =
+              contradicted_expectation(*effect, score.estimate, score.estimate_error,
+                                       "the score test's one-step estimate", test);
+          if (!contradiction.empty()) {
+            test.f_statistic = score.f_statistic;
+            test.p_value = score.p_value;
+            test.rss = current_fit.rss - score.reduction;
+            test.note = contradiction;
+            test.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+            round.candidates.push_back(test);
+            continue;
+          }
+        }
         // Significant, but explaining far less than a candidate already fitted this round: it
         // cannot be this round's choice (the score test's reduction is the first-order estimate
         // of its fit's, 10x below the best); the next round screens it again.
@@ -771,13 +843,24 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           continue;
         }
       }
-      const Fit fit = run_fit(setup, model, weights);
+      const bool check_expectations = !effect->expected_values().empty();
+      Eigen::MatrixXd covariance;
+      const Fit fit = run_fit(setup, model, weights, check_expectations ? &covariance : nullptr);
       test.seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
       if (!fit.ok) {
         test.note = "fit failed: " + fit.message;
         round.candidates.push_back(test);
         continue;
+      }
+      std::string contradiction;
+      if (check_expectations && covariance.rows() == fit.theta.size()) {
+        const Eigen::Index k = effect->num_parameters();
+        const Eigen::VectorXd errors =
+            covariance.diagonal().tail(k).cwiseMax(0.0).cwiseSqrt() *
+            std::sqrt(fit.rss / std::max(1.0, static_cast<double>(fit.rows - fit.theta.size())));
+        contradiction =
+            contradicted_expectation(*effect, fit.theta.tail(k), errors, "the fitted", test);
       }
       // The part of the model's own discretisation error this candidate could absorb, |P e|^2,
       // to first order at its fit, plus two standard deviations of its cross term with the
@@ -814,12 +897,14 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       if (!bic_favours && test.p_value < options.significance)
         test.note = "significant by the F-test, but BIC does not favour it (delta BIC " +
                     std::to_string(test.delta_bic) + " >= 0): not added";
+      if (!contradiction.empty()) test.note = contradiction;
       round.candidates.push_back(test);
       // Strong effects have p-values that underflow to 0 in double; among equal p-values the
       // candidate with the lower BIC wins (the most explained per parameter), not the first one
       // tried and not simply the largest.
-      if (bic_favours && (test.p_value < best_p ||
-                          (test.p_value == best_p && best && test.delta_bic < best_bic))) {
+      if (bic_favours && contradiction.empty() &&
+          (test.p_value < best_p ||
+           (test.p_value == best_p && best && test.delta_bic < best_bic))) {
         best_p = test.p_value;
         best_bic = test.delta_bic;
         best = effect;

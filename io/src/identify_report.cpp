@@ -116,7 +116,7 @@ nlohmann::json identify_report_json(const IdentifyCommandResult& result) {
                      {"added", round.added},
                      {"removed", round.removed},
                      {"residual", residual_json(round.residual)}};
-    for (const auto& t : round.candidates)
+    for (const auto& t : round.candidates) {
       j["candidates"].push_back({{"effect", t.effect},
                                  {"parameters", t.parameters},
                                  {"rss", t.rss},
@@ -127,6 +127,11 @@ nlohmann::json identify_report_json(const IdentifyCommandResult& result) {
                                  {"model_error_allowance", t.model_error_allowance},
                                  {"seconds", t.seconds},
                                  {"note", t.note}});
+      if (!t.expected_parameter.empty())
+        j["candidates"].back()["expected_parameter"] = {{"name", t.expected_parameter},
+                                                        {"estimate", t.expected_estimate},
+                                                        {"standard_error", t.expected_error}};
+    }
     report["selection"].push_back(j);
   }
   report["alternatives"] = nlohmann::json::array();

@@ -1,8 +1,10 @@
 // geometric_nonlinearity: the forward model's large-deformation solution agrees with the analysis
 // module's Newton solver, its analytic Jacobian (E, nu, w) with finite differences, and the loop
 // finds the effect in data of a slender cantilever under a large tip load, but not under a small
-// one.
+// one, nor when the residual has its shape but not its size.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/dof_map.hpp"
@@ -151,7 +153,7 @@ struct Outcome {
 
 // Data of the SVK model with E = 1.15 E_prior and Gaussian noise of 1/1000 of the tip deflection;
 // the identification is not told about the nonlinearity.
-Outcome identify_cantilever(double q, unsigned seed) {
+Outcome identify_cantilever(double q, unsigned seed, double true_weight = 1.0) {
   analysis::Problem truth = cantilever(q);
   truth.material.youngs_modulus *= kTrueScale;
   std::vector<Marker> markers = beam_markers();
@@ -159,7 +161,9 @@ Outcome identify_cantilever(double q, unsigned seed) {
   const auto placements = place_markers(prior.patches, markers, 1e-9).placements;
   const double sigma = 1e-3 * 3.17e-4 * q;
   testing::add_noise(
-      markers, simulate_markers(truth, markers, placements, {{"geometric_nonlinearity", kSvk}}),
+      markers,
+      simulate_markers(truth, markers, placements,
+                       {{"geometric_nonlinearity", Eigen::VectorXd::Constant(1, true_weight)}}),
       sigma, seed);
   IdentifyOptions options;
   // Data simulated on this very discretisation: it has no discretisation error to control.
@@ -194,6 +198,31 @@ TEST(IdentifyNonlinear, FindsTheNonlinearityOfALargeTipDeflection) {
   ASSERT_FALSE(r.rounds.empty());
   const CandidateTest& nonlinear = nonlinear_candidate(r.rounds[0]);
   EXPECT_TRUE(nonlinear.note.empty()) << nonlinear.note;
+  // The fitted weight was checked against SVK's w = 1 and found consistent.
+  EXPECT_EQ(nonlinear.expected_parameter, "w");
+  EXPECT_LT(std::abs(nonlinear.expected_estimate - 1.0), 3 * nonlinear.expected_error);
+}
+
+// A residual that has the shape of the large-deformation response but not its size (here data
+// with 15 % of it, w = 0.15, as a stand-in for another effect that resembles it) passes the
+// F-test by far; the effect is still not added in any round, because SVK fixes w = 1. (Linear
+// candidates then absorb part of that residual, as they would absorb any unexplained one.)
+TEST(IdentifyNonlinear, RefusesAWeightFarFromSvk) {
+  const Outcome out = identify_cantilever(450.0, 6, 0.15);
+  const IdentifyResult& r = out.result;
+  EXPECT_EQ(std::count(r.effects_added.begin(), r.effects_added.end(), "geometric_nonlinearity"), 0)
+      << ::testing::PrintToString(r.effects_added);
+  ASSERT_FALSE(r.rounds.empty());
+  for (const SelectionRound& round : r.rounds) {
+    const CandidateTest& nonlinear = nonlinear_candidate(round);
+    EXPECT_NE(nonlinear.note.find("inconsistent with 1"), std::string::npos) << nonlinear.note;
+  }
+  // Measured: w = 0.14999 +- 0.0041 in the first round, p = 8e-66.
+  const CandidateTest& first = nonlinear_candidate(r.rounds[0]);
+  EXPECT_LT(first.p_value, 1e-6);  // significant: the F-test alone would have added it
+  EXPECT_EQ(first.expected_parameter, "w");
+  EXPECT_GT(first.expected_error, 0.0);
+  EXPECT_LT(std::abs(first.expected_estimate - 0.15), 3 * first.expected_error);
 }
 
 // The score test is the F-test's first-order version: on data where the nonlinearity is real its

@@ -39,6 +39,17 @@
 
 namespace isospring::fitting {
 
+/// A value one of an effect's parameters must take for the effect to mean what it says (the
+/// blend weight of geometric_nonlinearity is 1: SVK has no free parameter). A candidate whose
+/// estimate is inconsistent with it, |estimate - value| > tolerance + 3 standard errors, fits the
+/// data for another reason and is not added.
+struct ExpectedValue {
+  int index = 0;           // within the effect's parameters
+  double value = 0.0;      // what the physics fixes
+  double tolerance = 0.0;  // modelling allowance beyond the statistical error (absolute)
+  std::string meaning;     // for the report: what a departure says
+};
+
 /// What effects see of the problem and the data.
 struct EffectContext {
   const analysis::Problem* problem = nullptr;
@@ -76,6 +87,9 @@ class Effect {
   /// True for an effect whose model needs Newton solves (geometric_nonlinearity): the selection
   /// tries it after the linear candidates and only when a score test says it may matter.
   virtual bool expensive() const { return false; }
+  /// Parameters the physics fixes (see ExpectedValue); empty for effects whose parameters are
+  /// all free (a gravity vector, a modulus gradient).
+  virtual std::vector<ExpectedValue> expected_values() const { return {}; }
   /// Adds the effect's terms; its parameters are theta[first .. first + num_parameters()).
   virtual void add_terms(const EffectContext& context, int first, ModelTerms& terms) const = 0;
   /// Reportable values from the fitted parameters (e.g. k = k_ref exp(p)): name -> value.

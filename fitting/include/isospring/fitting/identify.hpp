@@ -105,6 +105,13 @@ struct CandidateTest {
   /// candidate could absorb to first order, |P e|^2 + 4 |P e| (two standard deviations of its
   /// cross term with the noise), or the whole widening when the DOF budget was exhausted.
   double model_error_allowance = 0.0;
+  /// The estimate of a parameter the effect's physics fixes (Effect::expected_values; the
+  /// nonlinear blend weight w = 1), from the score test or the fit, and its standard error; the
+  /// candidate is not added when they contradict the fixed value (see `note`). Empty name / NaN
+  /// for effects without such a parameter.
+  std::string expected_parameter;
+  double expected_estimate = std::numeric_limits<double>::quiet_NaN();
+  double expected_error = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct SelectionRound {
