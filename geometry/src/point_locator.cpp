@@ -3,7 +3,13 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Orthogonal_k_neighbor_search.h>
+#include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
 #include <CGAL/Simple_cartesian.h>
+#include <CGAL/property_map.h>
+
+#include <boost/tuple/tuple.hpp>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -20,6 +26,12 @@ using Triangle = Kernel::Triangle_3;
 using TriangleIterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+// Interior samples of a volume patch with their index, in a kd-tree.
+using IndexedPoint = boost::tuple<Kernel::Point_3, int>;
+using SampleTraits =
+    CGAL::Search_traits_adapter<IndexedPoint, CGAL::Nth_of_tuple_property_map<0, IndexedPoint>,
+                                CGAL::Search_traits_3<Kernel>>;
+using NearestSample = CGAL::Orthogonal_k_neighbor_search<SampleTraits>;
 
 Kernel::Point_3 to_cgal(const Eigen::Vector3d& x) {
   return {x.x(), x.y(), x.z()};
@@ -35,6 +47,12 @@ struct PatchMesh {
   std::vector<std::array<nurbs::Param, 3>> params;
   Tree tree;
   double chord_error = 0.0;
+  // Volumes: a grid of interior samples (kInteriorSamples per element and direction). The
+  // nearest one starts the inversion of a point inside; without it every such point sampled the
+  // whole patch (nurbs::invert_point's own start), 8^3 samples per element.
+  std::vector<nurbs::Param> sample_params;
+  NearestSample::Tree samples;
+  double sample_reach = 0.0;  // largest distance between neighbouring samples
 };
 
 std::vector<double> samples_along(const nurbs::Patch& patch, int dir, int per_element) {
@@ -45,6 +63,35 @@ std::vector<double> samples_along(const nurbs::Patch& patch, int dir, int per_el
       values.push_back(breaks[e] + (breaks[e + 1] - breaks[e]) * s / per_element);
   values.push_back(breaks.back());
   return values;
+}
+
+constexpr int kInteriorSamples = 2;
+
+// The interior sample grid of a volume patch and the largest distance between grid neighbours
+// (a point inside the patch is never farther than that from its nearest sample).
+void add_interior_samples(PatchMesh& mesh, const nurbs::Patch& patch) {
+  const std::vector<double> us = samples_along(patch, 0, kInteriorSamples);
+  const std::vector<double> vs = samples_along(patch, 1, kInteriorSamples);
+  const std::vector<double> ws = samples_along(patch, 2, kInteriorSamples);
+  std::vector<IndexedPoint> points;
+  std::vector<Eigen::Vector3d> xs;
+  for (double w : ws)
+    for (double v : vs)
+      for (double u : us) {
+        const nurbs::Param p{u, v, w};
+        xs.push_back(patch.point(p));
+        points.emplace_back(to_cgal(xs.back()), static_cast<int>(mesh.sample_params.size()));
+        mesh.sample_params.push_back(p);
+      }
+  const size_t nu = us.size(), nv = vs.size();
+  for (size_t i = 0; i < xs.size(); ++i) {
+    const size_t a = i % nu, b = (i / nu) % nv;
+    if (a + 1 < nu) mesh.sample_reach = std::max(mesh.sample_reach, (xs[i + 1] - xs[i]).norm());
+    if (b + 1 < nv) mesh.sample_reach = std::max(mesh.sample_reach, (xs[i + nu] - xs[i]).norm());
+    if (i + nu * nv < xs.size())
+      mesh.sample_reach = std::max(mesh.sample_reach, (xs[i + nu * nv] - xs[i]).norm());
+  }
+  mesh.samples.insert(points.begin(), points.end());
 }
 
 // Triangulates the parameter grid of directions a, b with direction `fixed` held at `value`.
@@ -189,6 +236,7 @@ PointLocator::PointLocator(const std::vector<nurbs::Patch>& patches, int samples
         for (double end : {patch.param_min(fixed), patch.param_max(fixed)})
           add_grid(*mesh, patch, a, b, fixed, end, samples_per_element);
       }
+      add_interior_samples(*mesh, patch);
     }
     mesh->tree.insert(mesh->triangles.begin(), mesh->triangles.end());
     mesh->tree.accelerate_distance_queries();
@@ -239,8 +287,22 @@ Location PointLocator::locate(const Eigen::Vector3d& x) const {
     if (!near && !may_contain) continue;
     std::vector<nurbs::Inversion> tries;
     if (near) tries.push_back(nurbs::invert_point(patch, x, start[p], kInversionTolerance));
-    if (may_contain)  // sampled start inside the volume
-      tries.push_back(nurbs::invert_point(patch, x, std::nullopt, kInversionTolerance));
+    const double inside = 1e-10 * impl_->size;
+    if (may_contain && !mesh.sample_params.empty()) {
+      // Starts at the nearest interior samples; the whole patch is sampled only when none of
+      // them reaches the point and it is close enough to the samples to be inside.
+      const NearestSample search(mesh.samples, to_cgal(x), 3);
+      double nearest = std::numeric_limits<double>::infinity();
+      bool found = false;
+      for (auto it = search.begin(); it != search.end() && !found; ++it) {
+        nearest = std::min(nearest, std::sqrt(it->second));
+        const auto& sample = mesh.sample_params[static_cast<size_t>(boost::get<1>(it->first))];
+        tries.push_back(nurbs::invert_point(patch, x, sample, kInversionTolerance));
+        found = tries.back().distance <= inside;
+      }
+      if (!found && nearest <= mesh.sample_reach)
+        tries.push_back(nurbs::invert_point(patch, x, std::nullopt, kInversionTolerance));
+    }
     for (auto& inv : tries) inv = polished(patch, x, inv);
     for (const auto& inv : tries)
       if (inv.distance < best.distance) {
