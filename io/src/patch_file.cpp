@@ -15,65 +15,37 @@ using nurbs::InputError;
 
 namespace {
 
-/// "file.json: patches[2].knots[1]" and friends.
-struct Where {
-  std::string source;
-  std::string path;
-  std::string operator()(const std::string& field) const {
-    return source + ": " + path + (field.empty() ? "" : "." + field);
-  }
-};
-
-double number_at(const json& value, const std::string& where) {
-  if (!value.is_number())
-    throw InputError(where + " must be a number, got " + std::string(value.type_name()));
-  const double x = value.get<double>();
-  if (!std::isfinite(x)) throw InputError(where + " is not finite (NaN or inf)");
-  return x;
-}
-
-std::vector<double> numbers_at(const json& value, const std::string& where) {
-  if (!value.is_array())
-    throw InputError(where + " must be an array of numbers, got " + std::string(value.type_name()));
+std::vector<double> numbers(const case_json::Field& array) {
   std::vector<double> out;
-  out.reserve(value.size());
-  for (size_t i = 0; i < value.size(); ++i)
-    out.push_back(number_at(value[i], where + "[" + std::to_string(i) + "]"));
+  for (const case_json::Field& entry : array.elements()) out.push_back(entry.number());
   return out;
 }
 
-nurbs::Patch patch_from_json(const json& item, const Where& where) {
-  if (!item.is_object()) throw InputError(where("") + " must be an object");
-  case_json::reject_unknown_fields(item, {"degrees", "knots", "control_points", "weights"},
-                                   where("") + ".");
-  for (const char* required : {"degrees", "knots", "control_points"})
-    if (!item.contains(required)) throw InputError(where(required) + " is missing");
-
-  const json& degrees_json = item["degrees"];
-  if (!degrees_json.is_array() || degrees_json.empty() || degrees_json.size() > 3)
-    throw InputError(where("degrees") + " must be an array of 1 to 3 integers");
+// One patch; types and ranges through case_json::Field (the case file's wording), what only a
+// NURBS patch needs (matching counts, positive weights, valid knot vectors) here and in nurbs.
+nurbs::Patch patch_from_json(const case_json::Field& item) {
+  item.expect_object({"degrees", "knots", "control_points", "weights"});
+  const case_json::Field degrees_field = item.at("degrees");
+  const std::vector<case_json::Field> degree_entries = degrees_field.elements(false);
+  if (degree_entries.size() > 3)
+    throw InputError(degrees_field.where() + " must be an array of 1 to 3 integers, got " +
+                     std::to_string(degree_entries.size()));
   std::vector<int> degrees;
-  for (size_t d = 0; d < degrees_json.size(); ++d) {
-    const std::optional<int> degree = json_int(degrees_json[d]);
-    if (!degree)
-      throw InputError(where("degrees[" + std::to_string(d) + "]") + " must be an integer, got " +
-                       degrees_json[d].dump());
-    degrees.push_back(*degree);
-  }
-  const json& knots_json = item["knots"];
-  if (!knots_json.is_array() || knots_json.size() != degrees.size())
-    throw InputError(where("knots") + " must hold one knot vector per degree (" +
-                     std::to_string(degrees.size()) + ")");
+  for (const case_json::Field& degree : degree_entries)
+    degrees.push_back(degree.integer_at_least(1));
+  const case_json::Field knots_field = item.at("knots");
+  const std::vector<case_json::Field> knot_vectors = knots_field.elements();
+  if (knot_vectors.size() != degrees.size())
+    throw InputError(knots_field.where() + " must hold one knot vector per degree (" +
+                     std::to_string(degrees.size()) + "), got " +
+                     std::to_string(knot_vectors.size()));
 
-  const json& points_json = item["control_points"];
-  if (!points_json.is_array()) throw InputError(where("control_points") + " must be an array");
+  const case_json::Field points_field = item.at("control_points");
   std::vector<Eigen::Vector3d> points;
-  points.reserve(points_json.size());
-  for (size_t i = 0; i < points_json.size(); ++i) {
-    const std::string at = where("control_points[" + std::to_string(i) + "]");
-    const std::vector<double> xyz = numbers_at(points_json[i], at);
+  for (const case_json::Field& point : points_field.elements()) {
+    const std::vector<double> xyz = numbers(point);
     if (xyz.size() != 3)
-      throw InputError(at + " has " + std::to_string(xyz.size()) +
+      throw InputError(point.where() + " has " + std::to_string(xyz.size()) +
                        " coordinates; always give 3 (x, y, z; z = 0 for 2D geometry)");
     points.emplace_back(xyz[0], xyz[1], xyz[2]);
   }
@@ -82,35 +54,36 @@ nurbs::Patch patch_from_json(const json& item, const Where& where) {
   std::vector<nurbs::KnotVector> knots;
   size_t product = 1;
   for (size_t d = 0; d < degrees.size(); ++d) {
-    const std::string at = where("knots[" + std::to_string(d) + "]");
-    std::vector<double> values = numbers_at(knots_json[d], at);
-    knots.emplace_back(degrees[d], std::move(values), at);
+    knots.emplace_back(degrees[d], numbers(knot_vectors[d]), knot_vectors[d].where());
     product *= static_cast<size_t>(knots.back().num_basis());
   }
   if (product != points.size()) {
     std::ostringstream msg;
-    msg << where("control_points") << " has " << points.size() << " points, but the knots give ";
+    msg << points_field.where() << " has " << points.size() << " points, but the knots give ";
     for (size_t d = 0; d < knots.size(); ++d) msg << (d ? " x " : "") << knots[d].num_basis();
     msg << " = " << product
         << " (each direction: number of knots - degree - 1); fix the knots or the points";
     throw InputError(msg.str());
   }
   std::vector<double> weights;
-  if (item.contains("weights")) {
-    weights = numbers_at(item["weights"], where("weights"));
-    if (weights.size() != points.size())
-      throw InputError(where("weights") + " has " + std::to_string(weights.size()) +
+  if (item.has("weights")) {
+    const case_json::Field weights_field = item.at("weights");
+    const std::vector<case_json::Field> entries = weights_field.elements();
+    if (entries.size() != points.size())
+      throw InputError(weights_field.where() + " has " + std::to_string(entries.size()) +
                        " values for " + std::to_string(points.size()) +
                        " control points; give one per point or leave weights out");
-    for (size_t i = 0; i < weights.size(); ++i)
-      if (weights[i] <= 0.0)
-        throw InputError(where("weights[" + std::to_string(i) + "]") + " = " +
-                         std::to_string(weights[i]) + " must be > 0 (NURBS weights are positive)");
+    for (const case_json::Field& entry : entries) {
+      weights.push_back(entry.number());
+      if (weights.back() <= 0.0)
+        throw InputError(entry.where() + " = " + std::to_string(weights.back()) +
+                         " must be > 0 (NURBS weights are positive)");
+    }
   }
   try {
     return nurbs::Patch(std::move(knots), std::move(points), std::move(weights));
   } catch (const InputError& e) {
-    throw InputError(where("") + ": " + e.what());
+    throw InputError(item.where() + ": " + e.what());
   }
 }
 
@@ -119,14 +92,13 @@ nurbs::Patch patch_from_json(const json& item, const Where& where) {
 std::vector<nurbs::Patch> patches_from_json(const json& document, const std::string& source) {
   if (!document.is_object() || !document.contains("patches"))
     throw InputError(source + ": a patch file is an object with a \"patches\" array");
-  case_json::reject_unknown_fields(document, {"patches"}, source + ": ");
-  const json& list = document["patches"];
-  if (!list.is_array() || list.empty())
+  const case_json::Field root(document, source, "");
+  root.expect_object({"patches"});
+  const case_json::Field list = root.at("patches");
+  if (!list.json().is_array() || list.json().empty())
     throw InputError(source + ": patches must be a non-empty array");
   std::vector<nurbs::Patch> patches;
-  for (size_t i = 0; i < list.size(); ++i)
-    patches.push_back(
-        patch_from_json(list[i], Where{source, "patches[" + std::to_string(i) + "]"}));
+  for (const case_json::Field& item : list.elements()) patches.push_back(patch_from_json(item));
   return patches;
 }
 

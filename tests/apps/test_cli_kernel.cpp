@@ -96,6 +96,10 @@ TEST(CliKernel, BadInputExitsWithOneAndNamesTheField) {
        "patches[0].control_points[1] has 2 coordinates; always give 3"},
       {R"({"patches":[{"degrees":[1],"knots":[[0,0,1,1]],"control_points":[[0,0,0],[1,0,0]],"weight":[1,1]}]})",
        "patches[0].weight: unknown field"},
+      {R"({"patches":[{"degrees":[0],"knots":[[0,1]],"control_points":[[0,0,0]]}]})",
+       "patches[0].degrees[0] must be an integer >= 1, got 0"},
+      {R"({"patches":[{"degrees":[1],"knots":[[0,0,"1",1]],"control_points":[[0,0,0],[1,0,0]]}]})",
+       "patches[0].knots[0][2] must be a number, got string"},
       {R"({"patches":[{"degrees":[1],"knots":[[0,0,1,1]],"control_points":[[0,0,0],[1,0,0]]}],)",
        "not valid JSON"},
   };
