@@ -1,5 +1,6 @@
 // Four-sided trimmed faces -> exact NURBS Coons patches of their (B-spline converted) edges.
 #include "cad_coons.hpp"
+#include "cad_face_recognisers.hpp"
 
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
@@ -200,6 +201,18 @@ bool coons_face_patch(const TopoDS_Face& face, CadFace& report, nurbs::Patch& pa
   report.coons_deviation = deviation;
   report.note.clear();
   return true;
+}
+
+// A trimmed face with one wire of four edges: the Coons patch of its edges. Only faces the natural
+// recogniser explained (its note) are tried: a face it failed on for another reason threw.
+FaceRecognition recognise_coons_face(const TopoDS_Face& face, CadFace& report) {
+  FaceRecognition out;
+  if (report.note.empty() || report.wires != 1) return out;
+  nurbs::Patch patch;
+  if (!coons_face_patch(face, report, patch)) return out;
+  out.recognised = true;
+  out.patches.push_back(std::move(patch));
+  return out;
 }
 
 }  // namespace isospring::geometry::detail

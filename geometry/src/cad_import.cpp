@@ -33,8 +33,7 @@
 #include <random>
 #include <sstream>
 
-#include "cad_coons.hpp"
-#include "cad_planar_face.hpp"
+#include "cad_face_recognisers.hpp"
 #include "cad_reader.hpp"
 #include "cad_solid_recognisers.hpp"
 #include "crash_guard.hpp"
@@ -172,63 +171,6 @@ TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_uni
   return read_shape_unguarded(file, file_unit);
 }
 
-// The face as a patch when it covers its whole UV rectangle; otherwise an explanation.
-bool natural_patch(const TopoDS_Face& face, CadFace& report, nurbs::Patch& patch) {
-  const TopoDS_Face nurbs_face = TopoDS::Face(BRepBuilderAPI_NurbsConvert(face, true).Shape());
-  // The face may carry a location (IGES unit scaling, assembly placement): convert the bare
-  // surface and apply the transformation to the control points (exact for NURBS).
-  TopLoc_Location location;
-  Handle(Geom_BSplineSurface) surface =
-      GeomConvert::SurfaceToBSplineSurface(BRep_Tool::Surface(nurbs_face, location));
-  surface = Handle(Geom_BSplineSurface)::DownCast(surface->Copy());
-  double u0, u1, v0, v1;
-  BRepTools::UVBounds(nurbs_face, u0, u1, v0, v1);
-  if (surface->IsUPeriodic()) surface->SetUNotPeriodic();
-  if (surface->IsVPeriodic()) surface->SetVNotPeriodic();
-  // Non-periodic OCCT surfaces may still have unclamped end knots (periodic origin); raising the
-  // face's bounds to full multiplicity and cutting there gives a clamped, exact patch.
-  surface->InsertUKnot(u0, surface->UDegree(), 1e-12, false);
-  surface->InsertUKnot(u1, surface->UDegree(), 1e-12, false);
-  surface->InsertVKnot(v0, surface->VDegree(), 1e-12, false);
-  surface->InsertVKnot(v1, surface->VDegree(), 1e-12, false);
-  surface->Segment(u0, u1, v0, v1);
-  patch = detail::patch_from_occt(surface);
-  // The conversion is exact; check it by sampling against OCCT's own evaluation.
-  std::mt19937 rng(1);
-  const auto [lo, hi] = patch.control_bounds();
-  const double size = (hi - lo).norm();
-  for (int n = 0; n < 16; ++n) {
-    const double u = std::uniform_real_distribution<double>(u0, u1)(rng);
-    const double v = std::uniform_real_distribution<double>(v0, v1)(rng);
-    const gp_Pnt p = surface->Value(u, v);
-    if ((patch.point({u, v, 0}) - Eigen::Vector3d(p.X(), p.Y(), p.Z())).norm() > 1e-9 * size)
-      throw std::runtime_error("face " + std::to_string(report.index) +
-                               ": NURBS conversion does not reproduce the surface");
-  }
-  if (!location.IsIdentity()) {
-    const gp_Trsf trsf = location.Transformation();
-    std::vector<Eigen::Vector3d> points;
-    for (const auto& x : patch.control_points()) {
-      gp_XYZ p(x.x(), x.y(), x.z());
-      trsf.Transforms(p);
-      points.emplace_back(p.X(), p.Y(), p.Z());
-    }
-    patch = nurbs::Patch(patch.all_knots(), points, patch.weights());
-  }
-  if (face.Orientation() == TopAbs_REVERSED) patch = reverse_direction(patch, 0);
-  // Natural boundary: one wire and the face's area equals the area of the whole patch.
-  const double patch_area = measure(patch);
-  if (report.wires != 1 || std::abs(patch_area - report.area) > 1e-6 * patch_area) {
-    std::ostringstream note;
-    note << "trimmed: " << report.wires << " wire(s), " << report.edges
-         << " edges, face area / patch area = " << report.area / patch_area
-         << "; split it into 4-sided faces in the CAD program (or drop it with \"faces\")";
-    report.note = note.str();
-    return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::string& file_unit) {
@@ -297,29 +239,22 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
     GProp_GProps lines;
     BRepGProp::LinearProperties(face, lines);
     report.perimeter = lines.Mass();
-    nurbs::Patch patch;
     try {
-      report.natural = natural_patch(face, report, patch);
-      // A trimmed face with one wire of four edges: the Coons patch of its edges.
-      if (!report.natural && !report.note.empty() && report.wires == 1)
-        detail::coons_face_patch(face, report, patch);
-      // Any other planar trimmed face: cut into conforming 4-sided patches.
-      if (!report.natural && !report.coons && report.surface_type == "plane") {
-        std::vector<nurbs::Patch> cut;
-        if (detail::split_planar_face(face, report, cut)) {
-          model.split_patches.insert(model.split_patches.end(), cut.begin(), cut.end());
-          model.split_patch_face.insert(model.split_patch_face.end(), cut.size(), report.index);
-        }
+      // The first recogniser that makes patches of the face wins (cad_face_recognisers.cpp).
+      for (const detail::FaceRecogniser& recogniser : detail::face_recognisers()) {
+        const detail::FaceRecognition found = recogniser.recognise(face, report);
+        if (!found.recognised) continue;
+        auto& patches = found.cut ? model.split_patches : model.face_patches;
+        auto& owners = found.cut ? model.split_patch_face : model.patch_face;
+        patches.insert(patches.end(), found.patches.begin(), found.patches.end());
+        owners.insert(owners.end(), found.patches.size(), report.index);
+        break;
       }
     } catch (const Standard_Failure& e) {
       report.note =
           std::string("OpenCascade cannot convert it to NURBS (") + e.GetMessageString() + ")";
     } catch (const std::exception& e) {
       report.note = e.what();
-    }
-    if (report.natural || report.coons) {
-      model.face_patches.push_back(patch);
-      model.patch_face.push_back(report.index);
     }
     model.face_reports.push_back(report);
   }

@@ -1,5 +1,6 @@
 // Planar trimmed faces -> conforming four-sided patches of their exact edge curves.
 #include "cad_planar_face.hpp"
+#include "cad_face_recognisers.hpp"
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepTools.hxx>
@@ -107,6 +108,16 @@ bool split_planar_face(const TopoDS_Face& face, CadFace& report,
   report.split = static_cast<int>(patches.size());
   report.note.clear();
   return true;
+}
+
+// Any other planar trimmed face: cut into conforming 4-sided patches.
+FaceRecognition recognise_planar_cut_face(const TopoDS_Face& face, CadFace& report) {
+  FaceRecognition out;
+  if (report.surface_type != "plane") return out;
+  out.recognised = split_planar_face(face, report, out.patches);
+  out.cut = true;
+  if (!out.recognised) out.patches.clear();
+  return out;
 }
 
 }  // namespace isospring::geometry::detail
