@@ -1,15 +1,10 @@
 // STEP/IGES import through OpenCascade: faces to NURBS patches, hexahedral solids to volumes.
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
-#include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepGProp.hxx>
-#include <BRepTools.hxx>
-#include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <Eigen/Geometry>
 #include <GProp_GProps.hxx>
-#include <GeomConvert.hxx>
-#include <Geom_BSplineSurface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
@@ -22,7 +17,6 @@
 #include <TCollection_HAsciiString.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
-#include <TopLoc_Location.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Face.hxx>
@@ -30,7 +24,6 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <random>
 #include <sstream>
 
 #include "cad_face_recognisers.hpp"
@@ -40,9 +33,7 @@
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/conforming_sides.hpp"
 #include "isospring/geometry/construction.hpp"
-#include "isospring/geometry/measure.hpp"
 #include "isospring/nurbs/error.hpp"
-#include "occt_conversion.hpp"
 #include "occt_silence.hpp"
 #include "step_entities.hpp"
 
