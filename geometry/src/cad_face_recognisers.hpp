@@ -27,6 +27,10 @@ struct FaceRecogniser {
   FaceRecognition (*recognise)(const TopoDS_Face&, CadFace&);
 };
 
+/// The report before any recogniser ran: the face's index, surface type, wires, edges, and
+/// OpenCascade's area and perimeter.
+CadFace describe_face(const TopoDS_Face& face, int index);
+
 /// Every recogniser in the order read_cad tries them; the first that recognises a face wins.
 const std::vector<FaceRecogniser>& face_recognisers();
 

@@ -50,33 +50,6 @@ std::string lower_extension(const std::filesystem::path& file) {
   return ext;
 }
 
-std::string surface_type_name(GeomAbs_SurfaceType type) {
-  switch (type) {
-    case GeomAbs_Plane:
-      return "plane";
-    case GeomAbs_Cylinder:
-      return "cylinder";
-    case GeomAbs_Cone:
-      return "cone";
-    case GeomAbs_Sphere:
-      return "sphere";
-    case GeomAbs_Torus:
-      return "torus";
-    case GeomAbs_BezierSurface:
-      return "bezier";
-    case GeomAbs_BSplineSurface:
-      return "bspline";
-    case GeomAbs_SurfaceOfRevolution:
-      return "revolution";
-    case GeomAbs_SurfaceOfExtrusion:
-      return "extrusion";
-    case GeomAbs_OffsetSurface:
-      return "offset";
-    default:
-      return "other";
-  }
-}
-
 // Reads the file into one shape, in metres; returns the unit the file declares.
 TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string& file_unit) {
   const std::string name = file.string();
@@ -215,21 +188,8 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
   }
   for (int f = 1; f <= model.faces; ++f) {
     const TopoDS_Face face = TopoDS::Face(faces(f));
-    CadFace report;
-    report.index = f - 1;
-    report.surface_type = surface_type_name(BRepAdaptor_Surface(face).GetType());
-    TopTools_IndexedMapOfShape wires, face_edges;
-    TopExp::MapShapes(face, TopAbs_WIRE, wires);
-    TopExp::MapShapes(face, TopAbs_EDGE, face_edges);
-    report.wires = wires.Extent();
-    report.edges = face_edges.Extent();
-    GProp_GProps props;
-    BRepGProp::SurfaceProperties(face, props, 1e-9);
-    report.area = props.Mass();
+    CadFace report = detail::describe_face(face, f - 1);
     model.area += report.area;
-    GProp_GProps lines;
-    BRepGProp::LinearProperties(face, lines);
-    report.perimeter = lines.Mass();
     try {
       // The first recogniser that makes patches of the face wins (cad_face_recognisers.cpp).
       for (const detail::FaceRecogniser& recogniser : detail::face_recognisers()) {

@@ -8,11 +8,7 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
-#include <BRepGProp.hxx>
-#include <GProp_GProps.hxx>
 #include <Geom_Plane.hxx>
-#include <TopExp.hxx>
-#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Circ.hxx>
@@ -23,21 +19,6 @@
 
 namespace isospring::geometry {
 namespace {
-
-// The report read_cad fills before the recognisers run.
-CadFace report_of(const TopoDS_Face& face) {
-  CadFace report;
-  report.surface_type = "plane";
-  TopTools_IndexedMapOfShape wires, edges;
-  TopExp::MapShapes(face, TopAbs_WIRE, wires);
-  TopExp::MapShapes(face, TopAbs_EDGE, edges);
-  report.wires = wires.Extent();
-  report.edges = edges.Extent();
-  GProp_GProps props;
-  BRepGProp::SurfaceProperties(face, props, 1e-9);
-  report.area = props.Mass();
-  return report;
-}
 
 // The name of the first recogniser that accepts the face, and its patches' total area.
 std::pair<std::string, double> first_acceptor(const TopoDS_Face& face, CadFace& report) {
@@ -67,7 +48,7 @@ TEST(CadFaceRecognisers, OrderIsNaturalThenCoonsThenCut) {
 
 TEST(CadFaceRecognisers, AWholeRectangleIsItsOwnPatch) {
   const TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Pln(gp::Origin(), gp::DZ()), 0, 2, 0, 1);
-  CadFace report = report_of(face);
+  CadFace report = detail::describe_face(face, 0);
   const auto [name, area] = first_acceptor(face, report);
   EXPECT_EQ(name, "natural");
   EXPECT_TRUE(report.natural);
@@ -78,7 +59,7 @@ TEST(CadFaceRecognisers, ATrimmedQuadrilateralIsACoonsPatch) {
   // A trapezoid on the unbounded plane: not the plane's parameter rectangle, four edges.
   const TopoDS_Face face =
       polygon_face({gp_Pnt(0, 0, 0), gp_Pnt(3, 0, 0), gp_Pnt(2, 1, 0), gp_Pnt(1, 1, 0)}, true);
-  CadFace report = report_of(face);
+  CadFace report = detail::describe_face(face, 0);
   const auto [name, area] = first_acceptor(face, report);
   EXPECT_EQ(name, "coons") << report.note;
   EXPECT_FALSE(report.natural);
@@ -95,7 +76,7 @@ TEST(CadFaceRecognisers, ASquareWithAHoleIsCut) {
   hole.Reverse();  // inner wires run clockwise
   maker.Add(hole);
   const TopoDS_Face face = maker.Face();
-  CadFace report = report_of(face);
+  CadFace report = detail::describe_face(face, 0);
   ASSERT_EQ(report.wires, 2);
   const auto [name, area] = first_acceptor(face, report);
   EXPECT_EQ(name, "planar_cut") << report.note;
