@@ -108,6 +108,43 @@ DisplacementFitResult fit_with_prior(const DisplacementFitData& data,
   return result;
 }
 
+// Why a fit cannot be the calibrated model, in calibrate()'s words; empty when it can.
+std::string unusable_fit(const DisplacementFitResult& fit) {
+  if (!fit.converged)
+    return "calibration: the stiffness fit did not converge (" + fit.message +
+           "); raise calibration.max_iterations or use fewer groups (larger gamma)";
+  for (double k : fit.spring_stiffness)
+    if (!(k > 0.0) || !std::isfinite(k))
+      return "calibration: the fit produced a non-positive or non-finite spring";
+  for (double kappa : fit.volume_modulus)
+    if (!(kappa > 0.0) || !std::isfinite(kappa))
+      return "calibration: the fit produced a non-positive or non-finite volume modulus";
+  return "";
+}
+
+// The fitted stiffnesses and groups on the network's springs and volume terms.
+void set_fitted(analysis::SpringNetwork& network, const DisplacementFitResult& fit,
+                const Grouping& grouping) {
+  for (size_t s = 0; s < network.springs.size(); ++s) {
+    network.springs[s].stiffness = fit.spring_stiffness[s];
+    network.springs[s].group = grouping.group_of_spring[s];
+  }
+  for (size_t v = 0; v < network.volumes.size(); ++v) {
+    network.volumes[v].modulus = fit.volume_modulus[v];
+    network.volumes[v].group = grouping.group_of_volume[v];
+  }
+}
+
+bool same_grouping(const Grouping& a, const Grouping& b) {
+  return a.group_of_spring == b.group_of_spring && a.group_of_volume == b.group_of_volume;
+}
+
+std::string gamma_text(double gamma) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", gamma);
+  return text;
+}
+
 }  // namespace
 
 CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationSettings& settings) {
@@ -120,6 +157,11 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
                      [&](const auto& lc) { return lc.id == id; }))
       throw nurbs::InputError("calibration.holdout_cases: no load case '" + id +
                               "' in the case file");
+
+  if (settings.damping_alpha > 0.0 && settings.damping_ratio > 0.0)
+    throw nurbs::InputError(
+        "calibration: give damping_alpha or damping_ratio, not both (they define the same "
+        "spring damping in two ways)");
 
   CalibrationResult result;
   if (settings.progress && settings.reference_displacements.empty())
@@ -192,8 +234,9 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     throw nurbs::InputError(
         "calibration: the matrix approach fits central springs only; turn off "
         "calibration.volume_terms / shear_terms or matrix_approach");
-  auto fit_with = [&](double gamma, Grouping& grouping) {
-    const Grouping groups = group_by_rest_length(mesh.network, gamma);
+  // The fit of one gamma whose rest-length groups are `groups`; `grouping` gets the fit's own
+  // (one group per spring with per_spring).
+  auto fit_with = [&](double gamma, const Grouping& groups, Grouping& grouping) {
     DisplacementFitOptions options;
     options.max_iterations = settings.max_iterations;
     options.min_stiffness_ratio = settings.min_stiffness_ratio;
@@ -255,60 +298,106 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     return fit_displacements(data, options);
   };
 
+  // Control-point displacements (node order, as points) of `network` under load case c.
+  auto model_points = [&](const analysis::SpringNetwork& network, int c) {
+    const Eigen::VectorXd u =
+        analysis::solve_spring_linear(network, loads[c], data.constrained_dofs).displacement;
+    Eigen::VectorXd node_u(dofs.num_dofs());
+    for (int a = 0; a < dofs.num_nodes(); ++a)
+      node_u.segment(a * dim, dim) = u.segment(particle_of_node_map[a] * dim, dim);
+    return to_points(node_u, dim);
+  };
+
+  // The gamma sweep (SweepEntry): every gamma fitted unless its grouping repeats an earlier one,
+  // a failing gamma recorded, the best usable one kept.
   start = std::chrono::steady_clock::now();
   std::vector<double> gammas = settings.gamma_sweep;
   if (gammas.empty()) gammas.push_back(settings.gamma);
+  std::vector<Grouping> rest_groupings;  // per sweep entry
   double best_score = INFINITY;
+  bool found = false;
   for (double gamma : gammas) {
-    Grouping grouping;
-    DisplacementFitResult fit = fit_with(gamma, grouping);
     SweepEntry entry;
     entry.gamma = gamma;
-    entry.groups = group_by_rest_length(mesh.network, gamma).num_groups();
-    double sum = 0.0;
-    for (double e : fit.percent_e_rms) sum += e * e;
-    entry.percent_e_rms = std::sqrt(sum / fit.percent_e_rms.size());
-    for (double e : fit.percent_e_max) entry.percent_e_max = std::max(entry.percent_e_max, e);
-    result.sweep.push_back(entry);
-    if (entry.percent_e_rms < best_score) {
-      best_score = entry.percent_e_rms;
-      result.fit_result = fit;
-      result.grouping = grouping;
-      result.gamma = gamma;
+    rest_groupings.push_back(group_by_rest_length(mesh.network, gamma));
+    const Grouping& groups = rest_groupings.back();
+    entry.groups = groups.num_groups();
+    int same = -1;
+    for (size_t e = 0; e + 1 < rest_groupings.size() && same < 0; ++e)
+      if (result.sweep[e].reused_from < 0 && same_grouping(rest_groupings[e], groups))
+        same = static_cast<int>(e);
+    if (same >= 0) {
+      entry = result.sweep[static_cast<size_t>(same)];
+      entry.gamma = gamma;
+      entry.reused_from = same;
+      if (settings.progress)
+        settings.progress("gamma " + gamma_text(gamma) + ": the grouping of gamma " +
+                          gamma_text(result.sweep[static_cast<size_t>(same)].gamma) +
+                          ", its fit reused");
+      result.sweep.push_back(std::move(entry));
+      continue;
     }
+    try {
+      Grouping grouping;
+      DisplacementFitResult fit = fit_with(gamma, groups, grouping);
+      entry.parameters = grouping.num_groups();
+      double sum = 0.0;
+      for (double e : fit.percent_e_rms) sum += e * e;
+      entry.percent_e_rms = std::sqrt(sum / fit.percent_e_rms.size());
+      for (double e : fit.percent_e_max) entry.percent_e_max = std::max(entry.percent_e_max, e);
+      entry.group_stiffness = fit.group_stiffness;
+      entry.spring_stiffness = fit.spring_stiffness;
+      entry.volume_modulus = fit.volume_modulus;
+      entry.failure = unusable_fit(fit);
+      if (entry.failure.empty()) {
+        analysis::SpringNetwork network = mesh.network;
+        set_fitted(network, fit, grouping);
+        double score = 0.0;
+        for (int c : fitted) {
+          entry.control.push_back(error_metrics(
+              to_points(reference.load_cases[c].displacement, dim), model_points(network, c)));
+          score += entry.control.back().percent_e_rms * entry.control.back().percent_e_rms;
+        }
+        score = std::sqrt(score / static_cast<double>(entry.control.size()));
+        if (!std::isfinite(score)) {
+          entry.control.clear();
+          entry.failure = "calibration: the fitted model's error is not finite";
+        } else if (!found || score < best_score) {
+          found = true;
+          best_score = score;
+          result.fit_result = std::move(fit);
+          result.grouping = std::move(grouping);
+          result.gamma = gamma;
+        }
+      }
+    } catch (const nurbs::InputError&) {
+      throw;  // bad settings or data: no gamma can do better
+    } catch (const std::runtime_error& e) {
+      if (gammas.size() == 1) throw;
+      entry.control.clear();
+      entry.failure = e.what();
+    }
+    if (!entry.failure.empty() && settings.progress && gammas.size() > 1)
+      settings.progress("gamma " + gamma_text(gamma) + " failed: " + entry.failure);
+    result.sweep.push_back(std::move(entry));
   }
   result.fit_seconds = seconds_since(start);
+  if (!found) {
+    if (result.sweep.size() == 1) throw std::runtime_error(result.sweep[0].failure);
+    std::string message = "calibration: every gamma of the sweep failed";
+    for (const SweepEntry& entry : result.sweep)
+      if (entry.reused_from < 0)
+        message += "; gamma " + gamma_text(entry.gamma) + ": " + entry.failure;
+    throw std::runtime_error(message);
+  }
   const DisplacementFitResult& fit = result.fit_result;
-  if (!fit.converged)
-    throw std::runtime_error(
-        "calibration: the stiffness fit did not converge (" + fit.message +
-        "); raise calibration.max_iterations or use fewer groups (larger gamma)");
-  for (size_t s = 0; s < mesh.network.springs.size(); ++s) {
-    const double k = fit.spring_stiffness[s];
-    if (!(k > 0.0) || !std::isfinite(k))
-      throw std::runtime_error("calibration: the fit produced a non-positive or non-finite spring");
-    mesh.network.springs[s].stiffness = k;
-    mesh.network.springs[s].group = result.grouping.group_of_spring[s];
-  }
-  for (size_t v = 0; v < mesh.network.volumes.size(); ++v) {
-    const double kappa = fit.volume_modulus[v];
-    if (!(kappa > 0.0) || !std::isfinite(kappa))
-      throw std::runtime_error(
-          "calibration: the fit produced a non-positive or non-finite volume "
-          "modulus");
-    mesh.network.volumes[v].modulus = kappa;
-    mesh.network.volumes[v].group = result.grouping.group_of_volume[v];
-  }
+  set_fitted(mesh.network, fit, result.grouping);
   result.parameters = result.grouping.num_groups();
   if (fit.groups_at_lower_bound > 0)
     result.warnings.push_back(
         std::to_string(fit.groups_at_lower_bound) + " of " + std::to_string(result.parameters) +
         " stiffness groups sit at the lower bound (1e-6 of the stiffest): the data would rather "
         "switch those springs off; they carry no load in the calibrated model");
-  if (settings.damping_alpha > 0.0 && settings.damping_ratio > 0.0)
-    throw nurbs::InputError(
-        "calibration: give damping_alpha or damping_ratio, not both (they define the same "
-        "spring damping in two ways)");
   if (settings.damping_alpha > 0.0)
     analysis::assign_damping_alpha(mesh.network, settings.damping_alpha);
   if (settings.damping_ratio > 0.0)
@@ -325,26 +414,21 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
       const bool is_holdout =
           std::find(held_out.begin(), held_out.end(), static_cast<int>(c)) != held_out.end();
       if (!is_fit && !is_holdout) continue;
-      const Eigen::VectorXd u =
-          analysis::solve_spring_linear(network, loads[c], data.constrained_dofs).displacement;
-      Eigen::VectorXd node_u(dofs.num_dofs());
-      for (int a = 0; a < dofs.num_nodes(); ++a)
-        node_u.segment(a * dim, dim) = u.segment(particle_of_node_map[a] * dim, dim);
       const auto ref_points = to_points(reference.load_cases[c].displacement, dim);
-      const auto model_points = to_points(node_u, dim);
+      const auto model = model_points(network, static_cast<int>(c));
       CaseErrors errors;
       errors.id = problem.load_cases[c].id;
-      errors.control = error_metrics(ref_points, model_points);
+      errors.control = error_metrics(ref_points, model);
       if (settings.field_metrics) {
         const auto ref_per_patch = per_patch(dofs, ref_points);
-        const auto model_per_patch = per_patch(dofs, model_points);
+        const auto model_per_patch = per_patch(dofs, model);
         errors.field = field_error_metrics(problem.patches, ref_per_patch, model_per_patch,
                                            settings.field_samples);
         errors.surface = surface_error_metrics(problem.patches, ref_per_patch, model_per_patch,
                                                settings.field_samples, inner);
       }
       for (size_t a = 0; a < ref_points.size(); ++a)
-        errors.node_error.push_back(model_points[a] - ref_points[a]);
+        errors.node_error.push_back(model[a] - ref_points[a]);
       (is_fit ? fit_errors : holdout_errors).push_back(std::move(errors));
     }
   };

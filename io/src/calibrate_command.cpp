@@ -72,6 +72,16 @@ CalibrateCommandResult run_calibrate(Case c, const Progress& progress) {
                                 format_number(worst, 3) + ") exceeds target_percent_e_rms " +
                                 format_number(request.target_percent_e_rms, 3) +
                                 ": the spring model does not reach the reference on every load");
+  // Gammas of the sweep that failed were skipped (fitting::SweepEntry): say so, the kept gamma
+  // may not be the one the case file's author expected.
+  std::string failed_gammas;
+  for (const auto& entry : result.sweep)
+    if (!entry.failure.empty())
+      failed_gammas += (failed_gammas.empty() ? "" : ", ") + format_number(entry.gamma);
+  if (!failed_gammas.empty())
+    computed.warnings.push_back("the fit of gamma " + failed_gammas +
+                                " failed (report: sweep); kept gamma " +
+                                format_number(result.gamma) + ", the best of the others");
   // Baseline beside the matrix approach: the acceleration objective on the same springs.
   std::optional<fitting::MatrixComparison> acceleration;
   if (request.acceleration_objective && !result.mesh.network.volumes.empty())

@@ -135,9 +135,20 @@ nlohmann::json calibrate_report_json(const CalibrateCommandResult& r) {
     report["generalisation"] = g;
   }
   report["sweep"] = nlohmann::json::array();
+  // Per gamma (fitting::SweepEntry): the fit's %e_rms and %e_max over the fitted cases, the
+  // stiffnesses fitted, why the gamma failed ("" when it did not) and, when its grouping repeats
+  // an earlier gamma's, that gamma (null: fitted).
   for (const auto& entry : result.sweep)
     report["sweep"].push_back(
-        {{"gamma", entry.gamma}, {"groups", entry.groups}, {"percent_e_rms", entry.percent_e_rms}});
+        {{"gamma", entry.gamma},
+         {"groups", entry.groups},
+         {"percent_e_rms", entry.percent_e_rms},
+         {"percent_e_max", entry.percent_e_max},
+         {"parameters", entry.parameters},
+         {"failure", entry.failure},
+         {"reused_from_gamma", entry.reused_from < 0
+                                   ? nlohmann::json(nullptr)
+                                   : nlohmann::json(result.sweep[entry.reused_from].gamma)}});
   report["matrix_approach"] = nlohmann::json::array();
   for (const auto& m : result.matrix)
     report["matrix_approach"].push_back(
@@ -293,8 +304,15 @@ MarkdownReport calibrate_report_markdown(const CalibrateCommandResult& r,
     std::vector<std::vector<std::string>> srows;
     for (const auto& entry : result.sweep)
       srows.push_back({format_number(entry.gamma), std::to_string(entry.groups),
-                       format_number(entry.percent_e_rms, 4)});
-    md.table({"gamma", "groups", "%e_rms (fitted cases)"}, srows);
+                       format_number(entry.percent_e_rms, 4),
+                       !entry.failure.empty() ? "failed: " + entry.failure
+                       : entry.reused_from >= 0
+                           ? "grouping of gamma " +
+                                 format_number(result.sweep[entry.reused_from].gamma) +
+                                 " (fit reused)"
+                       : entry.gamma == result.gamma ? "kept"
+                                                     : ""});
+    md.table({"gamma", "groups", "%e_rms (fitted cases)", "note"}, srows);
   }
   md.heading(2, "Outputs");
   md.paragraph("ParaView: `result.vtm` (geometry and control net with `reference_<id>`, " +

@@ -152,14 +152,16 @@ ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& pro
   for (const Row& r : rows) {
     const auto published_it = kPublished55.find(r.object.name);
     if (r.fit_case != "fit_points" || published_it == kPublished55.end()) continue;
-    for (const auto& s : r.sweep) {
+    for (const fitting::SweepEntry& s : r.grouped.sweep) {
       std::string pub = "-";
       for (const auto& p : published_it->second)
         if (std::abs(p.gamma - s.gamma) < 1e-12)
           pub = std::to_string(p.groups) + ": " + pair(p.e_rms, p.e_max);
-      rows55.push_back({r.object.name, num(s.gamma),
-                        s.failure.empty() ? std::to_string(s.groups) : "-",
-                        s.failure.empty() ? pair(s.e_rms, s.e_max) : "failed", pub});
+      rows55.push_back(
+          {r.object.name, num(s.gamma), s.failure.empty() ? std::to_string(s.groups) : "-",
+           s.failure.empty() ? pair(s.control[0].percent_e_rms, s.control[0].percent_e_max)
+                             : "failed",
+           pub});
     }
   }
   md.heading(2, "Table 5.5 (gamma sweep, forces on u1 points)");

@@ -3,8 +3,7 @@
 
 #include <algorithm>
 
-#include "isospring/fitting/spring_mesh.hpp"
-#include "isospring/fitting/stiffness_groups.hpp"
+#include "isospring/nurbs/error.hpp"
 
 namespace isospring::io::thesis {
 
@@ -27,8 +26,10 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Algorithm 5.1 with one calibration per gamma (so that one failing gamma does not end the
-// sweep), the best by %e_rms of the fitted case kept; then the baselines on its grouping.
+// Algorithm 5.1: fitting::calibrate's gamma sweep (a failing gamma is recorded and the sweep goes
+// on; gammas that give the same grouping share one fit: the square and the cube have 2 and 3 rest
+// lengths, so most of their sweep repeats one grouping), the best by %e_rms of the fitted case
+// kept; then the baselines on its grouping.
 Row run_object(fitting::ThesisObject object, int net, int degree, const std::string& fit_case,
                const RunOptions& what, const Progress& progress) {
   fitting::CalibrationSettings settings;
@@ -38,47 +39,18 @@ Row run_object(fitting::ThesisObject object, int net, int degree, const std::str
   settings.max_iterations = 3000;
   progress(object.name + " net " + std::to_string(net) + " degree " + std::to_string(degree) +
            ", fitted case " + fit_case);
-  Row row{std::move(object), fit_case, net, degree, {}, {}, {}, {}, {}, {}, 0.0, 0.0};
+  Row row{std::move(object), fit_case, net, degree, {}, {}, {}, {}, {}, 0.0, 0.0};
   const auto start = std::chrono::steady_clock::now();
-  bool found = false;
-  // Gammas that give the same grouping give the same fit: reuse it (the square and the cube have
-  // 2 and 3 rest lengths, so most of their sweep repeats one grouping).
-  const fitting::SpringMesh mesh = fitting::build_spring_mesh(row.object.problem);
-  std::vector<std::pair<std::vector<int>, SweepRow>> done;
-  settings.matrix_approach = what.matrix;  // beside every fit, so the kept one has it
-  for (double gamma : *what.gammas) {
-    settings.gamma = gamma;
-    SweepRow entry;
-    entry.gamma = gamma;
-    const std::vector<int> groups =
-        fitting::group_by_rest_length(mesh.network, gamma).group_of_spring;
-    const auto same =
-        std::find_if(done.begin(), done.end(), [&](const auto& d) { return d.first == groups; });
-    if (same != done.end()) {
-      entry = same->second;
-      entry.gamma = gamma;
-      row.sweep.push_back(entry);
-      continue;
-    }
-    try {
-      fitting::CalibrationResult result = fitting::calibrate(row.object.problem, settings);
-      entry.groups = result.parameters;
-      entry.e_rms = result.fit[0].control.percent_e_rms;
-      entry.e_max = result.fit[0].control.percent_e_max;
-      entry.spring_stiffness = result.fit_result.spring_stiffness;
-      if (!found || entry.e_rms < row.grouped.fit[0].control.percent_e_rms) {
-        row.grouped = std::move(result);
-        found = true;
-      }
-    } catch (const std::runtime_error& e) {
-      entry.failure = e.what();
-    }
-    done.emplace_back(groups, entry);
-    row.sweep.push_back(entry);
+  settings.gamma_sweep = *what.gammas;
+  settings.matrix_approach = what.matrix;  // on the kept grouping
+  try {
+    row.grouped = fitting::calibrate(row.object.problem, settings);
+  } catch (const nurbs::InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("thesis: " + row.object.name + ": " + e.what());
   }
-  if (!found)
-    throw std::runtime_error("thesis: every gamma of the sweep failed for " + row.object.name +
-                             " (" + row.sweep.back().failure + ")");
+  settings.gamma_sweep.clear();
   settings.gamma = row.grouped.gamma;
   settings.matrix_approach = false;
   row.fit_seconds = seconds_since(start);
@@ -86,30 +58,32 @@ Row run_object(fitting::ThesisObject object, int net, int degree, const std::str
     row.acceleration = fitting::acceleration_baseline(row.object.problem, settings, row.grouped);
   if (what.per_spring) {
     // Starting groupings: the distinct ones the sweep fitted, best grouped error first.
-    std::vector<SweepRow> starts;
-    for (const auto& d : done)
-      if (d.second.failure.empty()) starts.push_back(d.second);
+    std::vector<const fitting::SweepEntry*> starts;
+    for (const fitting::SweepEntry& entry : row.grouped.sweep)
+      if (entry.reused_from < 0 && entry.failure.empty()) starts.push_back(&entry);
     std::stable_sort(starts.begin(), starts.end(),
-                     [](const SweepRow& a, const SweepRow& b) { return a.e_rms < b.e_rms; });
+                     [](const fitting::SweepEntry* a, const fitting::SweepEntry* b) {
+                       return a->control[0].percent_e_rms < b->control[0].percent_e_rms;
+                     });
     if (starts.size() > static_cast<size_t>(what.per_spring_starts))
       starts.resize(static_cast<size_t>(what.per_spring_starts));
     settings.per_spring = true;
     settings.regularization = kPerSpringRegularization;
     const auto per_spring_start = std::chrono::steady_clock::now();
-    for (const SweepRow& start_row : starts) {
+    for (const fitting::SweepEntry* start_entry : starts) {
       progress(row.object.name + ": per-spring fit (" +
                std::to_string(row.grouped.mesh.network.springs.size()) +
-               " parameters) from the grouped optimum of gamma " + num(start_row.gamma));
-      settings.gamma = start_row.gamma;  // the groups of the regularisation
-      settings.per_spring_start = start_row.spring_stiffness;
+               " parameters) from the grouped optimum of gamma " + num(start_entry->gamma));
+      settings.gamma = start_entry->gamma;  // the groups of the regularisation
+      settings.per_spring_start = start_entry->spring_stiffness;
       try {
         fitting::CalibrationResult result = fitting::calibrate(row.object.problem, settings);
         const double e_rms = result.fit[0].control.percent_e_rms;
-        row.per_spring_starts.emplace_back(start_row.gamma, e_rms);
+        row.per_spring_starts.emplace_back(start_entry->gamma, e_rms);
         if (!row.per_spring || e_rms < row.per_spring->fit[0].control.percent_e_rms)
           row.per_spring = std::move(result);
       } catch (const std::runtime_error& e) {
-        row.per_spring_starts.emplace_back(start_row.gamma, NAN);
+        row.per_spring_starts.emplace_back(start_entry->gamma, NAN);
         row.per_spring_failure = e.what();
       }
     }
@@ -167,12 +141,17 @@ nlohmann::json row_json(const Row& r) {
                       {"published_percent_e_rms", r.object.published_e_rms},
                       {"published_percent_e_max", r.object.published_e_max},
                       {"warnings", g.mesh.warnings}};
-  for (const auto& s : r.sweep)
-    j["sweep"].push_back({{"gamma", s.gamma},
-                          {"groups", s.groups},
-                          {"percent_e_rms", s.e_rms},
-                          {"percent_e_max", s.e_max},
-                          {"failure", s.failure}});
+  for (const fitting::SweepEntry& s : g.sweep) {
+    const bool fitted = s.failure.empty();
+    j["sweep"].push_back(
+        {{"gamma", s.gamma},
+         {"groups", s.groups},
+         {"percent_e_rms", fitted ? s.control[0].percent_e_rms : NAN},
+         {"percent_e_max", fitted ? s.control[0].percent_e_max : NAN},
+         {"failure", s.failure},
+         {"reused_from_gamma", s.reused_from < 0 ? nlohmann::json(nullptr)
+                                                 : nlohmann::json(g.sweep[s.reused_from].gamma)}});
+  }
   j["calibration_warnings"] = g.warnings;
   if (!r.per_spring_failure.empty()) j["per_spring_failure"] = r.per_spring_failure;
   for (const auto& m : g.matrix) j["matrix_approach"].push_back(comparison_json(m));

@@ -23,22 +23,12 @@ extern const std::vector<double> kGammaSweep;
 // --quick: the coarse sweep for the torus and the spheroid (thesis_sweep.cpp says why).
 extern const std::vector<double> kGammaSweepCoarse;
 
-// One gamma of Algorithm 5.1: its fit, or why it failed (a fit that drives groups to the lower
-// bound can leave a numerically singular network; the sweep then goes on with the next gamma).
-struct SweepRow {
-  double gamma = 0.0;
-  int groups = 0;
-  double e_rms = NAN, e_max = NAN;
-  std::string failure;
-  std::vector<double> spring_stiffness;  // the fit, where a per-spring fit can start
-};
-
 struct Row {
   fitting::ThesisObject object;
   std::string fit_case;
   int net = 0, degree = 2;
+  /// The best grouped fit of the sweep; grouped.sweep has every gamma (fitting::SweepEntry).
   fitting::CalibrationResult grouped;
-  std::vector<SweepRow> sweep;
   std::optional<fitting::CalibrationResult> per_spring;
   std::string per_spring_failure;
   // Per-spring starts tried (the gamma of the grouped optimum each started from) and their

@@ -16,7 +16,9 @@
 namespace isospring::fitting {
 
 struct CalibrationSettings {
-  /// Rest-length window; a non-empty gamma_sweep fits every value and keeps the lowest error.
+  /// Rest-length window; a non-empty gamma_sweep fits every value and keeps the lowest error
+  /// (Algorithm 5.1; CalibrationResult::sweep has one entry per value, SweepEntry says how a
+  /// failing gamma and a repeated grouping are handled).
   double gamma = 0.01;
   std::vector<double> gamma_sweep;
   /// One stiffness per spring, pulled towards its gamma group's value with this weight (0: free).
@@ -68,11 +70,42 @@ struct CaseErrors {
   std::vector<Eigen::Vector3d> node_error;  // u_nmsm - u_ref per node
 };
 
+/// One gamma of the sweep (Algorithm 5.1), in the order of CalibrationSettings::gamma_sweep
+/// (without a sweep: one entry, CalibrationSettings::gamma).
+///
+/// A gamma whose fit fails (it throws std::runtime_error, does not converge, leaves a
+/// non-positive or non-finite stiffness, or a network that is singular under the supports) is
+/// recorded with `failure` and the sweep goes on with the next gamma; calibrate() throws only
+/// when every gamma fails. A gamma whose grouping is identical to an earlier entry's (the same
+/// group for every spring and volume term) is not fitted again: the entry copies that fit (the
+/// same data and grouping give the same fit) and names it in `reused_from`.
+///
+/// The sweep keeps the usable entry (empty `failure`) with the lowest root mean square of
+/// control[].percent_e_rms, the first one on a tie; CalibrationResult::gamma is its gamma, and
+/// CalibrationResult::fit[c].control equals its control[c].
 struct SweepEntry {
   double gamma = 0.0;
-  int groups = 0;
-  double percent_e_rms = 0.0;  // root mean square over the fitted cases
-  double percent_e_max = 0.0;  // largest over the fitted cases
+  int groups = 0;  // rest-length groups of gamma (group_by_rest_length)
+  /// Stiffnesses fitted: `groups`, or one per spring and volume term with per_spring; 0 when the
+  /// fit threw before it had any.
+  int parameters = 0;
+  double percent_e_rms = 0.0;  // root mean square over the fitted cases, of the fit's residuals
+  double percent_e_max = 0.0;  // largest over the fitted cases, of the fit's residuals
+  /// Per fitted case (the order of CalibrationResult::fit): the control-point metrics of this
+  /// gamma's model from a fresh linear solve, as CalibrationResult::fit has them for the kept
+  /// gamma. Empty when the gamma failed.
+  std::vector<ErrorMetrics> control;
+  /// The fit (DisplacementFitResult's fields of the same names; a per-spring fit can start from
+  /// spring_stiffness, see per_spring_start). Empty when the fit threw.
+  std::vector<double> group_stiffness;
+  std::vector<double> spring_stiffness;
+  std::vector<double> volume_modulus;
+  /// Empty: the gamma gave a usable model. Otherwise why it did not (the message calibrate()
+  /// would throw for it alone); such an entry is never kept.
+  std::string failure;
+  /// Index in CalibrationResult::sweep of the entry whose fit this one copies (identical
+  /// grouping); -1: fitted for this gamma.
+  int reused_from = -1;
 };
 
 /// A matrix-approach model evaluated like the displacement fit. `solved` is false when its
@@ -92,7 +125,7 @@ struct CalibrationResult {
   int parameters = 0;
   std::vector<CaseErrors> fit;
   std::vector<CaseErrors> holdout;
-  std::vector<SweepEntry> sweep;
+  std::vector<SweepEntry> sweep;  // one entry per gamma, see SweepEntry
   DisplacementFitResult fit_result;
   std::vector<MatrixComparison> matrix;  // when settings.matrix_approach
   double reference_seconds = 0.0;
@@ -108,7 +141,7 @@ struct CalibrationResult {
 
 /// Runs the calibration. Throws nurbs::InputError for bad settings or problems (unknown case ids,
 /// non-zero prescribed displacements, no fitted case) and std::runtime_error when the IGA solve
-/// fails or the fit does not converge.
+/// fails or the fit of every gamma fails (one gamma: its message; a sweep: every gamma's).
 CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationSettings& settings);
 
 }  // namespace isospring::fitting
