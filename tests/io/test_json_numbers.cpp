@@ -86,7 +86,7 @@ TEST(JsonNumbers, IntegersBeyondAnIntAreErrorsNotWrapped) {
       "knots": [[0, 0, 0, 1, 1, 1]], "control_points": [[0, 0, 0], [1, 1, 0], [2, 0, 0]]}]})";
   EXPECT_NE(input_error([&] {
               read_patch_file(dir / "patches.json");
-            }).find("degrees[0] must be an integer, got 4294967298"),
+            }).find("degrees[0] is out of range for an integer (|n| <= 1e9), got 4294967298"),
             std::string::npos);
   std::ofstream(dir / "model.json") << R"({"format": "isospring-spring-model", "version": 1,
       "dimension": 3, "particles": [{"x": [0, 0, 0], "mass": 1, "fixed": true},
