@@ -146,21 +146,6 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
   for (const MatrixTerm& term : terms_.stiffness)
     free_blocks_.push_back(
         detail::free_upper_block(term.matrix, free_index_, static_cast<int>(free_dofs_.size())));
-  pattern_.resize(static_cast<Eigen::Index>(free_dofs_.size()),
-                  static_cast<Eigen::Index>(free_dofs_.size()));
-  for (const auto& block : free_blocks_) pattern_ += block;  // the union of the patterns
-  pattern_.makeCompressed();
-  for (const auto& block : free_blocks_) {
-    std::vector<int> at(static_cast<size_t>(block.nonZeros()));
-    for (Eigen::Index k = 0; k < block.outerSize(); ++k) {
-      int p = pattern_.outerIndexPtr()[k];
-      for (int i = block.outerIndexPtr()[k]; i < block.outerIndexPtr()[k + 1]; ++i) {
-        while (pattern_.innerIndexPtr()[p] != block.innerIndexPtr()[i]) ++p;  // both sorted
-        at[static_cast<size_t>(i)] = p;
-      }
-    }
-    positions_.push_back(std::move(at));
-  }
   if (!terms_.nonlinear.empty()) nonlinear_cache_ = make_nonlinear_cache();
   // Local terms: each touches at most 1/4 of the free DOFs, and together at most 1500 of them
   // (the dense |B| x |B| algebra of a low-rank solve then costs less than a factorisation).
@@ -218,6 +203,26 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
       }
     fingerprint_.insert(fingerprint_.end(), {static_cast<double>(block.nonZeros()), sum, weighted});
   }
+}
+
+void ForwardModel::make_pattern() const {
+  if (pattern_ready_) return;
+  pattern_.resize(static_cast<Eigen::Index>(free_dofs_.size()),
+                  static_cast<Eigen::Index>(free_dofs_.size()));
+  for (const auto& block : free_blocks_) pattern_ += block;  // the union of the patterns
+  pattern_.makeCompressed();
+  for (const auto& block : free_blocks_) {
+    std::vector<int> at(static_cast<size_t>(block.nonZeros()));
+    for (Eigen::Index k = 0; k < block.outerSize(); ++k) {
+      int p = pattern_.outerIndexPtr()[k];
+      for (int i = block.outerIndexPtr()[k]; i < block.outerIndexPtr()[k + 1]; ++i) {
+        while (pattern_.innerIndexPtr()[p] != block.innerIndexPtr()[i]) ++p;  // both sorted
+        at[static_cast<size_t>(i)] = p;
+      }
+    }
+    positions_.push_back(std::move(at));
+  }
+  pattern_ready_ = true;
 }
 
 void ForwardModel::load_vector(int l, const Eigen::VectorXd& theta, bool with_jacobian,
@@ -291,6 +296,7 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
   if (scale == 0.0) {
     // sum_j c_j K_j,ff on the union pattern, summed in the order of the terms (as the sparse
     // sum kff += c_j K_j,ff would: the same values on the same pattern).
+    make_pattern();
     Eigen::SparseMatrix<double> kff = pattern_;
     std::fill(kff.valuePtr(), kff.valuePtr() + kff.nonZeros(), 0.0);
     for (size_t j = 0; j < nt; ++j) {
