@@ -6,6 +6,7 @@
 
 #include "isospring/analysis/elasticity.hpp"
 #include "isospring/analysis/sides.hpp"
+#include "isospring/analysis/thread_scope.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/quadrature.hpp"
 
@@ -73,6 +74,11 @@ Eigen::SparseMatrix<double> to_matrix(const Triplets& triplets, int size) {
 
 LameMatrices assemble_lame_stiffness(const analysis::Problem& problem, const analysis::DofMap& dofs,
                                      const std::function<double(const Eigen::Vector3d&)>& weight) {
+  // One thread: the element loop is serial, and Eigen would otherwise split each element's
+  // n x n products (64 x 64 x 64 at degree 3 in 3D) over OpenMP threads that spin-wait for each
+  // other (measured on the suite's tube, 11,025 DOFs: 55 % of the CPU time of identify went to
+  // that spinning on a loaded 2-core machine).
+  const analysis::ThreadScope serial(1);
   const int dim = dofs.dofs_per_node();
   const double thickness = analysis::thickness_factor(problem);
   Triplets lambda_triplets, mu_triplets;

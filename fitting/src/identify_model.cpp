@@ -44,7 +44,11 @@ Coefficient product(Coefficient a, Coefficient b) {
 
 struct FactorizationCache {
   std::mutex mutex;  // evaluate() is const and may be called from several threads
+  // The symbolic analysis (fill-reducing ordering, supernodes) depends on K_ff's pattern only:
+  // it is kept for the pattern it was made for and every factorisation of that pattern reuses it.
   std::unique_ptr<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>> cholesky;
+  std::vector<int> analysed_outer, analysed_inner;  // the pattern `cholesky` was analysed for
+  bool factorized = false;  // `cholesky` holds the factor of `coefficients` (else analysis only)
   std::vector<double> fingerprint;   // of the factorised model's terms and free DOFs
   std::vector<double> coefficients;  // of the factorised K_ff
   // W = K_c^-1 U and G = U^T W for the model's local DOFs B (U: the columns of the identity at
@@ -53,13 +57,39 @@ struct FactorizationCache {
   bool low_rank_ready = false;
   FactorizationStats stats;
 
+  // Factorises `kff` (numerically only when its pattern is the analysed one); false when it is
+  // not positive definite.
+  bool factorize(const Eigen::SparseMatrix<double>& kff) {
+    factorized = false;
+    const auto n = static_cast<size_t>(kff.outerSize());
+    const auto nnz = static_cast<size_t>(kff.nonZeros());
+    const bool same_pattern =
+        cholesky && analysed_outer.size() == n + 1 && analysed_inner.size() == nnz &&
+        std::equal(analysed_outer.begin(), analysed_outer.end(), kff.outerIndexPtr()) &&
+        std::equal(analysed_inner.begin(), analysed_inner.end(), kff.innerIndexPtr());
+    if (!same_pattern) {
+      cholesky = std::make_unique<
+          Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>();
+      cholesky->cholmod().print = 0;  // a failed trial step is handled by the caller, not printed
+      cholesky->analyzePattern(kff);
+      analysed_outer.assign(kff.outerIndexPtr(), kff.outerIndexPtr() + n + 1);
+      analysed_inner.assign(kff.innerIndexPtr(), kff.innerIndexPtr() + nnz);
+      ++stats.analyses;
+    }
+    cholesky->factorize(kff);
+    if (cholesky->info() != Eigen::Success) return false;
+    factorized = true;
+    ++stats.factorizations;
+    return true;
+  }
+
   // s with c_j = s * coefficients_j to 1e-13 of c_j for every term with local[j] false (all
   // terms when local is empty), or 0 when there is no such s. One scale for every term, each to
   // 1e-13 of itself: a term far stiffer than the others (a support spring of 1e12 against
   // E = 1e9) must not hide a change in the others, which a badly conditioned K would amplify.
   double scale_to(const std::vector<double>& model_fingerprint, const std::vector<double>& c,
                   const std::vector<bool>& local) const {
-    if (!cholesky || model_fingerprint != fingerprint || c.size() != coefficients.size())
+    if (!factorized || model_fingerprint != fingerprint || c.size() != coefficients.size())
       return 0.0;
     auto global = [&](size_t j) { return local.empty() || !local[j]; };
     double s = 0.0;
@@ -175,6 +205,26 @@ ForwardModel::ForwardModel(ModelTerms terms, std::vector<Observation> observatio
   }
 }
 
+void ForwardModel::make_pattern() const {
+  if (pattern_ready_) return;
+  pattern_.resize(static_cast<Eigen::Index>(free_dofs_.size()),
+                  static_cast<Eigen::Index>(free_dofs_.size()));
+  for (const auto& block : free_blocks_) pattern_ += block;  // the union of the patterns
+  pattern_.makeCompressed();
+  for (const auto& block : free_blocks_) {
+    std::vector<int> at(static_cast<size_t>(block.nonZeros()));
+    for (Eigen::Index k = 0; k < block.outerSize(); ++k) {
+      int p = pattern_.outerIndexPtr()[k];
+      for (int i = block.outerIndexPtr()[k]; i < block.outerIndexPtr()[k + 1]; ++i) {
+        while (pattern_.innerIndexPtr()[p] != block.innerIndexPtr()[i]) ++p;  // both sorted
+        at[static_cast<size_t>(i)] = p;
+      }
+    }
+    positions_.push_back(std::move(at));
+  }
+  pattern_ready_ = true;
+}
+
 void ForwardModel::load_vector(int l, const Eigen::VectorXd& theta, bool with_jacobian,
                                Eigen::VectorXd& force, Eigen::MatrixXd& dforce) const {
   force = Eigen::VectorXd::Zero(num_dofs_);
@@ -244,14 +294,17 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
     }
   }
   if (scale == 0.0) {
-    Eigen::SparseMatrix<double> kff(nf, nf);
-    for (size_t j = 0; j < nt; ++j) kff += c[j] * free_blocks_[j];
-    cache.cholesky =
-        std::make_unique<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>();
-    cache.cholesky->cholmod().print = 0;  // a failed trial step is handled below, not printed
-    cache.cholesky->compute(kff);
-    if (cache.cholesky->info() != Eigen::Success) {
-      cache.cholesky.reset();
+    // sum_j c_j K_j,ff on the union pattern, summed in the order of the terms (as the sparse
+    // sum kff += c_j K_j,ff would: the same values on the same pattern).
+    make_pattern();
+    Eigen::SparseMatrix<double> kff = pattern_;
+    std::fill(kff.valuePtr(), kff.valuePtr() + kff.nonZeros(), 0.0);
+    for (size_t j = 0; j < nt; ++j) {
+      const double* v = free_blocks_[j].valuePtr();
+      const std::vector<int>& at = positions_[j];
+      for (size_t i = 0; i < at.size(); ++i) kff.valuePtr()[at[i]] += c[j] * v[i];
+    }
+    if (!cache.factorize(kff)) {
       throw std::runtime_error(
           "the stiffness at the current parameters is not positive definite (a parameter left "
           "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
@@ -260,7 +313,6 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
     cache.coefficients = c;
     cache.low_rank_ready = false;
     scale = 1.0;
-    ++cache.stats.factorizations;
   } else if (update.size() == 0) {
     ++cache.stats.reuses;
   }

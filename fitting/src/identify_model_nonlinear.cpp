@@ -19,6 +19,10 @@ namespace isospring::fitting {
 struct ForwardModel::NonlinearCache {
   std::mutex mutex;
   std::vector<Eigen::VectorXd> solutions;  // per load case; empty until solved
+  // The factorisations of an evaluation, kept so that the next one reuses their symbolic
+  // analyses (the tangent's pattern does not change with u or theta); one evaluation at a time.
+  std::mutex solver_mutex;
+  analysis::TangentSolver linear_solver, tangent_solver;
 };
 
 std::shared_ptr<ForwardModel::NonlinearCache> ForwardModel::make_nonlinear_cache() {
@@ -36,6 +40,7 @@ constexpr int kMaxSteps = 64;  // load steps of the last attempt
 ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
                                                  bool with_jacobian) const {
   if (!nonlinear_cache_) throw std::logic_error("ForwardModel: nonlinear cache missing");
+  const std::lock_guard<std::mutex> solver_lock(nonlinear_cache_->solver_mutex);
   const int nf = static_cast<int>(free_dofs_.size());
   const size_t nt = terms_.stiffness.size();
   std::vector<double> c(nt);
@@ -107,7 +112,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
   // Linear solution and its derivatives (only needed for the blend).
   const int w_index = terms_.nonlinear_weight;
   const double w = w_index >= 0 ? theta[w_index] : 1.0;
-  analysis::TangentSolver linear_solver;
+  analysis::TangentSolver& linear_solver = nonlinear_cache_->linear_solver;
   if (w_index >= 0 && !linear_solver.compute(kff))
     throw std::runtime_error(
         "the stiffness at the current parameters is not positive definite (a parameter left "
@@ -120,7 +125,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
     load_vector(l, theta, with_jacobian, force, dforce);
     // Newton from the last solution; else from zero (its first step is the linear solution),
     // then in 2, 4, ... equal load steps.
-    analysis::TangentSolver solver;
+    analysis::TangentSolver& solver = nonlinear_cache_->tangent_solver;
     Eigen::VectorXd u;
     {
       const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);

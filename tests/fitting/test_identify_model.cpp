@@ -206,6 +206,50 @@ TEST(IdentifyModel, LowRankSpringUpdatesMatchFreshFactorisations) {
   EXPECT_EQ(stats.low_rank_updates, 3);
 }
 
+// K(theta) = lambda(E, nu) K_l + mu(E, nu) K_mu: every nu is a new factorisation, but K's pattern
+// is the same, so CHOLMOD's symbolic analysis (the ordering) is made once and every later
+// factorisation is numeric only. The results must equal a fresh model's at each theta.
+TEST(IdentifyModel, RefactorisationsReuseOneSymbolicAnalysis) {
+  const analysis::Problem problem = plate_problem(12, 6);
+  const analysis::DofMap dofs(problem);
+  const LameMatrices parts = assemble_lame_stiffness(problem, dofs);
+  ModelTerms terms;
+  terms.num_parameters = 2;  // E / E_prior, nu
+  const double e_prior = problem.material.youngs_modulus;
+  auto lame = [e_prior](bool lambda) -> Coefficient {
+    return [e_prior, lambda](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
+      const double nu = t[1];
+      const double per_e = lambda ? nu / (1.0 - nu * nu) : 0.5 / (1.0 + nu);
+      const double d_nu = lambda ? (1.0 + nu * nu) / ((1.0 - nu * nu) * (1.0 - nu * nu))
+                                 : -0.5 / ((1.0 + nu) * (1.0 + nu));
+      if (g) *g = Eigen::Vector2d(e_prior * per_e, e_prior * t[0] * d_nu);
+      return e_prior * t[0] * per_e;
+    };
+  };
+  terms.stiffness.push_back({parts.lambda_part, lame(true)});
+  terms.stiffness.push_back({parts.mu_part, lame(false)});
+  terms.loads.push_back({0, analysis::assemble_load(problem, dofs, problem.load_cases[0]),
+                         constant_coefficient(1.0)});
+  const Observation obs = first_case_observation(problem, dofs);
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  const ForwardModel model(terms, {obs}, constraints.dofs, constraints.values, dofs.num_dofs(), 1);
+  for (const double nu : {0.3, 0.25, 0.35, 0.1}) {
+    const Eigen::Vector2d theta(1.2, nu);
+    const ModelEvaluation reused = model.evaluate(theta, true);
+    const ForwardModel fresh(terms, {obs}, constraints.dofs, constraints.values, dofs.num_dofs(),
+                             1);
+    const ModelEvaluation direct = fresh.evaluate(theta, true);
+    const Eigen::VectorXd& y = direct.predictions[0];
+    EXPECT_LT((reused.predictions[0] - y).norm(), 1e-12 * y.norm()) << nu;
+    EXPECT_LT((reused.jacobians[0] - direct.jacobians[0]).norm(),
+              1e-12 * direct.jacobians[0].norm())
+        << nu;
+  }
+  const FactorizationStats stats = model.factorization_stats();
+  EXPECT_EQ(stats.factorizations, 4);
+  EXPECT_EQ(stats.analyses, 1);
+}
+
 TEST(IdentifyStatistics, FTestMatchesTables) {
   // Upper 1% and 5% points of F (Abramowitz & Stegun table 26.9).
   EXPECT_NEAR(f_test_p_value(6.85, 1, 120), 0.01, 2e-4);

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <vector>
 
 namespace isospring::analysis {
 
@@ -19,8 +20,17 @@ class TangentSolver {
   Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const;
 
  private:
+  // The symbolic analysis (ordering) of a factorisation depends on the pattern only: each is
+  // kept for the pattern it was made for, and a matrix with that pattern (a Newton tangent at
+  // the next iterate) is factorised numerically only.
+  struct Pattern {
+    std::vector<int> outer, inner;
+    bool same(const Eigen::SparseMatrix<double>& m) const;
+    void keep(const Eigen::SparseMatrix<double>& m);
+  };
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt_;
+  Pattern llt_pattern_, ldlt_pattern_;
   bool use_llt_ = true;
 };
 

@@ -93,6 +93,7 @@ struct FactorizationStats {
   long factorizations = 0;    // sparse Cholesky factorisations
   long reuses = 0;            // solves with the cached factor as it is (scaled)
   long low_rank_updates = 0;  // solves through a Woodbury update of the cached factor
+  long analyses = 0;          // symbolic analyses (orderings): one per pattern of K_ff
 };
 FactorizationStats factorization_stats(const FactorizationCache& cache);
 
@@ -145,6 +146,14 @@ class ForwardModel {
   std::vector<int> free_dofs_;
   Eigen::VectorXd prescribed_;
   std::vector<Eigen::SparseMatrix<double>> free_blocks_;  // upper triangles of K_j,ff
+  // The union of the free blocks' patterns (values unused), and for each term the position in
+  // it of each stored entry: K_ff(theta) is a linear combination of value arrays, and CHOLMOD's
+  // symbolic analysis of the pattern serves every theta. Made on the model's first
+  // factorisation (under the cache's lock): models that only reuse the cache never need it.
+  void make_pattern() const;
+  mutable bool pattern_ready_ = false;
+  mutable Eigen::SparseMatrix<double> pattern_;
+  mutable std::vector<std::vector<int>> positions_;
   // Terms confined to a few free DOFs (support springs): a change of their coefficients alone is
   // a low-rank update of the cached factorisation (Woodbury) instead of a new one.
   std::vector<bool> local_term_;

@@ -1,0 +1,100 @@
+// The phases of `isospring identify` that dominate its 3D runs (issue 12), on a clamped box
+// (0.2 x 0.04 x 0.04 m) k-refined to degree 3, 12 x 4 x 4 elements (2,205 DOFs, clamped at x = 0):
+// - LameAssembly: the Lame-split stiffness (make_setup, stiffness_gradient's weighted parts),
+//   element products on one thread;
+// - ForwardModelRefactorisation: one evaluation (with Jacobian) of a model whose nu changes at
+//   every call, i.e. one numeric Cholesky factorisation each, on the symbolic analysis made for
+//   the first (counters: analyses, factorisations per evaluation).
+#include <benchmark/benchmark.h>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/fitting/identify_assembly.hpp"
+#include "isospring/fitting/identify_model.hpp"
+#include "isospring/nurbs/refine.hpp"
+
+namespace {
+
+using namespace isospring;
+
+analysis::Problem box_problem() {
+  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
+  std::vector<Eigen::Vector3d> points;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) points.emplace_back(0.2 * i, 0.04 * j, 0.04 * k);
+  analysis::Problem problem;
+  problem.formulation = analysis::Formulation::kSolid;
+  problem.material = {1e9, 0.3, 7800, 1.0};
+  problem.patches.push_back(
+      nurbs::k_refine(nurbs::Patch({linear, linear, linear}, points), {3, 3, 3}, {12, 4, 4}));
+  analysis::Support clamp;
+  clamp.side = {0, 0, 0};
+  clamp.fixed = {true, true, true};
+  problem.supports.push_back(clamp);
+  analysis::LoadCase load;
+  load.id = "bend";
+  load.tractions.push_back({{0, 0, 1}, {0, 2e4, 0}, {}});
+  problem.load_cases.push_back(load);
+  return problem;
+}
+
+void BM_LameAssembly(benchmark::State& state) {
+  const analysis::Problem problem = box_problem();
+  const analysis::DofMap dofs(problem);
+  for (auto _ : state) {
+    const fitting::LameMatrices parts = fitting::assemble_lame_stiffness(problem, dofs);
+    benchmark::DoNotOptimize(parts.mu_part.nonZeros());
+  }
+  state.counters["dofs"] = dofs.num_dofs();
+}
+BENCHMARK(BM_LameAssembly)->Unit(benchmark::kMillisecond);
+
+void BM_ForwardModelRefactorisation(benchmark::State& state) {
+  const analysis::Problem problem = box_problem();
+  const analysis::DofMap dofs(problem);
+  const fitting::LameMatrices parts = fitting::assemble_lame_stiffness(problem, dofs);
+  const double e = problem.material.youngs_modulus;
+  fitting::ModelTerms terms;
+  terms.num_parameters = 2;  // E / E_prior, nu
+  auto lame = [e](bool lambda) -> fitting::Coefficient {
+    return [e, lambda](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
+      const double nu = t[1], den = (1.0 + nu) * (1.0 - 2.0 * nu);
+      const double per_e = lambda ? nu / den : 0.5 / (1.0 + nu);
+      const double d_nu =
+          lambda ? (1.0 + 2.0 * nu * nu) / (den * den) : -0.5 / ((1.0 + nu) * (1.0 + nu));
+      if (g) *g = Eigen::Vector2d(e * per_e, e * t[0] * d_nu);
+      return e * t[0] * per_e;
+    };
+  };
+  terms.stiffness.push_back({parts.lambda_part, lame(true)});
+  terms.stiffness.push_back({parts.mu_part, lame(false)});
+  terms.loads.push_back({0, analysis::assemble_load(problem, dofs, problem.load_cases[0]),
+                         fitting::constant_coefficient(1.0)});
+  // Observations: every 7th DOF.
+  fitting::Observation obs;
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int d = 0; d < dofs.num_dofs(); d += 7)
+    triplets.emplace_back(static_cast<int>(triplets.size()), d, 1.0);
+  obs.operator_.resize(static_cast<Eigen::Index>(triplets.size()), dofs.num_dofs());
+  obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  const fitting::ForwardModel model(terms, {obs}, constraints.dofs, constraints.values,
+                                    dofs.num_dofs(), 1);
+  double nu = 0.3;
+  for (auto _ : state) {
+    nu = nu > 0.3 ? 0.29 : 0.31;  // a new coefficient ratio: a factorisation per evaluation
+    const fitting::ModelEvaluation eval = model.evaluate(Eigen::Vector2d(1.0, nu), true);
+    benchmark::DoNotOptimize(eval.predictions[0].data());
+  }
+  const fitting::FactorizationStats stats = model.factorization_stats();
+  state.counters["dofs"] = dofs.num_dofs();
+  state.counters["analyses"] = static_cast<double>(stats.analyses);
+  state.counters["factorisations"] = static_cast<double>(stats.factorizations);
+}
+BENCHMARK(BM_ForwardModelRefactorisation)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
