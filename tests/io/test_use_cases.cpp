@@ -127,6 +127,35 @@ TEST(CalibrateUseCase, ReportAndModelMatchTheResult) {
   fs::remove_all(out);
 }
 
+// The gamma sweep's entries in report.json: the square has few distinct rest lengths, so gammas
+// 0.01 and 0.05 give the same 5 groups (fitted once: identical numbers, reused_from_gamma), and
+// 0.9 merges them into 2 groups with a larger error; the kept gamma is the best entry's.
+TEST(CalibrateUseCase, GammaSweepEntriesInTheReport) {
+  nlohmann::json document = read_json(kExamples + "calibrate_square.json");
+  document["calibration"]["grouping"] = {{"gamma_sweep", {0.01, 0.05, 0.9}}};
+  document["calibration"]["matrix_approach"] = false;
+  document["calibration"].erase("regularization");  // per-spring fits only
+  const fs::path folder = fresh_folder("calibrate_sweep");
+  fs::create_directories(folder);
+  std::ofstream(folder / "case.json") << document.dump(1);
+  const CalibrateCommandResult r =
+      run_calibrate(read_case_file(folder / "case.json"), Progress("calibrate", true));
+  const nlohmann::json report = calibrate_report_json(r);
+  const nlohmann::json& sweep = report["sweep"];
+  ASSERT_EQ(sweep.size(), 3u);
+  EXPECT_TRUE(sweep[0]["reused_from_gamma"].is_null());
+  EXPECT_EQ(sweep[1]["reused_from_gamma"], 0.01);
+  EXPECT_TRUE(sweep[2]["reused_from_gamma"].is_null());
+  for (const char* key : {"groups", "parameters", "percent_e_rms", "percent_e_max"})
+    EXPECT_EQ(sweep[1][key], sweep[0][key]) << key;
+  EXPECT_GT(sweep[0]["groups"].get<int>(), sweep[2]["groups"].get<int>());
+  EXPECT_GT(sweep[2]["percent_e_rms"].get<double>(), sweep[0]["percent_e_rms"].get<double>());
+  for (const auto& entry : sweep) EXPECT_EQ(entry["failure"], "");
+  EXPECT_EQ(r.calibration.gamma, 0.01);
+  EXPECT_EQ(r.calibration.parameters, sweep[0]["parameters"].get<int>());
+  fs::remove_all(folder);
+}
+
 TEST(StudyUseCase, TwoLevelsOfTheKirschPlate) {
   const Case c = read_case_file(kExamples + "kirsch_plate.json");
   StudyCommandOptions options;
