@@ -12,6 +12,7 @@
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/fitting/identify_assembly.hpp"
 #include "isospring/fitting/identify_model.hpp"
+#include "isospring/geometry/primitives.hpp"
 #include "isospring/nurbs/refine.hpp"
 
 namespace {
@@ -19,16 +20,11 @@ namespace {
 using namespace isospring;
 
 analysis::Problem box_problem() {
-  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
-  std::vector<Eigen::Vector3d> points;
-  for (int k = 0; k < 2; ++k)
-    for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) points.emplace_back(0.2 * i, 0.04 * j, 0.04 * k);
   analysis::Problem problem;
   problem.formulation = analysis::Formulation::kSolid;
   problem.material = {1e9, 0.3, 7800, 1.0};
   problem.patches.push_back(
-      nurbs::k_refine(nurbs::Patch({linear, linear, linear}, points), {3, 3, 3}, {12, 4, 4}));
+      nurbs::k_refine(geometry::box(0.2, 0.04, 0.04)[0], {3, 3, 3}, {12, 4, 4}));
   analysis::Support clamp;
   clamp.side = {0, 0, 0};
   clamp.fixed = {true, true, true};
