@@ -142,15 +142,6 @@ TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::stri
 }
 
 namespace {
-// The patches face f became: its natural or Coons patch, or the patches of its cut.
-std::vector<nurbs::Patch> model_face_patches(const CadModel& model, int f) {
-  std::vector<nurbs::Patch> patches;
-  for (size_t p = 0; p < model.face_patches.size(); ++p)
-    if (model.patch_face[p] == f) patches.push_back(model.face_patches[p]);
-  for (size_t p = 0; p < model.split_patches.size(); ++p)
-    if (model.split_patch_face[p] == f) patches.push_back(model.split_patches[p]);
-  return patches;
-}
 
 CadModel read_cad_unguarded(const std::filesystem::path& file) {
   CadModel model;
@@ -212,17 +203,8 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
   for (int s = 1; s <= model.solids; ++s) {
     GProp_GProps props;
     BRepGProp::VolumeProperties(solids(s), props, 1e-9);
-    const detail::SolidContext context{
-        solids(s), props.Mass(),
-        [&](const TopoDS_Shape& face) -> const nurbs::Patch* {
-          const int f = faces.FindIndex(face) - 1;
-          if (f < 0 || !model.face_reports[static_cast<size_t>(f)].natural) return nullptr;
-          const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
-          return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
-        },
-        [&](const TopoDS_Face& face) {
-          return model_face_patches(model, faces.FindIndex(face) - 1);
-        }};
+    const detail::SolidContext context =
+        detail::solid_context(solids(s), props.Mass(), model, faces);
     // The first recogniser that builds the solid wins (the list's order is part of the result);
     // otherwise the note says why each failed, or only why the one that knows the solid's kind
     // (final) failed.
@@ -368,7 +350,7 @@ std::vector<nurbs::Patch> cad_patches(const CadModel& model, double thickness,
       throw InputError(name + ": face " + std::to_string(f) + " is a " + report.surface_type +
                        "; only planar faces can be extruded exactly along their normal (use a "
                        "solid part instead)");
-    for (const nurbs::Patch& patch : model_face_patches(model, f))
+    for (const nurbs::Patch& patch : detail::model_face_patches(model, f))
       // A face in the plane z = 0 is a 2D region: the analysis needs it right-handed in x-y,
       // so a face facing -z (e.g. the bottom of a plate) has its u direction reversed.
       patches.push_back(thickness == 0.0 && patch.physical_dim() == 2 &&

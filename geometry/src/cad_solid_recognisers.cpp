@@ -9,12 +9,38 @@
 // face, and the general block split last. Appending keeps what existing parts become.
 #include "cad_solid_recognisers.hpp"
 
+#include <algorithm>
+
 namespace isospring::geometry::detail {
 
 SolidRecognition recognise_hexahedron(const SolidContext& context);  // cad_hexahedron.cpp
 SolidRecognition recognise_revolution(const SolidContext& context);  // cad_revolution.cpp
 SolidRecognition recognise_prism(const SolidContext& context);       // cad_prism.cpp
 SolidRecognition recognise_block(const SolidContext& context);       // cad_block.cpp
+
+std::vector<nurbs::Patch> model_face_patches(const CadModel& model, int f) {
+  std::vector<nurbs::Patch> patches;
+  for (size_t p = 0; p < model.face_patches.size(); ++p)
+    if (model.patch_face[p] == f) patches.push_back(model.face_patches[p]);
+  for (size_t p = 0; p < model.split_patches.size(); ++p)
+    if (model.split_patch_face[p] == f) patches.push_back(model.split_patches[p]);
+  return patches;
+}
+
+SolidContext solid_context(const TopoDS_Shape& solid, double volume, const CadModel& model,
+                           const TopTools_IndexedMapOfShape& faces) {
+  return SolidContext{
+      solid, volume,
+      [&model, &faces](const TopoDS_Shape& face) -> const nurbs::Patch* {
+        const int f = faces.FindIndex(face) - 1;
+        if (f < 0 || !model.face_reports[static_cast<size_t>(f)].natural) return nullptr;
+        const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
+        return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
+      },
+      [&model, &faces](const TopoDS_Face& face) {
+        return model_face_patches(model, faces.FindIndex(face) - 1);
+      }};
+}
 
 const std::vector<SolidRecogniser>& solid_recognisers() {
   static const std::vector<SolidRecogniser> list{

@@ -2,12 +2,14 @@
 // The CAD solid recognisers: one signature and one ordered list (cad_solid_recognisers.cpp) that
 // read_cad walks for every solid. Adding a kind of solid: a file cad_NAME.cpp defining
 // `SolidRecognition recognise_NAME(const SolidContext&)` and its two lines in the list.
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "isospring/geometry/cad.hpp"
 #include "isospring/nurbs/patch.hpp"
 
 namespace isospring::geometry::detail {
@@ -41,6 +43,16 @@ struct SolidRecogniser {
   const char* name;  // for messages and tests
   SolidRecognition (*recognise)(const SolidContext&);
 };
+
+/// The patches face f (0-based, in the model's face order) became: its natural or Coons patch,
+/// or the patches of its cut; empty when it became none.
+std::vector<nurbs::Patch> model_face_patches(const CadModel& model, int f);
+
+/// The context read_cad gives the recognisers for `solid`: lookups into the patches the faces of
+/// `model` became (`faces`: the shape's face map, in the model's face order). It refers to
+/// `solid`, `model` and `faces`, which must outlive it.
+SolidContext solid_context(const TopoDS_Shape& solid, double volume, const CadModel& model,
+                           const TopTools_IndexedMapOfShape& faces);
 
 /// Every recogniser in the order read_cad tries them; the first that recognises a solid wins.
 const std::vector<SolidRecogniser>& solid_recognisers();

@@ -39,24 +39,8 @@ Outcome recognise(const std::filesystem::path& file) {
   TopExp::MapShapes(shape, TopAbs_FACE, faces);
   GProp_GProps props;
   BRepGProp::VolumeProperties(solids(1), props, 1e-9);
-  const CadModel& model = out.model;
-  const detail::SolidContext context{
-      solids(1), props.Mass(),
-      [&](const TopoDS_Shape& face) -> const nurbs::Patch* {
-        const int f = faces.FindIndex(face) - 1;
-        const auto it = std::find(model.patch_face.begin(), model.patch_face.end(), f);
-        if (f < 0 || !model.face_reports[static_cast<size_t>(f)].natural) return nullptr;
-        return &model.face_patches[static_cast<size_t>(it - model.patch_face.begin())];
-      },
-      [&](const TopoDS_Face& face) {
-        const int f = faces.FindIndex(face) - 1;
-        std::vector<nurbs::Patch> patches;
-        for (size_t p = 0; p < model.face_patches.size(); ++p)
-          if (model.patch_face[p] == f) patches.push_back(model.face_patches[p]);
-        for (size_t p = 0; p < model.split_patches.size(); ++p)
-          if (model.split_patch_face[p] == f) patches.push_back(model.split_patches[p]);
-        return patches;
-      }};
+  const detail::SolidContext context =
+      detail::solid_context(solids(1), props.Mass(), out.model, faces);
   for (const detail::SolidRecogniser& r : detail::solid_recognisers()) {
     out.all[r.name] = r.recognise(context);
     if (out.all[r.name].recognised) out.accepted.push_back(r.name);
