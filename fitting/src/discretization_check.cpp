@@ -146,28 +146,43 @@ void check_same_geometry(const analysis::Problem& base, const analysis::Problem&
   }
 }
 
+// The problem with every knot span of every patch split in `splits`.
+analysis::Problem split_every_span(const analysis::Problem& problem, int splits) {
+  analysis::Problem refined = problem;
+  for (auto& patch : refined.patches) patch = nurbs::refine_uniform(patch, splits);
+  // Conditions on single control points follow their corner (check_same_point_conditions
+  // refuses the others).
+  auto follow = [&](int patch, int& index) {
+    const auto p = static_cast<size_t>(patch);
+    if (is_net_corner(problem.patches[p], index))
+      index = same_corner(problem.patches[p], refined.patches[p], index);
+  };
+  for (auto& support : refined.supports)
+    if (support.control_point) follow(support.side.patch, *support.control_point);
+  for (auto& load : refined.load_cases)
+    for (auto& point : load.point_loads) follow(point.patch, point.control_point);
+  return refined;
+}
+
 }  // namespace
 
 DiscretizationLadder knot_insertion_ladder(const analysis::Problem& problem) {
   return [problem](int level, std::string* description) -> std::optional<analysis::Problem> {
     if (level < 1 || level > 10) return std::nullopt;
-    analysis::Problem refined = problem;
     const int splits = 1 << level;
-    for (auto& patch : refined.patches) patch = nurbs::refine_uniform(patch, splits);
-    // Conditions on single control points follow their corner (check_same_point_conditions
-    // refuses the others).
-    auto follow = [&](int patch, int& index) {
-      const auto p = static_cast<size_t>(patch);
-      if (is_net_corner(problem.patches[p], index))
-        index = same_corner(problem.patches[p], refined.patches[p], index);
-    };
-    for (auto& support : refined.supports)
-      if (support.control_point) follow(support.side.patch, *support.control_point);
-    for (auto& load : refined.load_cases)
-      for (auto& point : load.point_loads) follow(point.patch, point.control_point);
     if (description)
       *description = "case's net with every knot span split in " + std::to_string(splits);
-    return refined;
+    return split_every_span(problem, splits);
+  };
+}
+
+DiscretizationLadder knot_insertion_intermediate(const analysis::Problem& problem) {
+  return [problem](int level, std::string* description) -> std::optional<analysis::Problem> {
+    if (level < 2 || level > 10) return std::nullopt;
+    const int splits = 3 << (level - 2);
+    if (description)
+      *description = "case's net with every knot span split in " + std::to_string(splits);
+    return split_every_span(problem, splits);
   };
 }
 
@@ -191,6 +206,9 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
   };
   const DiscretizationLadder ladder =
       options.ladder ? options.ladder : knot_insertion_ladder(problem);
+  const DiscretizationLadder intermediate = options.intermediate ? options.intermediate
+                                            : options.ladder     ? DiscretizationLadder()
+                                                             : knot_insertion_intermediate(problem);
 
   std::map<std::string, size_t> case_index;
   for (size_t l = 0; l < problem.load_cases.size(); ++l) case_index[problem.load_cases[l].id] = l;
@@ -363,6 +381,30 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
     check.note += "; the finest level's extrapolated error is in target";
   }
   if (check.within_target) check.budget_exhausted = false;  // the budget did not matter
+  // A level between the chosen one and the one before it (DiscretizationOptions::intermediate),
+  // estimated against the finest level like the others; it replaces the chosen level when it is
+  // within the target too.
+  if (check.within_target && check.chosen >= 1 && intermediate) {
+    const int above = check.chosen;
+    std::string description;
+    std::optional<analysis::Problem> between = intermediate(above, &description);
+    const int dofs = between ? analysis::DofMap(*between).num_dofs() : 0;
+    if (between && dofs < check.levels[static_cast<size_t>(above)].dofs &&
+        dofs <= options.max_dofs) {
+      description +=
+          " (between levels " + std::to_string(above - 1) + " and " + std::to_string(above) + ")";
+      check_same_geometry(problem, *between, placements, size, description);
+      check_same_point_conditions(problem, *between, description);
+      say("discretisation check: " + description + ", " + std::to_string(dofs) + " DOFs");
+      solve(std::move(*between), description);
+      const size_t k = check.levels.size() - 1;
+      std::vector<Eigen::Vector3d> error = estimate(k, finest, tail_of(finest), check.levels[k]);
+      if (check.levels[k].error_rms <= check.target) {
+        check.chosen = static_cast<int>(k);
+        check.marker_error = std::move(error);
+      }
+    }
+  }
   if (check.chosen > 0) check.chosen_problem = std::move(solved_problems[check.chosen]);
   return check;
 }

@@ -2,6 +2,7 @@
 #include "isospring/io/case_refinement_ladder.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 namespace isospring::io {
 
@@ -37,20 +38,57 @@ CaseDiscretization ladder_discretization(const Case& c, int level) {
   return disc;
 }
 
+std::optional<CaseDiscretization> intermediate_discretization(const Case& c, int level) {
+  if (level < 2) return std::nullopt;
+  const CaseDiscretization below = ladder_discretization(c, level - 1);
+  if (below.degree != ladder_discretization(c, level).degree) return std::nullopt;
+  CaseDiscretization disc = below;
+  const int dim = parametric_dimension(c);
+  bool coarser = false;
+  for (int d = 0; d < dim; ++d) {
+    // Every span of the exact geometry is split equally: a multiple of each patch's spans.
+    int spans = 1;
+    for (const auto& patch : c.geometry)
+      if (d < patch.param_dim()) spans = std::lcm(spans, patch.knots(d).num_elements());
+    const int wanted = (3 * below.elements[d] + 1) / 2;
+    disc.elements[d] = (wanted + spans - 1) / spans * spans;
+    coarser = coarser || disc.elements[d] < 2 * below.elements[d];
+  }
+  if (!coarser) return std::nullopt;  // rounding made it level `level` itself
+  return disc;
+}
+
+namespace {
+
+// "degree 3,3,3, 20 x 4 x 4 elements"
+std::string describe(const Case& c, const CaseDiscretization& disc) {
+  const int dim = parametric_dimension(c);
+  std::string degrees, elements;
+  for (int d = 0; d < dim; ++d) {
+    degrees += (d ? "," : "") + std::to_string(disc.degree[d]);
+    elements += (d ? " x " : "") + std::to_string(disc.elements[d]);
+  }
+  return "degree " + degrees + ", " + elements + " elements";
+}
+
+}  // namespace
+
 fitting::DiscretizationLadder case_refinement_ladder(const Case& c) {
   return [c](int level, std::string* description) -> std::optional<analysis::Problem> {
     if (level < 1 || level > 12) return std::nullopt;
     const CaseDiscretization disc = ladder_discretization(c, level);
-    if (description) {
-      const int dim = parametric_dimension(c);
-      std::string degrees, elements;
-      for (int d = 0; d < dim; ++d) {
-        degrees += (d ? "," : "") + std::to_string(disc.degree[d]);
-        elements += (d ? " x " : "") + std::to_string(disc.elements[d]);
-      }
-      *description = "degree " + degrees + ", " + elements + " elements";
-    }
+    if (description) *description = describe(c, disc);
     return problem_at(c, disc);
+  };
+}
+
+fitting::DiscretizationLadder case_refinement_intermediate(const Case& c) {
+  return [c](int level, std::string* description) -> std::optional<analysis::Problem> {
+    if (level > 12) return std::nullopt;
+    const std::optional<CaseDiscretization> disc = intermediate_discretization(c, level);
+    if (!disc) return std::nullopt;
+    if (description) *description = describe(c, *disc);
+    return problem_at(c, *disc);
   };
 }
 

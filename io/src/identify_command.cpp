@@ -86,6 +86,7 @@ IdentifyCommandResult run_identify(const Case& c, const IdentifyCommandOptions& 
   fitting::IdentifyOptions identify_options = r.settings.identify;
   identify_options.progress = [&progress](const std::string& s) { progress(s); };
   identify_options.discretization.ladder = case_refinement_ladder(c);
+  identify_options.discretization.intermediate = case_refinement_intermediate(c);
   if (options.max_dofs) identify_options.discretization.max_dofs = *options.max_dofs;
   if (!options.discretization_check) identify_options.discretization.enabled = false;
   r.identify = fitting::identify(c.problem, r.markers, placements, identify_options);

@@ -164,6 +164,57 @@ TEST(DiscretizationCheck, EstimateAgainstTheErrorToAConvergedSolution) {
   EXPECT_EQ(check.marker_error.size(), markers.size());
 }
 
+TEST(DiscretizationCheck, LevelBetweenTwoReplacesTheFinerOneWhenItMeetsTheTarget) {
+  // bar_ladder(2, {6, 1, 1}): level 1 is degree 3 on 6 x 1 x 1, level 2 12 x 2 x 2, level 3
+  // 24 x 4 x 4. Between levels 1 and 2: 9 x 2 x 2 (1.5 x level 1, rounded up).
+  const analysis::Problem coarse = bar(2, {6, 1, 1});
+  const std::vector<Marker> markers = surface_markers();
+  const auto placements = place_markers(coarse.patches, markers, 1e-12).placements;
+  const auto& converged = converged_surface_solution();
+  const DiscretizationLadder ladder = bar_ladder(2, {6, 1, 1});
+  const analysis::Problem between = bar(3, {9, 2, 2});
+  const double level1_error =
+      rms_difference(solve_at(*ladder(1, nullptr), markers, placements), converged);
+  const double between_error = rms_difference(solve_at(between, markers, placements), converged);
+  ASSERT_LT(between_error, 0.5 * level1_error);
+  // A target between the two true errors, twice the intermediate level's: it misses level 1 and
+  // leaves room for the estimate's margin (an upper bound, up to 1.5 x the truth above).
+  const double target = 2.0 * between_error;
+  ASSERT_LT(target, level1_error);
+
+  DiscretizationOptions options;
+  options.ladder = ladder;
+  options.max_levels = 3;
+  options.intermediate = [](int level, std::string* description) {
+    if (description) *description = "degree 3, 9 x 2 x 2";
+    return level == 2 ? std::optional<analysis::Problem>(bar(3, {9, 2, 2})) : std::nullopt;
+  };
+  const double noise = target / options.target_fraction;
+  const DiscretizationCheck check =
+      check_discretization(coarse, markers, placements, 1e7, 0.3, noise, options);
+  ASSERT_TRUE(check.done);
+  ASSERT_TRUE(check.within_target);
+  for (const auto& level : check.levels)
+    std::printf("level %d (%s, %d DOFs): estimate %.3g; %s\n", level.level,
+                level.description.c_str(), level.dofs, level.error_rms, level.estimate.c_str());
+  ASSERT_GE(check.levels.size(), 4u);
+  const DiscretizationLevel& chosen = check.levels[static_cast<size_t>(check.chosen)];
+  EXPECT_EQ(chosen.description, "degree 3, 9 x 2 x 2 (between levels 1 and 2)");
+  EXPECT_LT(chosen.dofs, check.levels[2].dofs);
+  // Its estimate is not below its true error, and the true error is within the target.
+  EXPECT_GT(chosen.error_rms, 0.85 * between_error);
+  EXPECT_LE(between_error, check.target);
+  ASSERT_TRUE(check.chosen_problem.has_value());
+  EXPECT_EQ(check.chosen_problem->patches[0].knots(0).num_elements(), 9);
+  EXPECT_EQ(check.marker_error.size(), markers.size());
+
+  // Without the level in between, the ladder's own level 2 is the choice.
+  options.intermediate = [](int, std::string*) { return std::optional<analysis::Problem>(); };
+  const DiscretizationCheck plain =
+      check_discretization(coarse, markers, placements, 1e7, 0.3, noise, options);
+  EXPECT_EQ(plain.chosen, 2);
+}
+
 TEST(DiscretizationCheck, ExactlyReproducedFieldNeedsNoRefinement) {
   // Uniform tension of a bar on rollers: u is linear in x, in every space of degree >= 1, so the
   // case's own coarse net is exact and the estimate is round-off.

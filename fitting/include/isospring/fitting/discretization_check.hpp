@@ -39,6 +39,10 @@ using DiscretizationLadder =
 /// refined net and check_discretization throws nurbs::InputError.
 DiscretizationLadder knot_insertion_ladder(const analysis::Problem& problem);
 
+/// Between knot_insertion_ladder's levels k - 1 and k (k >= 2): every knot span split in
+/// 3 x 2^(k - 2), 1.5 x the splits of level k - 1.
+DiscretizationLadder knot_insertion_intermediate(const analysis::Problem& problem);
+
 struct DiscretizationOptions {
   bool enabled = true;
   /// The reference's marker error must stay below this fraction of the noise (rms).
@@ -49,6 +53,14 @@ struct DiscretizationOptions {
   /// Empty: knot_insertion_ladder(problem). Case files give a k-refinement ladder
   /// (io::case_refinement_ladder).
   DiscretizationLadder ladder;
+  /// A discretisation between ladder levels k - 1 and k, asked for as `intermediate(k, ...)`
+  /// (nullopt when there is none), e.g. 1.5 x the elements of level k - 1. When level k >= 1 is
+  /// chosen, this one is solved too and used instead when its own estimate (its difference to the
+  /// finest level plus that level's extrapolated error) is within the target: a solid's ladder
+  /// grows ~4.5x in DOFs per level and the identification's cost with the square of them, so a
+  /// level chosen far inside the target is paid for many times over. Empty: none when `ladder`
+  /// is given, knot_insertion_intermediate(problem) otherwise.
+  DiscretizationLadder intermediate;
 };
 
 struct DiscretizationLevel {

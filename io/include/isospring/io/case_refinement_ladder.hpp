@@ -20,4 +20,13 @@ CaseDiscretization ladder_discretization(const Case& c, int level);
 /// The ladder as identify takes it; its descriptions read "degree 3, 20 x 4 x 4 elements".
 fitting::DiscretizationLadder case_refinement_ladder(const Case& c);
 
+/// Between levels l - 1 and l when both have the same degrees (l doubles the elements): the
+/// elements of level l - 1 times 1.5, rounded up (10 x 2 x 2 -> 15 x 3 x 3, between 10 x 2 x 2
+/// and 20 x 4 x 4), each rounded up to a multiple of the exact geometry's spans in its direction.
+/// nullopt when level l raises a degree.
+std::optional<CaseDiscretization> intermediate_discretization(const Case& c, int level);
+
+/// intermediate_discretization as identify's DiscretizationOptions::intermediate takes it.
+fitting::DiscretizationLadder case_refinement_intermediate(const Case& c);
+
 }  // namespace isospring::io
