@@ -4,12 +4,17 @@
 //   element products on one thread;
 // - ForwardModelRefactorisation: one evaluation (with Jacobian) of a model whose nu changes at
 //   every call, i.e. one numeric Cholesky factorisation each, on the symbolic analysis made for
-//   the first (counters: analyses, factorisations per evaluation).
+//   the first (counters: analyses, factorisations per evaluation);
+// - SvkTangent/threads: the large-deformation candidate's internal force and tangent (St.
+//   Venant-Kirchhoff, every element's dense products) on 1 and 2 threads; the colours keep the
+//   sums in one order, so both give the same matrix;
+// - SvkForce: the internal force alone, what a chord (modified Newton) step assembles.
 #include <benchmark/benchmark.h>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/nonlinear_elasticity.hpp"
 #include "isospring/fitting/identify_assembly.hpp"
 #include "isospring/fitting/identify_model.hpp"
 #include "isospring/geometry/primitives.hpp"
@@ -90,6 +95,45 @@ void BM_ForwardModelRefactorisation(benchmark::State& state) {
   state.counters["factorisations"] = static_cast<double>(stats.factorizations);
 }
 BENCHMARK(BM_ForwardModelRefactorisation)->Unit(benchmark::kMillisecond);
+
+// A smooth displacement of the box (bending along y, 1 % of its length at the tip).
+Eigen::VectorXd bent(const analysis::Problem& problem, const analysis::DofMap& dofs) {
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(dofs.num_dofs());
+  const auto& points = problem.patches[0].control_points();
+  for (size_t a = 0; a < points.size(); ++a) {
+    const double s = points[a].x() / 0.2;
+    u[dofs.dof(0, static_cast<int>(a), 1)] = 2e-3 * s * s;
+  }
+  return u;
+}
+
+void BM_SvkTangent(benchmark::State& state) {
+  const analysis::Problem problem = box_problem();
+  const analysis::DofMap dofs(problem);
+  analysis::SvkAssembler assembler(problem, dofs);
+  assembler.set_threads(static_cast<int>(state.range(0)));
+  const Eigen::VectorXd u = bent(problem, dofs);
+  Eigen::SparseMatrix<double> tangent;
+  for (auto _ : state) {
+    const Eigen::VectorXd r = assembler.internal_force(u, {5.8e8, 3.8e8}, &tangent);
+    benchmark::DoNotOptimize(r.data());
+  }
+  state.counters["dofs"] = dofs.num_dofs();
+}
+BENCHMARK(BM_SvkTangent)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SvkForce(benchmark::State& state) {
+  const analysis::Problem problem = box_problem();
+  const analysis::DofMap dofs(problem);
+  analysis::SvkAssembler assembler(problem, dofs);
+  assembler.set_threads(1);
+  const Eigen::VectorXd u = bent(problem, dofs);
+  for (auto _ : state) {
+    const Eigen::VectorXd r = assembler.internal_force(u, {5.8e8, 3.8e8});
+    benchmark::DoNotOptimize(r.data());
+  }
+}
+BENCHMARK(BM_SvkForce)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

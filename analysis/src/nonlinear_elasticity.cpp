@@ -166,16 +166,28 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
   if (tangent) *tangent = s.empty_matrix();
   std::string error;
   // Elements of one colour share no node: their scatters into the forces and the tangent never
-  // race.
-  constexpr int kParallelMinimum = 64;
+  // race, and every entry's sum runs colour by colour whatever the thread count.
+  //
+  // Small colours run serially (waking threads costs more than they save, much more on a loaded
+  // machine where OpenMP's spinning threads compete for cores), except elements of 81 or more
+  // DOFs (degree 2 solids and up): one tangent of a degree-3 solid element is ~16 Mflop, and a
+  // coarse degree-3 net has ~64 colours of a few elements each.
+  constexpr int kParallelMinimum = 64, kHeavyElement = 81;
+  const int team = threads_ > 0 ? threads_ : omp_get_max_threads();
+  int element_dofs = 0;
+  for (const auto& quadrature : s.quadratures)
+    element_dofs = std::max(element_dofs, quadrature.basis_count() * dim);
   for (const auto& colour : s.colours) {
     const int count = static_cast<int>(colour.size());
-#pragma omp parallel if (count >= kParallelMinimum)
+    const bool parallel = team > 1 && (count >= kParallelMinimum ||
+                                       (count >= 2 && tangent && element_dofs >= kHeavyElement));
+    const int chunk = count >= kParallelMinimum ? 16 : 1;
+#pragma omp parallel num_threads(team) if (parallel)
     {
       detail::QuadraturePoint point;
       Eigen::VectorXd local_lambda, local_mu;
       Eigen::MatrixXd local_tangent;
-#pragma omp for schedule(dynamic, 16)
+#pragma omp for schedule(dynamic, chunk)
       for (int c = 0; c < count; ++c) {
         const int e = colour[static_cast<size_t>(c)];
         const auto& element = s.elements[static_cast<size_t>(e)];

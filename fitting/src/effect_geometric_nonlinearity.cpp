@@ -29,6 +29,7 @@
 // springs. Plane stress uses the reduced lambda* of the linear law (see
 // analysis/nonlinear_elasticity.hpp).
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "isospring/analysis/elasticity.hpp"
@@ -41,19 +42,19 @@ namespace {
 
 // The SVK parts, shared by the terms of every model built with the effect.
 struct SvkParts {
-  SvkParts(const analysis::Problem& problem, const analysis::DofMap& dofs)
+  SvkParts(const analysis::Problem& problem, const analysis::DofMap& dofs, int threads)
       : assembler(problem, dofs) {
+    assembler.set_threads(threads);
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(dofs.num_dofs());
     for (size_t k = 0; k < 2; ++k) {
-      Eigen::SparseMatrix<double> upper;
-      assembler.internal_force(zero, unit(k), &upper);
-      linear[k] = upper.selfadjointView<Eigen::Upper>();
+      assembler.internal_force(zero, unit(k), &linear_upper[k]);
+      linear[k] = linear_upper[k].selfadjointView<Eigen::Upper>();
     }
   }
   static analysis::LameParameters unit(size_t k) {
     return k == 0 ? analysis::LameParameters{1.0, 0.0} : analysis::LameParameters{0.0, 1.0};
   }
-  // parts[k] = r_k(u) - K_k u; tangent = sum_k e_k (dr_k/du - K_k), full symmetric. One pass
+  // parts[k] = r_k(u) - K_k u; tangent = sum_k e_k (dr_k/du - K_k), upper triangle. One pass
   // over the elements; none at u = 0, where both vanish (Newton's first iterate).
   void evaluate(const Eigen::VectorXd& u, const std::vector<double>& e,
                 std::vector<Eigen::VectorXd>& parts, Eigen::SparseMatrix<double>* tangent) const {
@@ -63,22 +64,28 @@ struct SvkParts {
       if (tangent) tangent->resize(u.size(), u.size());
       return;
     }
-    Eigen::SparseMatrix<double> upper;
-    assembler.internal_force_parts(u, parts[0], parts[1], {e[0], e[1]}, tangent ? &upper : nullptr);
+    assembler.internal_force_parts(u, parts[0], parts[1], {e[0], e[1]}, tangent);
     for (size_t k = 0; k < 2; ++k) parts[k] -= linear[k] * u;
     if (tangent) {
-      const Eigen::SparseMatrix<double> full = upper.selfadjointView<Eigen::Upper>();
-      *tangent = full - e[0] * linear[0] - e[1] * linear[1];
+      // The assembler fills one pattern (all element couplings) whatever u and the Lame
+      // parameters: the linear parts subtract value by value.
+      const Eigen::Index nnz = tangent->nonZeros();
+      if (nnz != linear_upper[0].nonZeros() || nnz != linear_upper[1].nonZeros())
+        throw std::logic_error("geometric_nonlinearity: tangent pattern changed");
+      Eigen::Map<Eigen::VectorXd>(tangent->valuePtr(), nnz) -=
+          e[0] * Eigen::Map<const Eigen::VectorXd>(linear_upper[0].valuePtr(), nnz) +
+          e[1] * Eigen::Map<const Eigen::VectorXd>(linear_upper[1].valuePtr(), nnz);
     }
   }
   analysis::SvkAssembler assembler;
-  Eigen::SparseMatrix<double> linear[2];  // K_lambda, K_mu (full symmetric)
+  Eigen::SparseMatrix<double> linear_upper[2];  // K_lambda, K_mu: upper triangles
+  Eigen::SparseMatrix<double> linear[2];        // the same, full symmetric (products with u)
 };
 
 class GeometricNonlinearity : public Effect {
  public:
   explicit GeometricNonlinearity(const EffectContext& context)
-      : parts_(std::make_shared<SvkParts>(*context.problem, *context.dofs)) {}
+      : parts_(std::make_shared<SvkParts>(*context.problem, *context.dofs, context.threads)) {}
   std::string name() const override { return "geometric_nonlinearity"; }
   bool expensive() const override { return true; }
   std::vector<std::string> parameter_names() const override { return {"w"}; }

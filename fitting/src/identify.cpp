@@ -2,6 +2,7 @@
 #include "isospring/fitting/identify.hpp"
 
 #include <ceres/ceres.h>
+#include <omp.h>
 #include <Eigen/QR>
 
 #include <algorithm>
@@ -280,6 +281,11 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   options.gradient_tolerance = 1e-14;
   options.parameter_tolerance = 1e-12;
   options.logging_type = ceres::SILENT;
+  // No line search along a step projected onto the bounds: it evaluates the Jacobian at every
+  // trial point (a Newton tangent and its factorisation per load case for the large-deformation
+  // candidate, then again at the accepted point), and the bounds here are only guards of the
+  // physical range (E > 0, nu < 0.5) that a fit does not end on. Steps are still projected.
+  options.max_num_line_search_step_size_iterations = 0;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   fit.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
@@ -594,6 +600,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   // level that the discretisation check compares the reference's own error with.
   Setup case_setup;
   make_setup(case_setup, problem, markers, placements, options.fit_poisson, say);
+  const int element_threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  case_setup.context.threads = element_threads;
   case_setup.component_weight = component_weights(options, markers, case_setup.dim);
   IdentifyResult result;
   const std::vector<bool> all_markers(markers.size(), true);
@@ -653,6 +661,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       result.discretization.chosen_problem.reset();
       refined_setup = std::make_unique<Setup>();
       make_setup(*refined_setup, *refined_problem, markers, placements, options.fit_poisson, say);
+      refined_setup->context.threads = element_threads;
       refined_setup->component_weight = case_setup.component_weight;
     }
   } else {

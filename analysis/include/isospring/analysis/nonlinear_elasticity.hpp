@@ -49,11 +49,15 @@ class SvkAssembler {
                             Eigen::VectorXd& force_mu, const LameParameters& lame,
                             Eigen::SparseMatrix<double>* tangent = nullptr) const;
   int num_dofs() const { return num_dofs_; }
+  /// Threads of the element loop; 0 (the default): OpenMP's maximum at each call. Elements of one
+  /// colour share no node and the colours run in order, so every sum is the same for any count.
+  void set_threads(int threads) { threads_ = threads; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   int num_dofs_ = 0;
+  int threads_ = 0;
 };
 
 struct NonlinearOptions {

@@ -64,6 +64,8 @@ struct EffectContext {
   double youngs_modulus_prior = 0.0;
   Coefficient lambda;  // Lame parameters as functions of theta (material parameters)
   Coefficient mu;
+  /// Threads for an effect's element loops (>= 1; IdentifyOptions::threads).
+  int threads = 1;
 };
 
 class Effect {

@@ -44,6 +44,10 @@ struct IdentifyOptions {
   bool fit_poisson = false;
   double noise_sigma = 0.0;  // [m]; 0: estimate from the data
   double significance = 0.01;
+  /// Threads of the element loops (the large-deformation candidate's assembly); 0: OpenMP's
+  /// maximum at the call. Elements of one colour share no node and colours run in order, so the
+  /// results are the same, digit for digit, for every count. Factorisations stay on one thread.
+  int threads = 0;
   /// The effects to try; unset: the whole library (effect_names()); an empty list: none, the
   /// nominal fit alone (e.g. to reproduce a published plain fit before the loop adds effects).
   std::optional<std::vector<std::string>> candidates;

@@ -48,7 +48,8 @@ struct VectorTerm {
 
 /// Internal force beyond the linear stiffness terms: sum_k coefficients[k](theta) n_k(u).
 /// evaluate(u, e, parts, tangent) sets parts[k] = n_k(u) (all DOFs) and, when `tangent` is not
-/// null, *tangent = sum_k e[k] dn_k/du (full symmetric, all DOFs), e the coefficients' values.
+/// null, *tangent = sum_k e[k] dn_k/du (symmetric, all DOFs; only its upper triangle is read, so
+/// it may hold that alone), e the coefficients' values.
 struct NonlinearTerm {
   std::vector<Coefficient> coefficients;
   std::function<void(const Eigen::VectorXd& u, const std::vector<double>& e,
