@@ -109,13 +109,18 @@ LameMatrices assemble_lame_stiffness(const analysis::Problem& problem, const ana
         point_grads[i].clear();
         point_weighted[i].clear();
       }
+      // products[i][j] = weighted_i grad_j^T: the lambda part's block (i, j) and, transposed in
+      // the component pair, the mu part's block (j, i) (each product is needed twice).
+      Eigen::MatrixXd products[3][3];
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j) products[i][j].noalias() = weighted[i] * grad[j].transpose();
       Eigen::MatrixXd trace = Eigen::MatrixXd::Zero(n, n);
-      for (int k = 0; k < dim; ++k) trace.noalias() += weighted[k] * grad[k].transpose();
-      Eigen::MatrixXd lambda_block(n, n), mu_block(n, n);
+      for (int k = 0; k < dim; ++k) trace += products[k][k];
+      Eigen::MatrixXd mu_block(n, n);
       for (int i = 0; i < dim; ++i)
         for (int j = 0; j < dim; ++j) {
-          lambda_block.noalias() = weighted[i] * grad[j].transpose();
-          mu_block.noalias() = weighted[j] * grad[i].transpose();
+          const Eigen::MatrixXd& lambda_block = products[i][j];
+          mu_block = products[j][i];
           if (i == j) mu_block += trace;
           for (Eigen::Index a = 0; a < n; ++a)
             for (Eigen::Index b = 0; b < n; ++b) {

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "factorization_cache.hpp"
 #include "free_block.hpp"
 
 namespace isospring::fitting {
@@ -41,69 +42,6 @@ Coefficient product(Coefficient a, Coefficient b) {
     return va * vb;
   };
 }
-
-struct FactorizationCache {
-  std::mutex mutex;  // evaluate() is const and may be called from several threads
-  // The symbolic analysis (fill-reducing ordering, supernodes) depends on K_ff's pattern only:
-  // it is kept for the pattern it was made for and every factorisation of that pattern reuses it.
-  std::unique_ptr<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>> cholesky;
-  std::vector<int> analysed_outer, analysed_inner;  // the pattern `cholesky` was analysed for
-  bool factorized = false;  // `cholesky` holds the factor of `coefficients` (else analysis only)
-  std::vector<double> fingerprint;   // of the factorised model's terms and free DOFs
-  std::vector<double> coefficients;  // of the factorised K_ff
-  // W = K_c^-1 U and G = U^T W for the model's local DOFs B (U: the columns of the identity at
-  // B); computed on the first low-rank solve after each factorisation.
-  Eigen::MatrixXd w, g;
-  bool low_rank_ready = false;
-  FactorizationStats stats;
-
-  // Factorises `kff` (numerically only when its pattern is the analysed one); false when it is
-  // not positive definite.
-  bool factorize(const Eigen::SparseMatrix<double>& kff) {
-    factorized = false;
-    const auto n = static_cast<size_t>(kff.outerSize());
-    const auto nnz = static_cast<size_t>(kff.nonZeros());
-    const bool same_pattern =
-        cholesky && analysed_outer.size() == n + 1 && analysed_inner.size() == nnz &&
-        std::equal(analysed_outer.begin(), analysed_outer.end(), kff.outerIndexPtr()) &&
-        std::equal(analysed_inner.begin(), analysed_inner.end(), kff.innerIndexPtr());
-    if (!same_pattern) {
-      cholesky = std::make_unique<
-          Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>();
-      cholesky->cholmod().print = 0;  // a failed trial step is handled by the caller, not printed
-      cholesky->analyzePattern(kff);
-      analysed_outer.assign(kff.outerIndexPtr(), kff.outerIndexPtr() + n + 1);
-      analysed_inner.assign(kff.innerIndexPtr(), kff.innerIndexPtr() + nnz);
-      ++stats.analyses;
-    }
-    cholesky->factorize(kff);
-    if (cholesky->info() != Eigen::Success) return false;
-    factorized = true;
-    ++stats.factorizations;
-    return true;
-  }
-
-  // s with c_j = s * coefficients_j to 1e-13 of c_j for every term with local[j] false (all
-  // terms when local is empty), or 0 when there is no such s. One scale for every term, each to
-  // 1e-13 of itself: a term far stiffer than the others (a support spring of 1e12 against
-  // E = 1e9) must not hide a change in the others, which a badly conditioned K would amplify.
-  double scale_to(const std::vector<double>& model_fingerprint, const std::vector<double>& c,
-                  const std::vector<bool>& local) const {
-    if (!factorized || model_fingerprint != fingerprint || c.size() != coefficients.size())
-      return 0.0;
-    auto global = [&](size_t j) { return local.empty() || !local[j]; };
-    double s = 0.0;
-    for (size_t j = 0; j < c.size(); ++j)
-      if (global(j) && coefficients[j] != 0.0) {
-        s = c[j] / coefficients[j];
-        break;
-      }
-    if (!(s > 0.0)) return 0.0;
-    for (size_t j = 0; j < c.size(); ++j)
-      if (global(j) && std::abs(c[j] - s * coefficients[j]) > 1e-13 * std::abs(c[j])) return 0.0;
-    return s;
-  }
-};
 
 std::shared_ptr<FactorizationCache> make_factorization_cache() {
   return std::make_shared<FactorizationCache>();

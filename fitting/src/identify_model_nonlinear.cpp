@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "factorization_cache.hpp"
 #include "free_block.hpp"
 #include "isospring/analysis/tangent_solver.hpp"
 #include "isospring/fitting/identify_model.hpp"
@@ -19,14 +20,15 @@ namespace isospring::fitting {
 
 struct ForwardModel::NonlinearCache {
   std::mutex mutex;
-  std::vector<Eigen::VectorXd> solutions;  // per load case; empty until solved
+  std::vector<Eigen::VectorXd> solutions;         // per load case; empty until solved
+  std::vector<Eigen::VectorXd> linear_solutions;  // the linear solution at the same theta, or empty
   // The factorisations of an evaluation, kept so that the next one reuses their symbolic
   // analyses (the tangent's pattern does not change with u or theta); one evaluation at a time.
   std::mutex solver_mutex;
   analysis::TangentSolver linear_solver;
   // Per load case: its last factorised tangent (valid once factorised), the chord matrix of the
   // next evaluation's Newton iterations.
-  std::vector<std::unique_ptr<analysis::TangentSolver>> tangent_solvers;
+  std::vector<std::shared_ptr<analysis::TangentSolver>> tangent_solvers;
   std::vector<bool> factorised;
 };
 
@@ -54,6 +56,8 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
                                                  bool with_jacobian) const {
   if (!nonlinear_cache_) throw std::logic_error("ForwardModel: nonlinear cache missing");
   const std::lock_guard<std::mutex> solver_lock(nonlinear_cache_->solver_mutex);
+  FactorizationCache& shared = *linear_cache_;
+  const std::lock_guard<std::mutex> shared_lock(shared.nonlinear_mutex);
   const int nf = static_cast<int>(free_dofs_.size());
   const size_t nt = terms_.stiffness.size();
   std::vector<double> c(nt);
@@ -90,12 +94,30 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
     return r;
   };
 
+  // Linear solution and its derivatives (only needed for the blend).
+  const int w_index = terms_.nonlinear_weight;
+  const double w = w_index >= 0 ? theta[w_index] : 1.0;
+  analysis::TangentSolver& linear_solver = nonlinear_cache_->linear_solver;
+  if (w_index >= 0 && !linear_solver.compute(kff))
+    throw std::runtime_error(
+        "the stiffness at the current parameters is not positive definite (a parameter left "
+        "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
+
+  // The Jacobian needs the tangent at the converged state unless the blend weight is 0: there
+  // du/dtheta = du_lin/dtheta and du/dw = u_nl - u_lin, so u_nl itself is all that is needed
+  // (the score screening of the candidate evaluates exactly there, at its neutral w = 0).
+  const bool need_tangent = with_jacobian && w != 0.0;
+
   // Newton at load factor s (loads and prescribed values scaled) from u, updated in place,
-  // with chord steps while `solver` holds a factorised tangent (`factorised`) and they converge
-  // fast. On success at s = 1 with a Jacobian asked for, `solver` holds the factorised tangent
-  // at the converged u (without one, that factorisation is skipped: no solve needs it).
+  // with chord steps while they converge fast: on `solver` when it holds a factorised tangent
+  // (`factorised`), else on `borrowed` (another model's last tangent at the same free DOFs),
+  // else on the linear stiffness (the tangent at u = 0, factorised for the blend), which is all
+  // a small deformation needs. On success at s = 1 with need_tangent,
+  // `solver` holds the factorised tangent at the converged u (else that factorisation is
+  // skipped: no solve needs it).
   auto newton = [&](const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
-                    analysis::TangentSolver& solver, bool& factorised) {
+                    analysis::TangentSolver& solver, bool& factorised,
+                    const analysis::TangentSolver* borrowed) {
     for (int d = 0; d < num_dofs_; ++d)
       if (free_index_[static_cast<size_t>(d)] < 0) u[d] = s * prescribed_[d];
     // The residual on the free DOFs, and whether it meets the tolerance.
@@ -114,8 +136,8 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       const double norm = r_free.norm();
       return norm <= kTolerance * std::sqrt(std::max(load, reaction)) || norm == 0.0;
     };
-    auto step = [&](const Eigen::VectorXd& r_free) {
-      const Eigen::VectorXd du = solver.solve(r_free);
+    auto step = [&](const analysis::TangentSolver& factor, const Eigen::VectorXd& r_free) {
+      const Eigen::VectorXd du = factor.solve(r_free);
       for (int k = 0; k < nf; ++k) u[free_dofs_[static_cast<size_t>(k)]] += du[k];
     };
     Eigen::SparseMatrix<double> tangent_ff;
@@ -134,15 +156,16 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
         u = before_chord;  // too slow: a Newton step from where the chord step started
         r_free = r_before_chord;
         chords = kMaxChordSteps;
-      } else if (converged && !(with_jacobian && s == 1.0)) {
+      } else if (converged && !(need_tangent && s == 1.0)) {
         return true;
-      } else if (!converged && factorised && chords < kMaxChordSteps) {
+      } else if (!converged && (factorised || borrowed || w_index >= 0) &&
+                 chords < kMaxChordSteps) {
         before_chord = u;
         r_before_chord = r_free;
         norm_before_chord = norm;
         after_chord = true;
         ++chords;
-        step(r_free);
+        step(factorised ? solver : borrowed ? *borrowed : linear_solver, r_free);
         continue;
       }
       after_chord = false;
@@ -151,62 +174,16 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       factorised = solver.compute(tangent_ff);
       if (!factorised) return false;
       if (converged) return true;
-      step(r_free);
+      step(solver, r_free);
     }
     return false;
   };
-
-  // Linear solution and its derivatives (only needed for the blend).
-  const int w_index = terms_.nonlinear_weight;
-  const double w = w_index >= 0 ? theta[w_index] : 1.0;
-  analysis::TangentSolver& linear_solver = nonlinear_cache_->linear_solver;
-  if (w_index >= 0 && !linear_solver.compute(kff))
-    throw std::runtime_error(
-        "the stiffness at the current parameters is not positive definite (a parameter left "
-        "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
 
   ModelEvaluation out;
   for (int l = 0; l < num_load_cases_; ++l) {
     Eigen::VectorXd force;
     Eigen::MatrixXd dforce;
     load_vector(l, theta, with_jacobian, force, dforce);
-    // Newton from the last solution; else from zero (its first step is the linear solution),
-    // then in 2, 4, ... equal load steps.
-    NonlinearCache& cache = *nonlinear_cache_;
-    if (cache.tangent_solvers.size() <= static_cast<size_t>(l)) {
-      cache.tangent_solvers.resize(static_cast<size_t>(l) + 1);
-      cache.factorised.resize(static_cast<size_t>(l) + 1, false);
-    }
-    auto& owned_solver = cache.tangent_solvers[static_cast<size_t>(l)];
-    if (!owned_solver) owned_solver = std::make_unique<analysis::TangentSolver>();
-    analysis::TangentSolver& solver = *owned_solver;
-    bool factorised = cache.factorised[static_cast<size_t>(l)];
-    Eigen::VectorXd u;
-    {
-      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
-      if (nonlinear_cache_->solutions.size() > static_cast<size_t>(l))
-        u = nonlinear_cache_->solutions[static_cast<size_t>(l)];
-    }
-    bool converged = u.size() == num_dofs_ && newton(force, 1.0, u, solver, factorised);
-    for (int steps = 1; steps <= kMaxSteps && !converged; steps *= 2) {
-      u = Eigen::VectorXd::Zero(num_dofs_);
-      converged = true;
-      for (int k = 1; k <= steps && converged; ++k)
-        converged = newton(force, static_cast<double>(k) / steps, u, solver, factorised);
-    }
-    cache.factorised[static_cast<size_t>(l)] = factorised;
-    if (!converged)
-      throw std::runtime_error("the large-deformation model did not converge for load case " +
-                               std::to_string(l + 1) +
-                               " at the current parameters (Newton with up to " +
-                               std::to_string(kMaxSteps) + " load steps)");
-    {
-      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
-      nonlinear_cache_->solutions.resize(
-          std::max(nonlinear_cache_->solutions.size(), static_cast<size_t>(l) + 1));
-      nonlinear_cache_->solutions[static_cast<size_t>(l)] = u;
-    }
-
     // Right-hand sides df/dtheta - dK/dtheta u for the linear terms at displacement v.
     auto linear_rhs = [&](const Eigen::VectorXd& v) {
       Eigen::MatrixXd rhs = dforce;
@@ -224,9 +201,6 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       return x;
     };
 
-    const Eigen::SparseMatrix<double, Eigen::RowMajor>& h =
-        observations_[static_cast<size_t>(l)].operator_;
-    Eigen::MatrixXd jac;
     Eigen::VectorXd u_linear;
     Eigen::MatrixXd du_linear;
     if (w_index >= 0) {
@@ -237,15 +211,90 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       u_linear = prescribed_ + solve_free(linear_solver, force - ku_c).col(0);
       if (with_jacobian) du_linear = solve_free(linear_solver, linear_rhs(u_linear));
     }
+    // Newton from the last solution, this model's or another's (FactorizationCache), moved by
+    // the change of the linear solution since: u_lin(theta) + (u_nl - u_lin)(theta_last). The
+    // nonlinear part changes far less than the linear one between parameters (a new modulus
+    // or stiffness gradient moves u_lin by 20 % on the suite's tube_graded, and the last
+    // solution alone then starts 37 % of the load off equilibrium). Else from zero (its first
+    // step is the linear solution), then in 2, 4, ... equal load steps.
+    NonlinearCache& cache = *nonlinear_cache_;
+    if (cache.tangent_solvers.size() <= static_cast<size_t>(l)) {
+      cache.tangent_solvers.resize(static_cast<size_t>(l) + 1);
+      cache.factorised.resize(static_cast<size_t>(l) + 1, false);
+    }
+    const auto lc = static_cast<size_t>(l);
+    auto& owned_solver = cache.tangent_solvers[lc];
+    if (!owned_solver) owned_solver = std::make_shared<analysis::TangentSolver>();
+    analysis::TangentSolver& solver = *owned_solver;
+    bool factorised = cache.factorised[lc];
+    Eigen::VectorXd u, u_linear_then;
+    {
+      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
+      if (nonlinear_cache_->solutions.size() > lc) {
+        u = nonlinear_cache_->solutions[lc];
+        u_linear_then = nonlinear_cache_->linear_solutions[lc];
+      }
+    }
+    // This model's first evaluation: another model's solution and tangent (FactorizationCache).
+    auto grow = [lc](auto& per_load_case) {
+      if (per_load_case.size() <= lc) per_load_case.resize(lc + 1);
+    };
+    grow(shared.nonlinear_starts), grow(shared.linear_starts);
+    grow(shared.tangents), grow(shared.tangent_free_dofs);
+    if (u.size() != num_dofs_ && shared.nonlinear_starts[lc].size() == num_dofs_) {
+      u = shared.nonlinear_starts[lc];
+      u_linear_then = shared.linear_starts[lc];
+    }
+    if (u.size() == num_dofs_ && u_linear.size() == num_dofs_ && u_linear_then.size() == num_dofs_)
+      u += u_linear - u_linear_then;
+    const analysis::TangentSolver* borrowed = nullptr;
+    if (!factorised && shared.tangents[lc] && shared.tangents[lc] != owned_solver &&
+        shared.tangent_free_dofs[lc] == free_dofs_)
+      borrowed = shared.tangents[lc].get();
+    bool converged = u.size() == num_dofs_ && newton(force, 1.0, u, solver, factorised, borrowed);
+    for (int steps = 1; steps <= kMaxSteps && !converged; steps *= 2) {
+      u = Eigen::VectorXd::Zero(num_dofs_);
+      converged = true;
+      for (int k = 1; k <= steps && converged; ++k)
+        converged = newton(force, static_cast<double>(k) / steps, u, solver, factorised, nullptr);
+    }
+    cache.factorised[lc] = factorised;
+    if (converged) {
+      shared.nonlinear_starts[lc] = u;
+      shared.linear_starts[lc] = u_linear;
+    }
+    if (factorised && shared.tangents[lc] != owned_solver) {
+      shared.tangents[lc] = owned_solver;
+      shared.tangent_free_dofs[lc] = free_dofs_;
+    }
+    if (!converged)
+      throw std::runtime_error("the large-deformation model did not converge for load case " +
+                               std::to_string(l + 1) +
+                               " at the current parameters (Newton with up to " +
+                               std::to_string(kMaxSteps) + " load steps)");
+    {
+      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
+      nonlinear_cache_->solutions.resize(std::max(nonlinear_cache_->solutions.size(), lc + 1));
+      nonlinear_cache_->linear_solutions.resize(nonlinear_cache_->solutions.size());
+      nonlinear_cache_->solutions[lc] = u;
+      nonlinear_cache_->linear_solutions[lc] = u_linear;
+    }
+
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& h =
+        observations_[static_cast<size_t>(l)].operator_;
+    Eigen::MatrixXd jac;
     if (with_jacobian) {
-      // dR/dtheta at fixed u: the linear terms' dK/dtheta u and the nonlinear parts n_k(u) de_k
-      // (`parts` hold n_k at the converged u: Newton's last evaluation).
-      Eigen::MatrixXd rhs = linear_rhs(u);
-      for (size_t t = 0; t < nn; ++t)
-        for (size_t k = 0; k < parts[t].size(); ++k) rhs -= parts[t][k] * de[t][k].transpose();
-      Eigen::MatrixXd du = solve_free(solver, rhs);
+      Eigen::MatrixXd du;
+      if (need_tangent) {
+        // dR/dtheta at fixed u: the linear terms' dK/dtheta u and the nonlinear parts n_k(u)
+        // de_k (`parts` hold n_k at the converged u: Newton's last evaluation).
+        Eigen::MatrixXd rhs = linear_rhs(u);
+        for (size_t t = 0; t < nn; ++t)
+          for (size_t k = 0; k < parts[t].size(); ++k) rhs -= parts[t][k] * de[t][k].transpose();
+        du = solve_free(solver, rhs);
+      }
       if (w_index >= 0) {
-        du = w * du + (1.0 - w) * du_linear;
+        du = need_tangent ? Eigen::MatrixXd(w * du + (1.0 - w) * du_linear) : du_linear;
         du.col(w_index) += u - u_linear;
       }
       jac = h * du;

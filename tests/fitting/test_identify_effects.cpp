@@ -198,6 +198,58 @@ TEST(IdentifyEffects, HoldoutImprovesWhenTheEffectIsReal) {
   EXPECT_GT(r.holdout.validation_before.rms, 2 * r.holdout.validation_after.rms);
 }
 
+// Every candidate is fitted only when a score test at the current fit does not rule it out
+// (identify.cpp). The test's one Gauss-Newton step must predict what the fit then finds: for
+// gravity, linear in its parameters, the two F statistics agree closely.
+TEST(IdentifyEffects, ScoreScreeningOfALinearCandidateAgreesWithItsFit) {
+  const Synthetic data = make_data({{"gravity", kGravity}}, 5);
+  IdentifyOptions options;
+  options.discretization.enabled = false;  // data simulated on this very discretisation
+  options.holdout = false;
+  const IdentifyResult r = identify(data.prior, data.markers, data.placements, options);
+  ASSERT_FALSE(r.rounds.empty());
+  const CandidateTest* gravity = nullptr;
+  for (const CandidateTest& c : r.rounds[0].candidates)
+    if (c.effect == "gravity") gravity = &c;
+  ASSERT_NE(gravity, nullptr);
+  ASSERT_TRUE(gravity->note.empty()) << gravity->note;  // fitted, not screened out
+  ASSERT_TRUE(std::isfinite(gravity->score_f));
+  EXPECT_GT(gravity->f_statistic, 100.0);
+  EXPECT_NEAR(gravity->score_f / gravity->f_statistic, 1.0, 0.05)
+      << "score F " << gravity->score_f << ", fit F " << gravity->f_statistic;
+  // On these data nothing else is significant: the other candidates of the last round were
+  // ruled out by their score tests, without a fit.
+  for (const CandidateTest& c : r.rounds.back().candidates)
+    if (c.effect != "gravity" && c.p_value > 10.0 * options.significance)
+      EXPECT_NE(c.note.find("screened out"), std::string::npos) << c.effect << ": " << c.note;
+}
+
+// The hold-out folds run on several threads, each with its own factorisation cache: the same
+// numbers as on one thread.
+TEST(IdentifyEffects, HoldoutFoldsOnTwoThreadsMatchOneThread) {
+  const Synthetic data = make_data({{"stiffness_gradient", kGradient}}, 4);
+  IdentifyOptions options;
+  options.discretization.enabled = false;  // data simulated on this very discretisation
+  options.threads = 1;
+  const IdentifyResult one = identify(data.prior, data.markers, data.placements, options);
+  options.threads = 2;
+  const IdentifyResult two = identify(data.prior, data.markers, data.placements, options);
+  ASSERT_TRUE(one.holdout_done && two.holdout_done);
+  EXPECT_NEAR(two.holdout.validation_after.rms, one.holdout.validation_after.rms,
+              1e-9 * one.holdout.validation_after.rms);
+  EXPECT_NEAR(two.holdout.validation_before.rms, one.holdout.validation_before.rms,
+              1e-9 * one.holdout.validation_before.rms);
+  ASSERT_EQ(one.load_case_holdout.size(), data.prior.load_cases.size());
+  ASSERT_EQ(two.load_case_holdout.size(), one.load_case_holdout.size());
+  for (size_t l = 0; l < one.load_case_holdout.size(); ++l) {
+    EXPECT_EQ(two.load_case_holdout[l].id, one.load_case_holdout[l].id);
+    EXPECT_NEAR(two.load_case_holdout[l].after.rms, one.load_case_holdout[l].after.rms,
+                1e-9 * one.load_case_holdout[l].after.rms);
+    EXPECT_NEAR(two.load_case_holdout[l].before.rms, one.load_case_holdout[l].before.rms,
+                1e-9 * one.load_case_holdout[l].before.rms);
+  }
+}
+
 // Component weights: with noise 100x smaller in y than in x, weights 1 / sigma_c are the
 // statistically right ones (the minimum-variance estimate); the fit must use them: estimates
 // within 3 standard errors of the truth and standard errors smaller than with equal weights.

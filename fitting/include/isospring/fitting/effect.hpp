@@ -82,6 +82,11 @@ class Effect {
   /// screening of expensive candidates; empty when there are none (a compliance is rigid only
   /// in the limit).
   virtual Eigen::VectorXd neutral_values() const { return Eigen::VectorXd::Zero(num_parameters()); }
+  /// Where the score screening of the selection tests the candidate: its neutral values, or,
+  /// for an effect that vanishes only in a limit, values where it is negligible against any
+  /// noise (support springs 1e5 x stiffer than the body: 1e-5 of its displacement). Empty: the
+  /// candidate is always fitted.
+  virtual Eigen::VectorXd screening_values() const { return neutral_values(); }
   /// The name of a nested special case with fewer parameters (rigid_offset_per_load ->
   /// rigid_offset), or empty: the backward step of the selection tries the simpler one in its
   /// place.

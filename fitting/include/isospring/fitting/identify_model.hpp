@@ -78,7 +78,8 @@ struct ModelEvaluation {
   std::vector<Eigen::VectorXd> displacements;  // per load case, all DOFs
 };
 
-/// The last factorisation of a linear model's K_ff, shareable between forward models: the
+/// The last factorisation of a linear model's K_ff (and the last large-deformation solution per
+/// load case, the Newton start of a new model), shareable between forward models: the
 /// candidate models of one identification differ in loads and offsets far more often than in
 /// their stiffness, and a model whose stiffness terms, free DOFs and coefficients (up to a common
 /// scale) match the cached ones solves with it instead of factorising again. When only the
