@@ -219,9 +219,11 @@ TEST(IdentifyEffects, ScoreScreeningOfALinearCandidateAgreesWithItsFit) {
       << "score F " << gravity->score_f << ", fit F " << gravity->f_statistic;
   // On these data nothing else is significant: the other candidates of the last round were
   // ruled out by their score tests, without a fit.
-  for (const CandidateTest& c : r.rounds.back().candidates)
-    if (c.effect != "gravity" && c.p_value > 10.0 * options.significance)
+  for (const CandidateTest& c : r.rounds.back().candidates) {
+    if (c.effect != "gravity" && c.p_value > 10.0 * options.significance) {
       EXPECT_NE(c.note.find("screened out"), std::string::npos) << c.effect << ": " << c.note;
+    }
+  }
 }
 
 // The hold-out folds run on several threads, each with its own factorisation cache: the same

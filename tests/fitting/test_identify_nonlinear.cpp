@@ -156,7 +156,7 @@ TEST(IdentifyNonlinear, ModelsSharingACacheSolveAsAFreshOne) {
   beam.model(shared)->evaluate(Eigen::Vector3d(1.0, kNu, 1.0), true);
   const auto second = beam.model(shared);
   const auto fresh = beam.model();
-  for (const Eigen::Vector3d theta :
+  for (const Eigen::Vector3d& theta :
        {Eigen::Vector3d(1.15, kNu, 1.0), Eigen::Vector3d(0.9, 0.25, 0.6),
         Eigen::Vector3d(1.1, kNu, 0.0)}) {
     const ModelEvaluation a = second->evaluate(theta, true), b = fresh->evaluate(theta, true);
@@ -168,50 +168,9 @@ TEST(IdentifyNonlinear, ModelsSharingACacheSolveAsAFreshOne) {
 }
 
 TEST(IdentifyNonlinear, JacobianMatchesFiniteDifferences) {
-  // theta = (E / E_prior, nu, w) with plane-strain Lame coefficients and exact gradients.
-  const analysis::Problem problem = cantilever(450.0);
-  const analysis::DofMap dofs(problem);
-  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
-  const LameMatrices lame = assemble_lame_stiffness(problem, dofs);
-  EffectContext context;
-  context.problem = &problem;
-  context.dofs = &dofs;
-  context.constraints = &constraints;
-  context.stiffness = &lame;
-  context.dimension = 2;
-  context.lambda = [](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
-    const double e = kPriorE * t[0], nu = t[1], d = (1 + nu) * (1 - 2 * nu);
-    if (g) {
-      g->setZero(t.size());
-      (*g)[0] = kPriorE * nu / d;
-      (*g)[1] = e * (1 + 2 * nu * nu) / (d * d);
-    }
-    return e * nu / d;
-  };
-  context.mu = [](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
-    const double e = kPriorE * t[0], nu = t[1];
-    if (g) {
-      g->setZero(t.size());
-      (*g)[0] = kPriorE / (2 * (1 + nu));
-      (*g)[1] = -e / (2 * (1 + nu) * (1 + nu));
-    }
-    return e / (2 * (1 + nu));
-  };
-  std::string why;
-  const auto effect = make_effect("geometric_nonlinearity", context, &why);
-  ASSERT_NE(effect, nullptr) << why;
-  ModelTerms terms;
-  terms.num_parameters = 3;
-  terms.stiffness.push_back({lame.lambda_part, context.lambda});
-  terms.stiffness.push_back({lame.mu_part, context.mu});
-  terms.loads.push_back(
-      {0, analysis::assemble_load(problem, dofs, problem.load_cases[0]), constant_coefficient(1)});
-  effect->add_terms(context, 2, terms);
-  Observation all;  // every DOF observed
-  all.operator_.resize(dofs.num_dofs(), dofs.num_dofs());
-  all.operator_.setIdentity();
-  const ForwardModel model(std::move(terms), {all}, constraints.dofs, constraints.values,
-                           dofs.num_dofs(), 1);
+  const NonlinearCantilever beam(450.0);
+  const auto owned = beam.model();
+  const ForwardModel& model = *owned;
   // w = 0.7 exercises both halves of the blend; w = 0 the Jacobian made without a tangent (the
   // score test's point).
   for (const double w : {0.7, 0.0}) {
