@@ -48,10 +48,11 @@ double control_rms(const SweepEntry& entry) {
 }
 
 // A gamma whose fit fails is recorded with its message and the sweep goes on with the next one;
-// only when every gamma fails does calibrate() throw. Measured on the circle (fitted case
-// "fit_points", 3000 iterations): gamma 0.7's fit leaves a network that is singular under the
-// supports (as in `isospring thesis`), gamma 0.8 and 0.5 converge in 34 and 20 iterations; on the
-// square gamma 0.8 (one group) converges at once and gamma 0.001 (two groups) needs 4.
+// only when every gamma fails does calibrate() throw. On the circle (fitted case "fit_points",
+// 3000 iterations) gamma 0.7's fit ended in a network singular under the supports on the machine
+// these tests were written on, but converges on another one (OpenBLAS's kernels differ by CPU, and
+// the fit's path with them): the sweep's invariants are checked for whichever gammas fail there,
+// and a deterministic failure (a fit that cannot converge in its iteration budget) below.
 TEST(CalibrationSweep, AFailingGammaIsRecordedAndTheSweepGoesOn) {
   const ThesisObject circle = thesis_circle();
   CalibrationSettings settings;
@@ -61,27 +62,30 @@ TEST(CalibrationSweep, AFailingGammaIsRecordedAndTheSweepGoesOn) {
   CalibrationResult result;
   ASSERT_NO_THROW(result = calibrate(circle.problem, settings));
   ASSERT_EQ(result.sweep.size(), 3u);
-  const SweepEntry& failed = result.sweep[1];
-  EXPECT_NE(failed.failure.find("singular"), std::string::npos) << failed.failure;
-  EXPECT_TRUE(failed.control.empty());
-  EXPECT_EQ(failed.reused_from, -1);
-  for (size_t i : {0u, 2u}) {
-    EXPECT_TRUE(result.sweep[i].failure.empty()) << result.sweep[i].failure;
-    ASSERT_EQ(result.sweep[i].control.size(), 1u);
+  size_t best = result.sweep.size();
+  for (size_t i = 0; i < result.sweep.size(); ++i) {
+    const SweepEntry& entry = result.sweep[i];
+    EXPECT_EQ(entry.reused_from, -1);
+    if (!entry.failure.empty()) {
+      EXPECT_TRUE(entry.control.empty()) << entry.failure;
+      // The failing gamma alone throws what its entry recorded.
+      CalibrationSettings alone = settings;
+      alone.gamma_sweep = {entry.gamma};
+      try {
+        calibrate(circle.problem, alone);
+        ADD_FAILURE() << "expected gamma " << entry.gamma << " to fail alone";
+      } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), entry.failure);
+      }
+      continue;
+    }
+    ASSERT_EQ(entry.control.size(), 1u);
+    if (best == result.sweep.size() || control_rms(entry) < control_rms(result.sweep[best]))
+      best = i;
   }
-  const size_t better =
-      control_rms(result.sweep[0]) <= control_rms(result.sweep[2]) ? size_t{0} : size_t{2};
-  EXPECT_DOUBLE_EQ(result.gamma, result.sweep[better].gamma);
-  EXPECT_EQ(result.fit_result.spring_stiffness, result.sweep[better].spring_stiffness);
-
-  // The failing gamma alone throws what its entry recorded, as before sweeps tolerated failures.
-  settings.gamma_sweep = {0.7};
-  try {
-    calibrate(circle.problem, settings);
-    FAIL() << "expected gamma 0.7 to fail alone";
-  } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), failed.failure);
-  }
+  ASSERT_LT(best, result.sweep.size());
+  EXPECT_DOUBLE_EQ(result.gamma, result.sweep[best].gamma);
+  EXPECT_EQ(result.fit_result.spring_stiffness, result.sweep[best].spring_stiffness);
 
   // A fit that does not converge fails its gamma the same way.
   const ThesisObject square = thesis_square(6, 2);
@@ -91,8 +95,16 @@ TEST(CalibrationSweep, AFailingGammaIsRecordedAndTheSweepGoesOn) {
   ASSERT_EQ(result.sweep.size(), 2u);
   EXPECT_NE(result.sweep[0].failure.find("did not converge"), std::string::npos)
       << result.sweep[0].failure;
+  EXPECT_TRUE(result.sweep[0].control.empty());
   EXPECT_TRUE(result.sweep[1].failure.empty()) << result.sweep[1].failure;
   EXPECT_DOUBLE_EQ(result.gamma, 0.8);
+  settings.gamma_sweep = {0.001};  // alone, it throws what its entry recorded
+  try {
+    calibrate(square.problem, settings);
+    FAIL() << "expected gamma 0.001 to fail alone in 2 iterations";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), result.sweep[0].failure);
+  }
 
   // Every gamma failing: one error naming each.
   settings.gamma_sweep = {0.8, 0.7, 0.5};
