@@ -33,11 +33,11 @@ struct FactorizationCache {
   // What the large-deformation evaluations of the cache's models share, per load case; a
   // nonlinear evaluation holds nonlinear_mutex throughout. A new model's first evaluation starts
   // Newton from the last converged solution (whichever model found it; moved by the change of
-  // the linear solution) and, while it has no
-  // tangent of its own, takes its chord steps on the last factorised tangent of a model with the
-  // same free DOFs. The models of one identification differ by an effect or by which markers
-  // count, so both are close to their own: from zero, with chords on the linear stiffness, a new
-  // model needed up to 7 tangents per load case (1.5 s each on the suite's tube, 5,832 DOFs).
+  // the linear solution) and, while it has no tangent of its own, takes its chord steps on the
+  // last factorised tangent of a model with the same free DOFs. The models of one
+  // identification differ by an effect or by which markers count, so both are usually close to
+  // their own: from zero, with chords on the linear stiffness, a new model needed up to 7
+  // tangents per load case (each 1.25 s on the suite's tube at 5,832 DOFs).
   std::mutex nonlinear_mutex;
   std::vector<Eigen::VectorXd> nonlinear_starts;
   std::vector<Eigen::VectorXd> linear_starts;  // the linear solutions at the same parameters

@@ -212,11 +212,10 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       if (with_jacobian) du_linear = solve_free(linear_solver, linear_rhs(u_linear));
     }
     // Newton from the last solution, this model's or another's (FactorizationCache), moved by
-    // the change of the linear solution since: u_lin(theta) + (u_nl - u_lin)(theta_last). The
-    // nonlinear part changes far less than the linear one between parameters (a new modulus
-    // or stiffness gradient moves u_lin by 20 % on the suite's tube_graded, and the last
-    // solution alone then starts 37 % of the load off equilibrium). Else from zero (its first
-    // step is the linear solution), then in 2, 4, ... equal load steps.
+    // the change of the linear solution since: u_lin(theta) + (u_nl - u_lin)(theta_last), a
+    // first-order predictor (the linear part follows a new modulus or stiffness gradient
+    // exactly, the nonlinear part is carried over). Else from zero (its first step is the
+    // linear solution), then in 2, 4, ... equal load steps.
     NonlinearCache& cache = *nonlinear_cache_;
     if (cache.tangent_solvers.size() <= static_cast<size_t>(l)) {
       cache.tangent_solvers.resize(static_cast<size_t>(l) + 1);
