@@ -16,6 +16,10 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${ISOSPRING_ASAN_BUILD_DIR:-$root/build-asan}"
 jobs="${ISOSPRING_JOBS:-$(nproc)}"
+# ccache hashes the paths inside the tree relative to it (and not the build folder), so that
+# another clone of the same commit, such as CI's fresh one, hits the cache of earlier builds.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
+export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DISOSPRING_SANITIZE=ON -DISOSPRING_BUILD_FUZZ=ON -DISOSPRING_BUILD_TESTS=ON \
   -DISOSPRING_BUILD_BENCH=OFF -DISOSPRING_WITH_PETSC=OFF >/dev/null
