@@ -15,6 +15,7 @@
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/nonlinear_elasticity.hpp"
+#include "isospring/analysis/thread_scope.hpp"
 #include "isospring/fitting/identify_assembly.hpp"
 #include "isospring/fitting/identify_model.hpp"
 #include "isospring/geometry/primitives.hpp"
@@ -51,6 +52,18 @@ void BM_LameAssembly(benchmark::State& state) {
   state.counters["dofs"] = dofs.num_dofs();
 }
 BENCHMARK(BM_LameAssembly)->Unit(benchmark::kMillisecond);
+
+// The linear stiffness (analysis::assemble_stiffness) of the same box, on 1 and 2 threads.
+void BM_StiffnessAssembly(benchmark::State& state) {
+  const analysis::Problem problem = box_problem();
+  const analysis::DofMap dofs(problem);
+  const analysis::ThreadScope threads(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    const Eigen::SparseMatrix<double> k = analysis::assemble_stiffness(problem, dofs);
+    benchmark::DoNotOptimize(k.valuePtr());
+  }
+}
+BENCHMARK(BM_StiffnessAssembly)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ForwardModelRefactorisation(benchmark::State& state) {
   const analysis::Problem problem = box_problem();
@@ -126,14 +139,14 @@ void BM_SvkForce(benchmark::State& state) {
   const analysis::Problem problem = box_problem();
   const analysis::DofMap dofs(problem);
   analysis::SvkAssembler assembler(problem, dofs);
-  assembler.set_threads(1);
+  assembler.set_threads(static_cast<int>(state.range(0)));
   const Eigen::VectorXd u = bent(problem, dofs);
   for (auto _ : state) {
     const Eigen::VectorXd r = assembler.internal_force(u, {5.8e8, 3.8e8});
     benchmark::DoNotOptimize(r.data());
   }
 }
-BENCHMARK(BM_SvkForce)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SvkForce)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -164,11 +164,17 @@ Eigen::SparseMatrix<double> assemble_matrix(
   Eigen::SparseMatrix<double> matrix = structure.empty_matrix();
   std::string error;
   // Small colours run serially: waking threads costs more than it saves, and much more on a
-  // loaded machine where OpenMP's spinning threads compete for cores.
-  constexpr int kParallelMinimum = 64;
+  // loaded machine where OpenMP's spinning threads compete for cores. Except colours of heavy
+  // elements (81 DOFs and more: degree 2 solids and up, ~3 Mflop each at degree 3), of which a
+  // coarse degree-3 net has a few per colour (~64 colours): BM_StiffnessAssembly, 192 degree-3
+  // elements, 145 ms on one thread, 106 ms on two.
+  constexpr int kParallelMinimum = 64, kHeavyElement = 81;
+  int element_dofs = 0;
+  for (const auto& quadrature : structure.quadratures)
+    element_dofs = std::max(element_dofs, quadrature.basis_count() * structure.dofs_per_node);
   for (const auto& colour : structure.colours) {
     const int count = static_cast<int>(colour.size());
-#pragma omp parallel if (count >= kParallelMinimum)
+#pragma omp parallel if (count >= kParallelMinimum || (count >= 2 && element_dofs >= kHeavyElement))
     {
       QuadraturePoint point;
       Eigen::MatrixXd local;

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "assembly_structure.hpp"
+#include "dense_products.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/tangent_solver.hpp"
@@ -38,19 +39,7 @@ SvkAssembler::~SvkAssembler() = default;
 
 namespace {
 
-// out = a b^T with Eigen's blocked matrix product, in column chunks of at most 50000 multiply-adds
-// each: below that work Eigen never starts its own OpenMP team (Parallelizer.h, kMinTaskSize),
-// which would oversubscribe the cores when the element loop runs serially (lazyProduct avoids the
-// team too but is several times slower at these sizes).
-void product_transpose(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, Eigen::MatrixXd& out) {
-  out.setZero(a.rows(), b.rows());
-  const Eigen::Index chunk =
-      std::max<Eigen::Index>(1, 49999 / std::max<Eigen::Index>(1, a.rows() * b.rows()));
-  for (Eigen::Index j = 0; j < a.cols(); j += chunk) {
-    const Eigen::Index width = std::min(chunk, a.cols() - j);
-    out.noalias() += a.middleCols(j, width) * b.middleCols(j, width).transpose();
-  }
-}
+using detail::product_transpose;
 
 // Element forces of unit lambda (S = tr(E) I) and unit mu (S = 2 E), each n * Dim, and, when
 // `tangent` is set, the element tangent for `lame`. The tangent's four terms are sums over the
@@ -121,8 +110,9 @@ void element_svk(const detail::PatchQuadrature& quadrature, int patch, int eleme
   thread_local std::array<Eigen::MatrixXd, Dim * Dim> m;
   thread_local std::array<Eigen::MatrixXd, kPairs> qm;
   product_transpose(geometric, all, z);
+  // M_ki = M_ik^T: only the products with i <= k are formed.
   for (int i = 0; i < Dim; ++i)
-    for (int k = 0; k < Dim; ++k)
+    for (int k = i; k < Dim; ++k)
       product_transpose(mapped_weighted[static_cast<size_t>(i)], mapped[static_cast<size_t>(k)],
                         m[static_cast<size_t>(i * Dim + k)]);
   for (int pair = 0; pair < kPairs; ++pair)
@@ -132,11 +122,10 @@ void element_svk(const detail::PatchQuadrature& quadrature, int patch, int eleme
   for (int i = 0; i < Dim; ++i)
     for (int k = i; k < Dim; ++k, ++pair) {
       const Eigen::MatrixXd& mik = m[static_cast<size_t>(i * Dim + k)];
-      const Eigen::MatrixXd& mki = m[static_cast<size_t>(k * Dim + i)];
       const Eigen::MatrixXd& qik = qm[static_cast<size_t>(pair)];
       for (int b = 0; b < n; ++b)
         for (int a = 0; a < n; ++a) {
-          double v = lame.lambda * mik(a, b) + lame.mu * (mki(a, b) + qik(a, b));
+          double v = lame.lambda * mik(a, b) + lame.mu * (mik(b, a) + qik(a, b));
           if (i == k) v += z(a, b);
           (*tangent)(a * Dim + i, b * Dim + k) = v;
           (*tangent)(b * Dim + k, a * Dim + i) = v;
@@ -170,8 +159,9 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
   //
   // Small colours run serially (waking threads costs more than they save, much more on a loaded
   // machine where OpenMP's spinning threads compete for cores), except elements of 81 or more
-  // DOFs (degree 2 solids and up): one tangent of a degree-3 solid element is ~16 Mflop, and a
-  // coarse degree-3 net has ~64 colours of a few elements each.
+  // DOFs (degree 2 solids and up): one tangent of a degree-3 solid element is ~14 Mflop, and a
+  // coarse degree-3 net has ~64 colours of a few elements each. The forces alone stay serial:
+  // on two threads they took 24 ms against 22 (bench_identify_model, BM_SvkForce, 192 elements).
   constexpr int kParallelMinimum = 64, kHeavyElement = 81;
   const int team = threads_ > 0 ? threads_ : omp_get_max_threads();
   int element_dofs = 0;

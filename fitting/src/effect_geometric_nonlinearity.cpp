@@ -42,13 +42,22 @@ namespace {
 
 // The SVK parts, shared by the terms of every model built with the effect.
 struct SvkParts {
-  SvkParts(const analysis::Problem& problem, const analysis::DofMap& dofs, int threads)
+  // `lame`: the Lame parts of the linear stiffness when the caller has them (assembled on the
+  // same element structure, so their upper triangles have the tangent's pattern), else the
+  // tangents at u = 0 (two assemblies: 1.3 s on the suite's tube at 5,832 DOFs).
+  SvkParts(const analysis::Problem& problem, const analysis::DofMap& dofs, int threads,
+           const LameMatrices* lame)
       : assembler(problem, dofs) {
     assembler.set_threads(threads);
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(dofs.num_dofs());
     for (size_t k = 0; k < 2; ++k) {
-      assembler.internal_force(zero, unit(k), &linear_upper[k]);
-      linear[k] = linear_upper[k].selfadjointView<Eigen::Upper>();
+      if (lame && lame->lambda_part.rows() == dofs.num_dofs()) {
+        linear[k] = k == 0 ? lame->lambda_part : lame->mu_part;
+        linear_upper[k] = linear[k].triangularView<Eigen::Upper>();
+      } else {
+        assembler.internal_force(zero, unit(k), &linear_upper[k]);
+        linear[k] = linear_upper[k].selfadjointView<Eigen::Upper>();
+      }
     }
   }
   static analysis::LameParameters unit(size_t k) {
@@ -85,7 +94,8 @@ struct SvkParts {
 class GeometricNonlinearity : public Effect {
  public:
   explicit GeometricNonlinearity(const EffectContext& context)
-      : parts_(std::make_shared<SvkParts>(*context.problem, *context.dofs, context.threads)) {}
+      : parts_(std::make_shared<SvkParts>(*context.problem, *context.dofs, context.threads,
+                                          context.stiffness)) {}
   std::string name() const override { return "geometric_nonlinearity"; }
   bool expensive() const override { return true; }
   std::vector<std::string> parameter_names() const override { return {"w"}; }

