@@ -8,12 +8,17 @@
 // - SvkTangent/threads: the large-deformation candidate's internal force and tangent (St.
 //   Venant-Kirchhoff, every element's dense products) on 1 and 2 threads; the colours keep the
 //   sums in one order, so both give the same matrix;
-// - SvkForce: the internal force alone, what a chord (modified Newton) step assembles.
+// - SvkForce: the internal force alone, what a chord (modified Newton) step assembles;
+// - ForwardModelJacobianSolves: an evaluation with its Jacobian without a factorisation (the
+//   solves and right-hand sides of a graded model under three load cases);
+// - StiffnessAssembly/threads: analysis::assemble_stiffness of the box on 1 and 2 threads.
 #include <benchmark/benchmark.h>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/elasticity.hpp"
+#include "isospring/analysis/lame_stiffness.hpp"
 #include "isospring/analysis/nonlinear_elasticity.hpp"
 #include "isospring/analysis/thread_scope.hpp"
 #include "isospring/fitting/identify_assembly.hpp"
@@ -108,6 +113,61 @@ void BM_ForwardModelRefactorisation(benchmark::State& state) {
   state.counters["factorisations"] = static_cast<double>(stats.factorizations);
 }
 BENCHMARK(BM_ForwardModelRefactorisation)->Unit(benchmark::kMillisecond);
+
+// One evaluation with its Jacobian of a graded model (E and a stiffness gradient along each
+// axis: 8 stiffness terms, 4 parameters) under three load cases, at fixed parameters: the
+// factorisation is reused, so this is the solves and the right-hand sides dK/dtheta u.
+void BM_ForwardModelJacobianSolves(benchmark::State& state) {
+  analysis::Problem problem = box_problem();
+  for (const Eigen::Vector3d& traction : {Eigen::Vector3d(0, 0, 2e4), Eigen::Vector3d(2e5, 0, 0)}) {
+    analysis::LoadCase load;
+    load.id = "load " + std::to_string(problem.load_cases.size());
+    load.tractions.push_back({{0, 0, 1}, traction, {}});
+    problem.load_cases.push_back(load);
+  }
+  const analysis::DofMap dofs(problem);
+  std::vector<analysis::SpatialWeight> weights = {analysis::SpatialWeight()};
+  for (int c = 0; c < 3; ++c)
+    weights.emplace_back([c](const Eigen::Vector3d& x) { return x[c] / 0.2; });
+  const auto parts = analysis::assemble_lame_stiffness(problem, dofs, weights);
+  const auto lame = analysis::lame_parameters(problem.material, problem.formulation);
+  fitting::ModelTerms terms;
+  terms.num_parameters = 4;  // E / E_prior, gradient per axis
+  for (size_t w = 0; w < weights.size(); ++w)
+    for (const bool lambda : {true, false}) {
+      const double modulus = lambda ? lame.lambda : lame.mu;
+      const fitting::Coefficient coefficient =
+          w == 0 ? fitting::linear_coefficient(0, modulus)
+                 : fitting::product(fitting::linear_coefficient(0, modulus),
+                                    fitting::linear_coefficient(static_cast<int>(w)));
+      terms.stiffness.push_back({lambda ? parts[w].lambda_part : parts[w].mu_part, coefficient});
+    }
+  std::vector<fitting::Observation> observations;
+  for (size_t l = 0; l < problem.load_cases.size(); ++l) {
+    terms.loads.push_back({static_cast<int>(l),
+                           analysis::assemble_load(problem, dofs, problem.load_cases[l]),
+                           fitting::constant_coefficient(1.0)});
+    fitting::Observation obs;  // every 7th DOF
+    std::vector<Eigen::Triplet<double>> triplets;
+    for (int d = 0; d < dofs.num_dofs(); d += 7)
+      triplets.emplace_back(static_cast<int>(triplets.size()), d, 1.0);
+    obs.operator_.resize(static_cast<Eigen::Index>(triplets.size()), dofs.num_dofs());
+    obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+    observations.push_back(obs);
+  }
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  const fitting::ForwardModel model(terms, observations, constraints.dofs, constraints.values,
+                                    dofs.num_dofs(), static_cast<int>(observations.size()));
+  const Eigen::Vector4d theta(1.0, 0.1, -0.05, 0.02);
+  for (auto _ : state) {
+    const fitting::ModelEvaluation eval = model.evaluate(theta, true);
+    benchmark::DoNotOptimize(eval.predictions[0].data());
+  }
+  state.counters["dofs"] = dofs.num_dofs();
+  state.counters["factorisations"] =
+      static_cast<double>(model.factorization_stats().factorizations);
+}
+BENCHMARK(BM_ForwardModelJacobianSolves)->Unit(benchmark::kMillisecond);
 
 // A smooth displacement of the box (bending along y, 1 % of its length at the tip).
 Eigen::VectorXd bent(const analysis::Problem& problem, const analysis::DofMap& dofs) {

@@ -120,6 +120,7 @@ class GeometricNonlinearity : public Effect {
                             Eigen::SparseMatrix<double>* tangent) {
       parts->evaluate(u, e, out, tangent);
     };
+    term.threads = context.threads;
     terms.nonlinear.push_back(std::move(term));
     terms.nonlinear_weight = first;
   }

@@ -284,8 +284,12 @@ Eigen::MatrixXd fit_covariance(const Model& model, const Eigen::VectorXd& theta,
   return gauss_newton_covariance(jacobian);
 }
 
+// How a fit starts: near its optimum (a refit under other weights, a model fitted before less an
+// effect) or with an effect's parameters at their initial values.
+enum class FitStart { kNearOptimum, kNewParameters };
+
 Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::VectorXd>& weights,
-            Eigen::MatrixXd* covariance = nullptr) {
+            Eigen::MatrixXd* covariance = nullptr, FitStart start = FitStart::kNearOptimum) {
   const QuietSolverWarnings quiet;
   Fit fit;
   fit.theta = model.initial;
@@ -315,14 +319,14 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   // candidate, then again at the accepted point), and the bounds here are only guards of the
   // physical range (E > 0, nu < 0.5) that a fit does not end on. Steps are still projected.
   options.max_num_line_search_step_size_iterations = 0;
-  // The parameters are of order one (E relative to the nominal, log spring stiffnesses, relative
-  // gradients), and the predictions nonlinear in some (1 / (1 + a . x), 1 / k). Ceres' default
-  // first radius, 1e4, makes the first Levenberg-Marquardt steps Gauss-Newton steps, which
-  // overshoot there, and each rejected step costs a factorisation once the stiffness has
-  // parameters. 100: measured on the suite, tube_graded 57 -> 47 s (support_compliance's round-1
-  // fit 16 -> 12 iterations, 4.6 -> 1.4 s), every parameter within 1.3e-3 standard errors of the
-  // default's.
-  options.initial_trust_region_radius = 100.0;
+  // New parameters start far from their optimum, where the predictions are nonlinear in some
+  // (1 / (1 + a . x), 1 / k) and Ceres' default first radius (1e4: Gauss-Newton steps) overshoots,
+  // each rejected step costing a factorisation once the stiffness has parameters; they are of
+  // order one (relative E and gradients, log stiffnesses), so the first steps are damped with
+  // radius 100. Near the optimum Gauss-Newton steps are right. Measured on the suite's
+  // tube_graded: the gradient's round-1 fit 10 -> 7 iterations with radius 100, but a hold-out
+  // fold's refit 3 -> 6.
+  if (start == FitStart::kNewParameters) options.initial_trust_region_radius = 100.0;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   fit.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
@@ -914,7 +918,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       }
       const bool check_expectations = !effect->expected_values().empty();
       Eigen::MatrixXd covariance;
-      const Fit fit = run_fit(setup, model, weights, check_expectations ? &covariance : nullptr);
+      const Fit fit = run_fit(setup, model, weights, check_expectations ? &covariance : nullptr,
+                              FitStart::kNewParameters);
       if (fit.ok && !model.forward->nonlinear()) linear_fits[trial] = fit;
       test.seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
@@ -1098,7 +1103,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                 build_model(setup, swapped,
                             start_replacing(setup, current, current_fit.theta, e, candidate.get()));
             if (model.forward->nonlinear()) continue;  // Newton fits: the score test handled it
-            fit = run_fit(setup, model, weights);
+            fit = run_fit(setup, model, weights, nullptr, FitStart::kNewParameters);
             if (!fit.ok) continue;
             linear_fits[swapped] = fit;
           }

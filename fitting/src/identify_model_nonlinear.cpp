@@ -5,7 +5,9 @@
 // linear and nonlinear solutions, u = (1 - w) u_lin + w u_nl, with exact derivatives of both.
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -29,7 +31,7 @@ struct ForwardModel::NonlinearCache {
   // Per load case: its last factorised tangent (valid once factorised), the chord matrix of the
   // next evaluation's Newton iterations.
   std::vector<std::shared_ptr<analysis::TangentSolver>> tangent_solvers;
-  std::vector<bool> factorised;
+  std::vector<char> factorised;  // not vector<bool>: load cases write theirs concurrently
 };
 
 std::shared_ptr<ForwardModel::NonlinearCache> ForwardModel::make_nonlinear_cache() {
@@ -88,8 +90,10 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
   // tangent block come along.
   Eigen::SparseMatrix<double> stiffness(num_dofs_, num_dofs_);
   for (size_t j = 0; j < nt; ++j) stiffness += c[j] * terms_.stiffness[j].matrix;
-  std::vector<std::vector<Eigen::VectorXd>> parts(nn);
-  auto internal_force = [&](const Eigen::VectorXd& u, Eigen::SparseMatrix<double>* tangent_ff) {
+  using Parts = std::vector<std::vector<Eigen::VectorXd>>;  // per nonlinear term, n_k(u)
+  auto internal_force = [&](const Eigen::VectorXd& u, Parts& parts,
+                            Eigen::SparseMatrix<double>* tangent_ff) {
+    parts.resize(nn);
     Eigen::VectorXd r = stiffness * u;
     if (tangent_ff) *tangent_ff = kff;
     for (size_t t = 0; t < nn; ++t) {
@@ -122,9 +126,12 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
   // a small deformation needs. On success at s = 1 with need_tangent,
   // `solver` holds the factorised tangent at the converged u (else that factorisation is
   // skipped: no solve needs it).
+  // The chord steps of the load cases that run at the same time share the linear stiffness's
+  // factor, whose solves share CHOLMOD's workspace: one at a time.
+  std::mutex linear_solver_mutex;
   auto newton = [&](const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
                     analysis::TangentSolver& solver, bool& factorised,
-                    const analysis::TangentSolver* borrowed) {
+                    const analysis::TangentSolver* borrowed, Parts& parts) {
     for (int d = 0; d < num_dofs_; ++d)
       if (free_index_[static_cast<size_t>(d)] < 0) u[d] = s * prescribed_[d];
     // The residual on the free DOFs, and whether it meets the tolerance.
@@ -153,7 +160,7 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
     bool after_chord = false;
     int chords = 0;
     for (int it = 0; it <= kMaxIterations; ++it) {
-      bool converged = residual(internal_force(u, nullptr), r_free);
+      bool converged = residual(internal_force(u, parts, nullptr), r_free);
       const double norm = r_free.norm();
       if (!std::isfinite(norm)) {
         if (!after_chord) return false;
@@ -171,12 +178,17 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
         norm_before_chord = norm;
         after_chord = true;
         ++chords;
-        step(factorised ? solver : borrowed ? *borrowed : linear_solver, r_free);
+        if (factorised || borrowed) {
+          step(factorised ? solver : *borrowed, r_free);
+        } else {
+          const std::lock_guard<std::mutex> lock(linear_solver_mutex);
+          step(linear_solver, r_free);
+        }
         continue;
       }
       after_chord = false;
       if (it == kMaxIterations) return false;
-      internal_force(u, &tangent_ff);
+      internal_force(u, parts, &tangent_ff);
       factorised = solver.compute(tangent_ff);
       if (!factorised) return false;
       if (converged) return true;
@@ -185,132 +197,160 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
     return false;
   };
 
-  ModelEvaluation out;
-  for (int l = 0; l < num_load_cases_; ++l) {
-    Eigen::VectorXd force;
-    Eigen::MatrixXd dforce;
-    load_vector(l, theta, with_jacobian, force, dforce);
-    // Right-hand sides df/dtheta - dK/dtheta u for the linear terms at displacement v.
-    auto linear_rhs = [&](const Eigen::VectorXd& v) {
-      Eigen::MatrixXd rhs = dforce;
-      for (size_t j = 0; j < nt; ++j)
-        if (dc[j].cwiseAbs().maxCoeff() > 0.0)
-          rhs -= (terms_.stiffness[j].matrix * v) * dc[j].transpose();
-      return rhs;
-    };
-    auto solve_free = [&](const analysis::TangentSolver& factor, const Eigen::MatrixXd& rhs) {
-      Eigen::MatrixXd rhs_free(nf, rhs.cols());
-      for (int k = 0; k < nf; ++k) rhs_free.row(k) = rhs.row(free_dofs_[static_cast<size_t>(k)]);
-      const Eigen::MatrixXd x_free = factor.solve(rhs_free);
-      Eigen::MatrixXd x = Eigen::MatrixXd::Zero(num_dofs_, rhs.cols());
-      for (int k = 0; k < nf; ++k) x.row(free_dofs_[static_cast<size_t>(k)]) = x_free.row(k);
-      return x;
-    };
+  // Right-hand sides df/dtheta - dK/dtheta v for the linear terms at displacement v.
+  auto linear_rhs = [&](const Eigen::MatrixXd& dforce, const Eigen::VectorXd& v) {
+    Eigen::MatrixXd rhs = dforce;
+    for (size_t j = 0; j < nt; ++j)
+      if (dc[j].cwiseAbs().maxCoeff() > 0.0)
+        rhs -= (terms_.stiffness[j].matrix * v) * dc[j].transpose();
+    return rhs;
+  };
+  auto solve_free = [&](const analysis::TangentSolver& factor, const Eigen::MatrixXd& rhs) {
+    Eigen::MatrixXd rhs_free(nf, rhs.cols());
+    for (int k = 0; k < nf; ++k) rhs_free.row(k) = rhs.row(free_dofs_[static_cast<size_t>(k)]);
+    const Eigen::MatrixXd x_free = factor.solve(rhs_free);
+    Eigen::MatrixXd x = Eigen::MatrixXd::Zero(num_dofs_, rhs.cols());
+    for (int k = 0; k < nf; ++k) x.row(free_dofs_[static_cast<size_t>(k)]) = x_free.row(k);
+    return x;
+  };
 
-    Eigen::VectorXd u_linear;
-    Eigen::MatrixXd du_linear;
+  // First, one load case after the other: the loads, the linear solutions and their
+  // derivatives (solves with the one linear factor), and every per-load-case slot of the caches
+  // (so that the load cases below only write their own).
+  const int nl = num_load_cases_;
+  const auto nls = static_cast<size_t>(nl);
+  std::vector<Eigen::VectorXd> forces(nls), u_linear(nls);
+  std::vector<Eigen::MatrixXd> dforces(nls), du_linear(nls);
+  for (int l = 0; l < nl; ++l) {
+    const auto lc = static_cast<size_t>(l);
+    load_vector(l, theta, with_jacobian, forces[lc], dforces[lc]);
     if (w_index >= 0) {
       // K u = f - K u_c on the free DOFs, as ForwardModel::evaluate.
       Eigen::VectorXd ku_c = Eigen::VectorXd::Zero(num_dofs_);
       if (prescribed_.squaredNorm() > 0.0)
         for (size_t j = 0; j < nt; ++j) ku_c += c[j] * (terms_.stiffness[j].matrix * prescribed_);
-      u_linear = prescribed_ + solve_free(linear_solver, force - ku_c).col(0);
-      if (with_jacobian) du_linear = solve_free(linear_solver, linear_rhs(u_linear));
+      u_linear[lc] = prescribed_ + solve_free(linear_solver, forces[lc] - ku_c).col(0);
+      if (with_jacobian)
+        du_linear[lc] = solve_free(linear_solver, linear_rhs(dforces[lc], u_linear[lc]));
     }
-    // Newton from the last solution, this model's or another's (FactorizationCache), moved by
-    // the change of the linear solution since: u_lin(theta) + (u_nl - u_lin)(theta_last), a
-    // first-order predictor (the linear part follows a new modulus or stiffness gradient
-    // exactly, the nonlinear part is carried over). Else from zero (its first step is the
-    // linear solution), then in 2, 4, ... equal load steps.
-    NonlinearCache& cache = *nonlinear_cache_;
-    if (cache.tangent_solvers.size() <= static_cast<size_t>(l)) {
-      cache.tangent_solvers.resize(static_cast<size_t>(l) + 1);
-      cache.factorised.resize(static_cast<size_t>(l) + 1, false);
-    }
-    const auto lc = static_cast<size_t>(l);
-    auto& owned_solver = cache.tangent_solvers[lc];
-    if (!owned_solver) owned_solver = std::make_shared<analysis::TangentSolver>();
-    analysis::TangentSolver& solver = *owned_solver;
-    bool factorised = cache.factorised[lc];
-    Eigen::VectorXd u, u_linear_then;
-    {
-      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
-      if (nonlinear_cache_->solutions.size() > lc) {
-        u = nonlinear_cache_->solutions[lc];
-        u_linear_then = nonlinear_cache_->linear_solutions[lc];
-      }
-    }
-    // This model's first evaluation: another model's solution and tangent (FactorizationCache).
-    auto grow = [lc](auto& per_load_case) {
-      if (per_load_case.size() <= lc) per_load_case.resize(lc + 1);
-    };
-    grow(shared.nonlinear_starts), grow(shared.linear_starts);
-    grow(shared.tangents), grow(shared.tangent_free_dofs);
-    if (u.size() != num_dofs_ && shared.nonlinear_starts[lc].size() == num_dofs_) {
-      u = shared.nonlinear_starts[lc];
-      u_linear_then = shared.linear_starts[lc];
-    }
-    if (u.size() == num_dofs_ && u_linear.size() == num_dofs_ && u_linear_then.size() == num_dofs_)
-      u += u_linear - u_linear_then;
-    const analysis::TangentSolver* borrowed = nullptr;
-    if (!factorised && shared.tangents[lc] && shared.tangents[lc] != owned_solver &&
-        shared.tangent_free_dofs[lc] == free_dofs_)
-      borrowed = shared.tangents[lc].get();
-    bool converged = u.size() == num_dofs_ && newton(force, 1.0, u, solver, factorised, borrowed);
-    for (int steps = 1; steps <= kMaxSteps && !converged; steps *= 2) {
-      u = Eigen::VectorXd::Zero(num_dofs_);
-      converged = true;
-      for (int k = 1; k <= steps && converged; ++k)
-        converged = newton(force, static_cast<double>(k) / steps, u, solver, factorised, nullptr);
-    }
-    cache.factorised[lc] = factorised;
-    if (converged) {
-      shared.nonlinear_starts[lc] = u;
-      shared.linear_starts[lc] = u_linear;
-    }
-    if (factorised && shared.tangents[lc] != owned_solver) {
-      shared.tangents[lc] = owned_solver;
-      shared.tangent_free_dofs[lc] = free_dofs_;
-    }
-    if (!converged)
-      throw std::runtime_error("the large-deformation model did not converge for load case " +
-                               std::to_string(l + 1) +
-                               " at the current parameters (Newton with up to " +
-                               std::to_string(kMaxSteps) + " load steps)");
-    {
-      const std::lock_guard<std::mutex> lock(nonlinear_cache_->mutex);
-      nonlinear_cache_->solutions.resize(std::max(nonlinear_cache_->solutions.size(), lc + 1));
-      nonlinear_cache_->linear_solutions.resize(nonlinear_cache_->solutions.size());
-      nonlinear_cache_->solutions[lc] = u;
-      nonlinear_cache_->linear_solutions[lc] = u_linear;
-    }
-
-    const Eigen::SparseMatrix<double, Eigen::RowMajor>& h =
-        observations_[static_cast<size_t>(l)].operator_;
-    Eigen::MatrixXd jac;
-    if (with_jacobian) {
-      Eigen::MatrixXd du;
-      if (need_tangent) {
-        // dR/dtheta at fixed u: the linear terms' dK/dtheta u and the nonlinear parts n_k(u)
-        // de_k (`parts` hold n_k at the converged u: Newton's last evaluation).
-        Eigen::MatrixXd rhs = linear_rhs(u);
-        for (size_t t = 0; t < nn; ++t)
-          for (size_t k = 0; k < parts[t].size(); ++k) rhs -= parts[t][k] * de[t][k].transpose();
-        du = solve_free(solver, rhs);
-      }
-      if (w_index >= 0) {
-        du = need_tangent ? Eigen::MatrixXd(w * du + (1.0 - w) * du_linear) : du_linear;
-        du.col(w_index) += u - u_linear;
-      }
-      jac = h * du;
-    }
-    if (w_index >= 0) u = w * u + (1.0 - w) * u_linear;
-    Eigen::VectorXd y = h * u;
-    add_offsets(l, theta, with_jacobian, y, jac);
-    out.predictions.push_back(std::move(y));
-    out.jacobians.push_back(std::move(jac));
-    out.displacements.push_back(std::move(u));
   }
+  NonlinearCache& cache = *nonlinear_cache_;
+  if (cache.tangent_solvers.size() < nls) {
+    cache.tangent_solvers.resize(nls);
+    cache.factorised.resize(nls, 0);
+  }
+  for (auto& owned : cache.tangent_solvers)
+    if (!owned) owned = std::make_shared<analysis::TangentSolver>();
+  auto grow = [nls](auto& per_load_case) {
+    if (per_load_case.size() < nls) per_load_case.resize(nls);
+  };
+  grow(shared.nonlinear_starts), grow(shared.linear_starts);
+  grow(shared.tangents), grow(shared.tangent_free_dofs);
+  {
+    const std::lock_guard<std::mutex> lock(cache.mutex);
+    grow(cache.solutions), grow(cache.linear_solutions);
+  }
+
+  // Then the Newton solves, the load cases on the nonlinear terms' threads (each load case on
+  // one: the element loops inside run serially then). A load case reads and writes only its own
+  // slots, so the numbers do not depend on the thread count or the order.
+  int team = 1;
+  for (const NonlinearTerm& term : terms_.nonlinear) team = std::max(team, term.threads);
+  team = std::min(team, nl);
+  ModelEvaluation out;
+  out.predictions.resize(nls), out.jacobians.resize(nls), out.displacements.resize(nls);
+  std::vector<std::exception_ptr> errors(nls);
+#pragma omp parallel for schedule(dynamic) num_threads(team) if (team > 1)
+  for (int l = 0; l < nl; ++l) {
+    const auto lc = static_cast<size_t>(l);
+    try {
+      // Newton from the last solution, this model's or another's (FactorizationCache), moved by
+      // the change of the linear solution since: u_lin(theta) + (u_nl - u_lin)(theta_last), a
+      // first-order predictor (the linear part follows a new modulus or stiffness gradient
+      // exactly, the nonlinear part is carried over). Else from zero (its first step is the
+      // linear solution), then in 2, 4, ... equal load steps.
+      const std::shared_ptr<analysis::TangentSolver>& owned_solver = cache.tangent_solvers[lc];
+      analysis::TangentSolver& solver = *owned_solver;
+      bool factorised = cache.factorised[lc] != 0;
+      Eigen::VectorXd u, u_linear_then;
+      {
+        const std::lock_guard<std::mutex> lock(cache.mutex);
+        u = cache.solutions[lc];
+        u_linear_then = cache.linear_solutions[lc];
+      }
+      // This model's first evaluation: another model's solution and tangent.
+      if (u.size() != num_dofs_ && shared.nonlinear_starts[lc].size() == num_dofs_) {
+        u = shared.nonlinear_starts[lc];
+        u_linear_then = shared.linear_starts[lc];
+      }
+      if (u.size() == num_dofs_ && u_linear[lc].size() == num_dofs_ &&
+          u_linear_then.size() == num_dofs_)
+        u += u_linear[lc] - u_linear_then;
+      const analysis::TangentSolver* borrowed = nullptr;
+      if (!factorised && shared.tangents[lc] && shared.tangents[lc] != owned_solver &&
+          shared.tangent_free_dofs[lc] == free_dofs_)
+        borrowed = shared.tangents[lc].get();
+      Parts parts;
+      const Eigen::VectorXd& force = forces[lc];
+      bool converged =
+          u.size() == num_dofs_ && newton(force, 1.0, u, solver, factorised, borrowed, parts);
+      for (int steps = 1; steps <= kMaxSteps && !converged; steps *= 2) {
+        u = Eigen::VectorXd::Zero(num_dofs_);
+        converged = true;
+        for (int k = 1; k <= steps && converged; ++k)
+          converged =
+              newton(force, static_cast<double>(k) / steps, u, solver, factorised, nullptr, parts);
+      }
+      cache.factorised[lc] = factorised ? 1 : 0;
+      if (converged) {
+        shared.nonlinear_starts[lc] = u;
+        shared.linear_starts[lc] = u_linear[lc];
+      }
+      if (factorised && shared.tangents[lc] != owned_solver) {
+        shared.tangents[lc] = owned_solver;
+        shared.tangent_free_dofs[lc] = free_dofs_;
+      }
+      if (!converged)
+        throw std::runtime_error("the large-deformation model did not converge for load case " +
+                                 std::to_string(l + 1) +
+                                 " at the current parameters (Newton with up to " +
+                                 std::to_string(kMaxSteps) + " load steps)");
+      {
+        const std::lock_guard<std::mutex> lock(cache.mutex);
+        cache.solutions[lc] = u;
+        cache.linear_solutions[lc] = u_linear[lc];
+      }
+
+      const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = observations_[lc].operator_;
+      Eigen::MatrixXd jac;
+      if (with_jacobian) {
+        Eigen::MatrixXd du;
+        if (need_tangent) {
+          // dR/dtheta at fixed u: the linear terms' dK/dtheta u and the nonlinear parts n_k(u)
+          // de_k (`parts` hold n_k at the converged u: Newton's last evaluation).
+          Eigen::MatrixXd rhs = linear_rhs(dforces[lc], u);
+          for (size_t t = 0; t < nn; ++t)
+            for (size_t k = 0; k < parts[t].size(); ++k) rhs -= parts[t][k] * de[t][k].transpose();
+          du = solve_free(solver, rhs);
+        }
+        if (w_index >= 0) {
+          du = need_tangent ? Eigen::MatrixXd(w * du + (1.0 - w) * du_linear[lc]) : du_linear[lc];
+          du.col(w_index) += u - u_linear[lc];
+        }
+        jac = h * du;
+      }
+      if (w_index >= 0) u = w * u + (1.0 - w) * u_linear[lc];
+      Eigen::VectorXd y = h * u;
+      add_offsets(l, theta, with_jacobian, y, jac);
+      out.predictions[lc] = std::move(y);
+      out.jacobians[lc] = std::move(jac);
+      out.displacements[lc] = std::move(u);
+    } catch (...) {
+      errors[lc] = std::current_exception();
+    }
+  }
+  for (const auto& error : errors)
+    if (error) std::rethrow_exception(error);
   return out;
 }
 

@@ -87,11 +87,12 @@ TEST(IdentifyNonlinear, ForwardModelMatchesTheAnalysisNewtonSolver) {
 // The cantilever's forward model with the nonlinear effect, theta = (E / E_prior, nu, w) with
 // plane-strain Lame coefficients and exact gradients, every DOF observed.
 struct NonlinearCantilever {
-  explicit NonlinearCantilever(double q)
+  explicit NonlinearCantilever(double q, int threads = 1)
       : problem(cantilever(q)),
         dofs(problem),
         constraints(analysis::build_constraints(problem, dofs)),
         lame(assemble_lame_stiffness(problem, dofs)) {
+    context.threads = threads;
     context.problem = &problem;
     context.dofs = &dofs;
     context.constraints = &constraints;
@@ -122,20 +123,24 @@ struct NonlinearCantilever {
   NonlinearCantilever(const NonlinearCantilever&) = delete;  // the context points into it
   NonlinearCantilever& operator=(const NonlinearCantilever&) = delete;
 
-  std::unique_ptr<ForwardModel> model(std::shared_ptr<FactorizationCache> cache = nullptr) const {
+  // Load case l carries the tip load times load_scales[l].
+  std::unique_ptr<ForwardModel> model(std::shared_ptr<FactorizationCache> cache = nullptr,
+                                      const std::vector<double>& load_scales = {1.0}) const {
     ModelTerms terms;
     terms.num_parameters = 3;
     terms.stiffness.push_back({lame.lambda_part, context.lambda});
     terms.stiffness.push_back({lame.mu_part, context.mu});
-    terms.loads.push_back({0, analysis::assemble_load(problem, dofs, problem.load_cases[0]),
-                           constant_coefficient(1)});
+    const Eigen::VectorXd tip = analysis::assemble_load(problem, dofs, problem.load_cases[0]);
+    for (size_t l = 0; l < load_scales.size(); ++l)
+      terms.loads.push_back({static_cast<int>(l), load_scales[l] * tip, constant_coefficient(1)});
     effect->add_terms(context, 2, terms);
     Observation all;
     all.operator_.resize(dofs.num_dofs(), dofs.num_dofs());
     all.operator_.setIdentity();
-    return std::make_unique<ForwardModel>(std::move(terms), std::vector<Observation>{all},
-                                          constraints.dofs, constraints.values, dofs.num_dofs(), 1,
-                                          std::move(cache));
+    return std::make_unique<ForwardModel>(std::move(terms),
+                                          std::vector<Observation>(load_scales.size(), all),
+                                          constraints.dofs, constraints.values, dofs.num_dofs(),
+                                          static_cast<int>(load_scales.size()), std::move(cache));
   }
 
   analysis::Problem problem;
@@ -164,6 +169,27 @@ TEST(IdentifyNonlinear, ModelsSharingACacheSolveAsAFreshOne) {
         << theta.transpose();
     EXPECT_LT((a.jacobians[0] - b.jacobians[0]).norm(), 1e-7 * b.jacobians[0].norm())
         << theta.transpose();
+  }
+}
+
+// The load cases' Newton solves run on the effect's threads, each reading and writing only its
+// own slots of the caches: two threads give the numbers of one, bit for bit, over evaluations
+// that reuse the solutions and tangents of the previous ones.
+TEST(IdentifyNonlinear, LoadCasesOnTwoThreadsMatchOneThread) {
+  const std::vector<double> scales = {1.0, -0.6, 0.3};  // three load cases, unlike responses
+  const NonlinearCantilever serial(450.0, 1), parallel(450.0, 2);
+  const auto one = serial.model(nullptr, scales), two = parallel.model(nullptr, scales);
+  for (const Eigen::Vector3d& theta :
+       {Eigen::Vector3d(1.0, kNu, 1.0), Eigen::Vector3d(1.15, kNu, 0.6),
+        Eigen::Vector3d(0.9, 0.25, 0.0)}) {
+    const ModelEvaluation a = one->evaluate(theta, true), b = two->evaluate(theta, true);
+    ASSERT_EQ(a.predictions.size(), scales.size());
+    ASSERT_EQ(b.predictions.size(), scales.size());
+    for (size_t l = 0; l < scales.size(); ++l) {
+      EXPECT_EQ(a.predictions[l], b.predictions[l])
+          << "load case " << l << ", " << theta.transpose();
+      EXPECT_EQ(a.jacobians[l], b.jacobians[l]) << "load case " << l << ", " << theta.transpose();
+    }
   }
 }
 

@@ -55,6 +55,9 @@ struct NonlinearTerm {
   std::function<void(const Eigen::VectorXd& u, const std::vector<double>& e,
                      std::vector<Eigen::VectorXd>& parts, Eigen::SparseMatrix<double>* tangent)>
       evaluate;
+  /// Threads the model may solve its load cases on, one Newton solve each (evaluate is then
+  /// called from several threads at once, and runs its own element loops serially there).
+  int threads = 1;
 };
 
 struct ModelTerms {
