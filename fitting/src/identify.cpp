@@ -23,6 +23,7 @@
 #include "isospring/fitting/identify_assembly.hpp"
 #include "isospring/fitting/identify_model.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "quiet_solver_warnings.hpp"
 
 namespace isospring::fitting {
 
@@ -199,26 +200,6 @@ std::vector<Eigen::VectorXd> make_weights(const Setup& setup, double sigma,
   }
   return weights;
 }
-
-// Ceres logs a trial step whose parameters leave the physical range ("Step failed to evaluate")
-// as a glog warning on stderr; the fit handles that step (it shortens the step), so the warning
-// is noise for the user: hidden while the identification runs, the caller's level restored.
-class QuietSolverWarnings {
- public:
-  // Writes the flag only when it changes it: identify() holds one for the whole run, so the fits
-  // of the hold-out folds, which run on several threads, only read it.
-  QuietSolverWarnings() : previous_(FLAGS_minloglevel) {
-    if (FLAGS_minloglevel < google::GLOG_ERROR) FLAGS_minloglevel = google::GLOG_ERROR;
-  }
-  ~QuietSolverWarnings() {
-    if (FLAGS_minloglevel != previous_) FLAGS_minloglevel = previous_;
-  }
-  QuietSolverWarnings(const QuietSolverWarnings&) = delete;
-  QuietSolverWarnings& operator=(const QuietSolverWarnings&) = delete;
-
- private:
-  int previous_;
-};
 
 // IdentifyOptions::component_weights (or the mean-|u| normalisation) for a model of dimension
 // `dim`, normalised to rms 1.

@@ -10,6 +10,7 @@
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/fitting/effect.hpp"
+#include "quiet_solver_warnings.hpp"
 
 namespace isospring::fitting {
 
@@ -36,6 +37,9 @@ void scale_load_case(analysis::LoadCase& load, double factor) {
 
 Recalibration recalibrate_identified(const analysis::Problem& prior, const IdentifyResult& result,
                                      CalibrationSettings settings) {
+  // The spring fits' trial steps that leave the physical range are rejected and shortened, as
+  // in identify: not news for the user (they reached the terminal as glog warnings).
+  const QuietSolverWarnings quiet;
   if (result.corrected_displacements.size() != prior.load_cases.size())
     throw std::invalid_argument(
         "recalibrate_identified: the identification has no corrected "
