@@ -4,8 +4,10 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <array>
 #include <string>
+#include <vector>
 
 #include "assembly_structure.hpp"
 #include "dense_products.hpp"
