@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <utility>
 
 #include "isospring/nurbs/error.hpp"
 
@@ -158,40 +159,59 @@ void AssemblyStructure::scatter(int element, const Eigen::MatrixXd& local,
   }
 }
 
-Eigen::SparseMatrix<double> assemble_matrix(
-    const AssemblyStructure& structure,
-    const std::function<void(int, QuadraturePoint&, Eigen::MatrixXd&)>& element_matrix) {
-  Eigen::SparseMatrix<double> matrix = structure.empty_matrix();
-  std::string error;
-  // Small colours run serially: waking threads costs more than it saves, and much more on a
-  // loaded machine where OpenMP's spinning threads compete for cores. Except colours of heavy
-  // elements (81 DOFs and more: degree 2 solids and up, ~3 Mflop each at degree 3), of which a
-  // coarse degree-3 net has a few per colour (~64 colours): BM_StiffnessAssembly, 192 degree-3
-  // elements, 145 ms on one thread, 106 ms on two.
-  constexpr int kParallelMinimum = 64, kHeavyElement = 81;
-  int element_dofs = 0;
+bool colour_in_parallel(int count, bool heavy_work, int team) {
+  return team > 1 && (count >= kLargeColour || (count >= 2 && heavy_work));
+}
+
+bool heavy_elements(const AssemblyStructure& structure) {
+  constexpr int kHeavyElement = 81;
   for (const auto& quadrature : structure.quadratures)
-    element_dofs = std::max(element_dofs, quadrature.basis_count() * structure.dofs_per_node);
+    if (quadrature.basis_count() * structure.dofs_per_node >= kHeavyElement) return true;
+  return false;
+}
+
+std::vector<Eigen::SparseMatrix<double>> assemble_matrices(
+    const AssemblyStructure& structure, size_t count,
+    const std::function<void(int, QuadraturePoint&, std::vector<Eigen::MatrixXd>&)>&
+        element_matrices,
+    int threads) {
+  std::vector<Eigen::SparseMatrix<double>> matrices(count, structure.empty_matrix());
+  std::string error;
+  const int team = threads > 0 ? threads : omp_get_max_threads();
+  const bool heavy = heavy_elements(structure);
   for (const auto& colour : structure.colours) {
-    const int count = static_cast<int>(colour.size());
-#pragma omp parallel if (count >= kParallelMinimum || (count >= 2 && element_dofs >= kHeavyElement))
+    const int size = static_cast<int>(colour.size());
+    const int chunk = size >= kLargeColour ? 16 : 1;
+#pragma omp parallel num_threads(team) if (colour_in_parallel(size, heavy, team))
     {
       QuadraturePoint point;
-      Eigen::MatrixXd local;
-#pragma omp for schedule(dynamic, 16)
-      for (int c = 0; c < count; ++c) {
+      std::vector<Eigen::MatrixXd> locals(count);
+#pragma omp for schedule(dynamic, chunk)
+      for (int c = 0; c < size; ++c) {
+        const int e = colour[static_cast<size_t>(c)];
         try {
-          element_matrix(colour[static_cast<size_t>(c)], point, local);
-          structure.scatter(colour[static_cast<size_t>(c)], local, matrix);
-        } catch (const std::exception& e) {
+          element_matrices(e, point, locals);
+          for (size_t k = 0; k < count; ++k) structure.scatter(e, locals[k], matrices[k]);
+        } catch (const std::exception& ex) {
 #pragma omp critical(isospring_assembly_error)
-          if (error.empty()) error = e.what();
+          if (error.empty()) error = ex.what();
         }
       }
     }
     if (!error.empty()) throw nurbs::InputError(error);
   }
-  return matrix;
+  return matrices;
+}
+
+Eigen::SparseMatrix<double> assemble_matrix(
+    const AssemblyStructure& structure,
+    const std::function<void(int, QuadraturePoint&, Eigen::MatrixXd&)>& element_matrix) {
+  return std::move(
+      assemble_matrices(structure, 1,
+                        [&](int e, QuadraturePoint& point, std::vector<Eigen::MatrixXd>& locals) {
+                          element_matrix(e, point, locals[0]);
+                        })
+          .front());
 }
 
 double physical_gradients(const QuadraturePoint& point, int dim, int patch, int element,

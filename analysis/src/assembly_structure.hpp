@@ -39,8 +39,29 @@ struct AssemblyStructure {
                Eigen::SparseMatrix<double>& matrix) const;
 };
 
-/// Runs `element_matrix(e, point_buffer, local)` for every element, colour by colour in parallel,
-/// and scatters the results. The callback may throw nurbs::InputError; the first one is rethrown.
+/// Whether a colour of `count` elements runs on a team of `team` threads. Small colours run
+/// serially: waking threads costs more than it saves, and much more on a loaded machine where
+/// OpenMP's spinning threads compete for cores. Except colours of heavy work (element matrices
+/// of 81 DOFs and more: degree 2 solids and up, ~3 Mflop each at degree 3), of which a coarse
+/// degree-3 net has a few per colour (~64 colours): BM_StiffnessAssembly, 192 degree-3 elements,
+/// 99 ms on one thread, 72 ms on two (one element per thread at a time in small colours).
+bool colour_in_parallel(int count, bool heavy_work, int team);
+/// Colours of at least this many elements run in parallel whatever their work, in chunks of 16
+/// elements per thread (smaller ones one element at a time).
+constexpr int kLargeColour = 64;
+/// Elements whose matrices are heavy work for colour_in_parallel.
+bool heavy_elements(const AssemblyStructure& structure);
+
+/// Runs `element_matrices(e, point_buffer, locals)` (locals: `count` matrices) for every element,
+/// colour by colour on `threads` threads (0: OpenMP's default), and scatters local k into
+/// matrix k. The callback may throw nurbs::InputError; the first one is rethrown.
+std::vector<Eigen::SparseMatrix<double>> assemble_matrices(
+    const AssemblyStructure& structure, size_t count,
+    const std::function<void(int element, QuadraturePoint& point,
+                             std::vector<Eigen::MatrixXd>& locals)>& element_matrices,
+    int threads = 0);
+
+/// assemble_matrices for one matrix.
 Eigen::SparseMatrix<double> assemble_matrix(
     const AssemblyStructure& structure,
     const std::function<void(int element, QuadraturePoint& point, Eigen::MatrixXd& local)>&

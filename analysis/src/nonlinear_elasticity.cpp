@@ -157,21 +157,15 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
   // Elements of one colour share no node: their scatters into the forces and the tangent never
   // race, and every entry's sum runs colour by colour whatever the thread count.
   //
-  // Small colours run serially (waking threads costs more than they save, much more on a loaded
-  // machine where OpenMP's spinning threads compete for cores), except elements of 81 or more
-  // DOFs (degree 2 solids and up): one tangent of a degree-3 solid element is ~14 Mflop, and a
-  // coarse degree-3 net has ~64 colours of a few elements each. The forces alone stay serial:
-  // on two threads they took 24 ms against 22 (bench_identify_model, BM_SvkForce, 192 elements).
-  constexpr int kParallelMinimum = 64, kHeavyElement = 81;
+  // Colours in parallel by the rule of the linear assembly (detail::colour_in_parallel): one
+  // tangent of a degree-3 solid element is ~14 Mflop. The forces alone are light work: on two
+  // threads they took 24 ms against 22 (bench_identify_model, BM_SvkForce, 192 elements).
   const int team = threads_ > 0 ? threads_ : omp_get_max_threads();
-  int element_dofs = 0;
-  for (const auto& quadrature : s.quadratures)
-    element_dofs = std::max(element_dofs, quadrature.basis_count() * dim);
+  const bool heavy = tangent && detail::heavy_elements(s);
   for (const auto& colour : s.colours) {
     const int count = static_cast<int>(colour.size());
-    const bool parallel = team > 1 && (count >= kParallelMinimum ||
-                                       (count >= 2 && tangent && element_dofs >= kHeavyElement));
-    const int chunk = count >= kParallelMinimum ? 16 : 1;
+    const bool parallel = detail::colour_in_parallel(count, heavy, team);
+    const int chunk = count >= detail::kLargeColour ? 16 : 1;
 #pragma omp parallel num_threads(team) if (parallel)
     {
       detail::QuadraturePoint point;

@@ -790,6 +790,18 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
   // effect replacing the first chosen is a model of round 1): a refit would repeat the fit
   // (measured on the suite's tube_graded: 6 s for one support_compliance refit).
   std::map<std::vector<const Effect*>, Fit> linear_fits;
+  // The fit of the model with `effects` from `start`: the one made before, else a new one (kept
+  // when the model is linear); nullopt for a large-deformation model when `newton` is false.
+  auto fit_of = [&](const std::vector<const Effect*>& effects, const Eigen::VectorXd& start,
+                    FitStart how, bool newton) -> std::optional<Fit> {
+    if (const auto known = linear_fits.find(effects); known != linear_fits.end())
+      return known->second;
+    const Model model = build_model(setup, effects, start);
+    if (model.forward->nonlinear() && !newton) return std::nullopt;
+    const Fit fit = run_fit(setup, model, weights, nullptr, how);
+    if (fit.ok && !model.forward->nonlinear()) linear_fits[effects] = fit;
+    return fit;
+  };
 
   // Forward selection.
   std::vector<const Effect*> chosen;
@@ -989,14 +1001,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                             int d1, const std::string& change, const std::string& removed,
                             double effect_allowance) {
           if (d1 <= 0) return;
-          Fit fit;
-          if (const auto known = linear_fits.find(reduced); known != linear_fits.end()) {
-            fit = known->second;
-          } else {
-            const Model model = build_model(setup, reduced, start);
-            fit = run_fit(setup, model, weights);
-            if (fit.ok && !model.forward->nonlinear()) linear_fits[reduced] = fit;
-          }
+          const Fit fit = *fit_of(reduced, start, FitStart::kNearOptimum, true);
           if (!fit.ok) return;
           const int d2 = current_fit.rows - static_cast<int>(current_fit.theta.size());
           const double f = std::max(0.0, (fit.rss - current_fit.rss - effect_allowance) / d1) /
@@ -1076,18 +1081,12 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
           if (std::find(chosen.begin(), chosen.end(), candidate.get()) != chosen.end()) continue;
           std::vector<const Effect*> swapped = chosen;
           swapped[e] = candidate.get();
-          Fit fit;
-          if (const auto known = linear_fits.find(swapped); known != linear_fits.end()) {
-            fit = known->second;
-          } else {
-            const Model model =
-                build_model(setup, swapped,
-                            start_replacing(setup, current, current_fit.theta, e, candidate.get()));
-            if (model.forward->nonlinear()) continue;  // Newton fits: the score test handled it
-            fit = run_fit(setup, model, weights, nullptr, FitStart::kNewParameters);
-            if (!fit.ok) continue;
-            linear_fits[swapped] = fit;
-          }
+          // Not large-deformation models (Newton fits): the score test handled them.
+          const std::optional<Fit> swap_fit = fit_of(
+              swapped, start_replacing(setup, current, current_fit.theta, e, candidate.get()),
+              FitStart::kNewParameters, false);
+          if (!swap_fit || !swap_fit->ok) continue;
+          const Fit& fit = *swap_fit;
           const Alternative alternative{chosen[e]->name(), candidate->name(),
                                         bic(fit) - bic(current_fit), false};
           seen.push_back(alternative);

@@ -221,14 +221,12 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
   const auto nls = static_cast<size_t>(nl);
   std::vector<Eigen::VectorXd> forces(nls), u_linear(nls);
   std::vector<Eigen::MatrixXd> dforces(nls), du_linear(nls);
+  // K u = f - K u_c on the free DOFs, as ForwardModel::evaluate.
+  const Eigen::VectorXd ku_c = stiffness * prescribed_;
   for (int l = 0; l < nl; ++l) {
     const auto lc = static_cast<size_t>(l);
     load_vector(l, theta, with_jacobian, forces[lc], dforces[lc]);
     if (w_index >= 0) {
-      // K u = f - K u_c on the free DOFs, as ForwardModel::evaluate.
-      Eigen::VectorXd ku_c = Eigen::VectorXd::Zero(num_dofs_);
-      if (prescribed_.squaredNorm() > 0.0)
-        for (size_t j = 0; j < nt; ++j) ku_c += c[j] * (terms_.stiffness[j].matrix * prescribed_);
       u_linear[lc] = prescribed_ + solve_free(linear_solver, forces[lc] - ku_c).col(0);
       if (with_jacobian)
         du_linear[lc] = solve_free(linear_solver, linear_rhs(dforces[lc], u_linear[lc]));

@@ -55,7 +55,8 @@ TEST(LameStiffness, LinearWeightIntegratesAConstantStrainExactly) {
   // Exact integration: agreement to rounding of sums over 64 elements x 27 points.
   EXPECT_NEAR(u.dot(parts[0].lambda_part * u), trace * trace * weight_integral,
               1e-12 * trace * trace * weight_integral);
-  EXPECT_NEAR(u.dot(parts[0].mu_part * u), shear * weight_integral, 1e-12 * shear * weight_integral);
+  EXPECT_NEAR(u.dot(parts[0].mu_part * u), shear * weight_integral,
+              1e-12 * shear * weight_integral);
   // Both parts are symmetric (full, not one triangle).
   for (const auto& m : {parts[0].lambda_part, parts[0].mu_part}) {
     const Eigen::SparseMatrix<double> transposed = m.transpose();
@@ -95,10 +96,11 @@ TEST(LameStiffness, OnePassForSeveralWeightsEqualsSeparatePassesOnAnyThreadCount
     }
   }
   // A constant weight scales the parts.
-  const auto doubled = assemble_lame_stiffness(
-      problem, dofs, {[](const Eigen::Vector3d&) { return 2.0; }}, 1);
-  EXPECT_LT((Eigen::MatrixXd(doubled[0].mu_part) - 2.0 * Eigen::MatrixXd(together[0].mu_part)).norm(),
-            1e-15 * Eigen::MatrixXd(doubled[0].mu_part).norm());
+  const auto doubled =
+      assemble_lame_stiffness(problem, dofs, {[](const Eigen::Vector3d&) { return 2.0; }}, 1);
+  EXPECT_LT(
+      (Eigen::MatrixXd(doubled[0].mu_part) - 2.0 * Eigen::MatrixXd(together[0].mu_part)).norm(),
+      1e-15 * Eigen::MatrixXd(doubled[0].mu_part).norm());
 }
 
 }  // namespace
