@@ -6,7 +6,8 @@
 // --backend petsc solves with PETSc on the MPI ranks it is started on (`mpirun -np N isospring
 // analyze ...`, analysis/petsc_solver.hpp): every rank reads the case and takes part in the
 // solve; rank 0 alone checks the output folder, prints and writes the files.
-// The work is io::run_analyze and io::write_analyze_outputs (isospring/io/analyze_command.hpp).
+// The work is workflows::run_analyze and workflows::write_analyze_outputs
+// (isospring/workflows/analyze_command.hpp).
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -15,9 +16,9 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/analysis/petsc_solver.hpp"
-#include "isospring/io/analyze_command.hpp"
 #include "isospring/io/output_guard.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "isospring/workflows/analyze_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -26,7 +27,7 @@ struct AnalyzeOptions {
   std::string output;
   double max_memory_gb = 0;  // 0: the available memory
   bool quiet = false;
-  io::AnalyzeCommandOptions run;
+  workflows::AnalyzeCommandOptions run;
 };
 
 std::unique_ptr<analysis::PetscSession> start_petsc() {
@@ -55,19 +56,21 @@ void run_analyze(const AnalyzeOptions& options) {
     out_dir = output_folder(options.output, {options.run.case_file},
                             {"report.json", "report.md", "result.vtm"});
   });
-  io::AnalyzeCommandOptions run = options.run;
+  workflows::AnalyzeCommandOptions run = options.run;
   // The memory estimate of read_case_file is the direct solver's (K and its Cholesky factor on
   // one machine); the distributed backend is checked only against an explicit --max-memory.
   run.limits =
       petsc && options.max_memory_gb <= 0 ? io::CaseLimits{} : solve_limits(options.max_memory_gb);
   // Every rank reads and solves; rank 0 checks before the solve that no output overwrites an
   // input.
-  const io::AnalyzeCommandResult r = io::run_analyze(run, progress, [&](const io::Case& c) {
-    on_root([&] {
-      io::check_outputs_spare_inputs(case_inputs(c), in_folder(out_dir, io::analyze_csv_names(c)));
-    });
-  });
-  if (root) io::write_analyze_outputs(r, run, out_dir, progress, start);
+  const workflows::AnalyzeCommandResult r =
+      workflows::run_analyze(run, progress, [&](const io::Case& c) {
+        on_root([&] {
+          io::check_outputs_spare_inputs(case_inputs(c),
+                                         in_folder(out_dir, workflows::analyze_csv_names(c)));
+        });
+      });
+  if (root) workflows::write_analyze_outputs(r, run, out_dir, progress, start);
 }
 
 void setup_analyze(CLI::App& app) {

@@ -1,17 +1,17 @@
 // `isospring calibrate CASE.json -o OUTDIR`: the NMSM of a case, calibrated against the IGA
 // reference with the displacement objective (settings: the case's "calibration" object,
-// docs/calibration.md). The work is io::run_calibrate and io::write_calibrate_outputs
-// (isospring/io/calibrate_command.hpp): report.json, report.md, model.json, springs.vtp,
+// docs/calibration.md). The work is workflows::run_calibrate and workflows::write_calibrate_outputs
+// (isospring/workflows/calibrate_command.hpp): report.json, report.md, model.json, springs.vtp,
 // <load-case>_errors.csv, result.vtm (ParaView) and the error figures.
 #include <chrono>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
-#include "isospring/io/calibrate_command.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
+#include "isospring/workflows/calibrate_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -26,15 +26,15 @@ void run_calibrate(const CalibrateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("calibrate", options.quiet);
   const std::filesystem::path out_dir =
-      output_folder(options.output, {options.case_file}, io::calibrate_output_files());
+      output_folder(options.output, {options.case_file}, workflows::calibrate_output_files());
   progress("reading " + options.case_file);
   io::Case c = io::read_case_file(options.case_file, solve_limits(0));
   std::vector<std::string> ids;
   for (const auto& load : c.problem.load_cases) ids.push_back(load.id);
   io::check_outputs_spare_inputs(case_inputs(c),
-                                 in_folder(out_dir, io::calibrate_output_files(ids)));
-  const io::CalibrateCommandResult result = io::run_calibrate(std::move(c), progress);
-  const nlohmann::json report = io::write_calibrate_outputs(out_dir, result, start);
+                                 in_folder(out_dir, workflows::calibrate_output_files(ids)));
+  const workflows::CalibrateCommandResult result = workflows::run_calibrate(std::move(c), progress);
+  const nlohmann::json report = workflows::write_calibrate_outputs(out_dir, result, start);
   progress("%e_rms " + io::format_number(report["percent_e_rms"].get<double>(), 4) + " (fitted)" +
            (result.calibration.holdout.empty()
                 ? std::string()

@@ -5,16 +5,16 @@
 //   4. NMSM calibration  springs on the control net, stiffnesses fitted with Ceres
 //   5. VTK               one .vtm for ParaView: exact Bezier geometry, fields, net, springs
 //   6. exports           model.json, MuJoCo MJCF, SOFA scene; report.json and report.md
-// The pipeline is io::run_demo (isospring/io/demo_command.hpp); this file finds the case and
-// prints where the results are.
+// The pipeline is workflows::run_demo (isospring/workflows/demo_command.hpp); this file finds the
+// case and prints where the results are.
 #include <filesystem>
 #include <iostream>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
-#include "isospring/io/demo_command.hpp"
 #include "isospring/io/report.hpp"
+#include "isospring/workflows/demo_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -39,8 +39,8 @@ void run_demo(const DemoOptions& options) {
   const fs::path case_path =
       options.case_file.empty() ? default_case() : fs::path(options.case_file);
   const fs::path out =
-      output_folder(options.output, input_files(case_path), io::demo_output_files());
-  const double total = io::run_demo(case_path, out, progress);
+      output_folder(options.output, input_files(case_path), workflows::demo_output_files());
+  const double total = workflows::run_demo(case_path, out, progress);
   if (options.quiet) return;  // --quiet: the report files say it all; nothing on stdout
   std::cout << "isospring demo finished in " << io::format_number(total, 3) << " s. Results in "
             << out.string() << "/:\n"

@@ -1,18 +1,19 @@
 // `isospring eval IN --at u[,v[,w]] ...`: physical points (and first derivatives) of a patch.
-// The work is io::run_eval, io::eval_text and io::eval_json (isospring/io/eval_command.hpp).
+// The work is workflows::run_eval, workflows::eval_text and workflows::eval_json
+// (isospring/workflows/eval_command.hpp).
 #include <iostream>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
-#include "isospring/io/eval_command.hpp"
 #include "isospring/io/patch_file.hpp"
+#include "isospring/workflows/eval_command.hpp"
 
 namespace isospring::apps {
 namespace {
 
 struct EvalOptions {
-  io::EvalCommandOptions run;
+  workflows::EvalCommandOptions run;
   bool json = false;
 };
 
@@ -28,12 +29,12 @@ void setup_eval(CLI::App& app) {
                 "Print JSON instead: {\"points\": [{\"at\", \"point\", \"derivatives\"}]}, "
                 "full precision");
   cmd->callback([options] {
-    const io::EvalCommandResult r =
-        io::run_eval(io::read_patch_file(options->run.input), options->run);
+    const workflows::EvalCommandResult r =
+        workflows::run_eval(io::read_patch_file(options->run.input), options->run);
     if (options->json)
-      std::cout << io::eval_json(r).dump(2) << "\n";
+      std::cout << workflows::eval_json(r).dump(2) << "\n";
     else
-      std::cout << io::eval_text(r);
+      std::cout << workflows::eval_text(r);
   });
 }
 

@@ -1,7 +1,8 @@
 // `isospring export MODEL.json -o OUT [--format json|mjcf|sofa|vtk|reduced]`: a calibrated spring
 // model (model.json) for real-time engines and viewers: MuJoCo MJCF, a SOFA scene, VTK poly data,
 // a validated, normalised model.json, or its reduced model for haptic rates.
-// The work is io::run_export and io::export_report (isospring/io/export_command.hpp).
+// The work is workflows::run_export and workflows::export_report
+// (isospring/workflows/export_command.hpp).
 #include <iostream>
 #include <memory>
 #include <string>
@@ -10,22 +11,22 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
-#include "isospring/io/export_command.hpp"
-#include "isospring/io/export_formats.hpp"
+#include "isospring/workflows/export_command.hpp"
+#include "isospring/workflows/export_formats.hpp"
 
 namespace isospring::apps {
 namespace {
 
 struct ExportOptions {
   bool quiet = false;
-  io::ExportCommandOptions run;
+  workflows::ExportCommandOptions run;
 };
 
 void run_export(const ExportOptions& options) {
   check_output_file(options.run.output, {options.run.input});
-  const io::ExportCommandResult r = io::run_export(options.run);
+  const workflows::ExportCommandResult r = workflows::run_export(options.run);
   FileReport report("export", options.run.input, options.run.output);
-  io::export_report(r, options.run, report.json, report.markdown);
+  workflows::export_report(r, options.run, report.json, report.markdown);
   report.write();
   if (!options.quiet)
     std::cerr << "[export] wrote " << options.run.output << " (" << r.format
@@ -41,10 +42,11 @@ void setup_export(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->run.output, "Output file")->required();
-  // The formats, their help and the check all come from io::export_formats().
+  // The formats, their help and the check all come from workflows::export_formats().
   std::vector<std::string> format_names;
-  for (const io::ExportFormat& format : io::export_formats()) format_names.push_back(format.name);
-  cmd->add_option("--format", options->run.format, io::export_formats_help())
+  for (const workflows::ExportFormat& format : workflows::export_formats())
+    format_names.push_back(format.name);
+  cmd->add_option("--format", options->run.format, workflows::export_formats_help())
       ->check(CLI::IsMember(format_names));
   cmd->add_option("--gravity", options->run.gravity,
                   "Gravity gx,gy,gz [m/s^2] for mjcf and sofa; default: the model's gravity, else "

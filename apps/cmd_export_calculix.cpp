@@ -1,35 +1,35 @@
 // `isospring export-calculix CASE.json -o deck.inp`: the case's problem as a CalculiX input
 // deck (20-node hexahedra or, in 2D, 8-node quadrilaterals on the exact geometry), for an
-// independent check with `ccx -i deck`. The work is io::run_export_calculix and
-// io::export_calculix_report (isospring/io/export_calculix_command.hpp).
+// independent check with `ccx -i deck`. The work is workflows::run_export_calculix and
+// workflows::export_calculix_report (isospring/workflows/export_calculix_command.hpp).
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
 #include "isospring/io/case_file.hpp"
-#include "isospring/io/export_calculix_command.hpp"
 #include "isospring/io/report.hpp"
+#include "isospring/workflows/export_calculix_command.hpp"
 
 namespace isospring::apps {
 namespace {
 
 struct ExportCalculixOptions {
-  io::ExportCalculixCommandOptions run;
+  workflows::ExportCalculixCommandOptions run;
   bool quiet = false;
 };
 
 void run_export_calculix(const ExportCalculixOptions& options) {
   const io::Progress progress("export-calculix", options.quiet);
   // Both output checks before the case is read: a bad deck name costs no work.
-  io::check_calculix_output(options.run.output);
+  workflows::check_calculix_output(options.run.output);
   check_output_file(options.run.output, input_files(options.run.case_file));
-  const io::ExportCalculixCommandResult r =
-      io::run_export_calculix(io::read_case_file(options.run.case_file), options.run);
+  const workflows::ExportCalculixCommandResult r =
+      workflows::run_export_calculix(io::read_case_file(options.run.case_file), options.run);
   FileReport report("export-calculix", options.run.case_file, options.run.output);
-  io::export_calculix_report(r, options.run, report.json, report.markdown);
+  workflows::export_calculix_report(r, options.run, report.json, report.markdown);
   report.write();
-  progress(io::export_calculix_summary(r, options.run));
+  progress(workflows::export_calculix_summary(r, options.run));
 }
 
 void setup_export_calculix(CLI::App& app) {

@@ -1,30 +1,30 @@
 // `isospring export-step patches.json -o OUT.step`: patches as B-spline faces in STEP or IGES.
-// The work is io::run_export_step and io::export_step_report
-// (isospring/io/export_step_command.hpp).
+// The work is workflows::run_export_step and workflows::export_step_report
+// (isospring/workflows/export_step_command.hpp).
 #include <iostream>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
-#include "isospring/io/export_step_command.hpp"
+#include "isospring/workflows/export_step_command.hpp"
 
 namespace isospring::apps {
 namespace {
 
 struct ExportStepOptions {
-  io::ExportStepCommandOptions run;
+  workflows::ExportStepCommandOptions run;
   bool quiet = false;
 };
 
 void run_export_step(const ExportStepOptions& options) {
   check_output_file(options.run.output, input_files(options.run.input));
-  const io::ExportStepCommandResult r = io::run_export_step(options.run);
+  const workflows::ExportStepCommandResult r = workflows::run_export_step(options.run);
   FileReport report("export-step", options.run.input, options.run.output);
-  io::export_step_report(r, options.run, report.json, report.markdown);
+  workflows::export_step_report(r, options.run, report.json, report.markdown);
   report.write();
   for (const auto& note : r.written.notes) std::cerr << "[export-step] warning: " << note << "\n";
-  if (!options.quiet) std::cout << io::export_step_summary(r, options.run) << "\n";
+  if (!options.quiet) std::cout << workflows::export_step_summary(r, options.run) << "\n";
 }
 
 void setup_export_step(CLI::App& app) {

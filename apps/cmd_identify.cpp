@@ -4,17 +4,18 @@
 // (fitting/identify_recalibration.hpp) and writes OUTDIR/report.json, report.md, model.json (with
 // the carried gravity and load cases), markers_*.vtp (measured, model and residual per load case,
 // before and after), residuals.svg (our own SVG: one row per load case) and
-// errors_before_after.png (gnuplot, when present). The work is io::run_identify and
-// io::write_identify_outputs (isospring/io/identify_command.hpp); this file parses the flags.
+// errors_before_after.png (gnuplot, when present). The work is workflows::run_identify and
+// workflows::write_identify_outputs (isospring/workflows/identify_command.hpp); this file parses
+// the flags.
 #include <memory>
 #include <optional>
 
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/io/case_file.hpp"
-#include "isospring/io/identify_command.hpp"
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
+#include "isospring/workflows/identify_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -23,7 +24,7 @@ struct IdentifyFlags {
   std::string case_file;
   std::string output;
   bool quiet = false;
-  io::IdentifyCommandOptions options;
+  workflows::IdentifyCommandOptions options;
   std::optional<long> max_dofs;
   bool no_discretization_check = false;
 };
@@ -31,17 +32,17 @@ struct IdentifyFlags {
 void run(IdentifyFlags flags) {
   const io::Progress progress("identify", flags.quiet);
   const std::filesystem::path out_dir =
-      output_folder(flags.output, {flags.case_file}, io::identify_output_files());
+      output_folder(flags.output, {flags.case_file}, workflows::identify_output_files());
   progress("reading " + flags.case_file);
   const io::Case c = io::read_case_file(flags.case_file, solve_limits(0));
   std::vector<std::string> ids;
   for (const auto& load : c.problem.load_cases) ids.push_back(load.id);
   io::check_outputs_spare_inputs(case_inputs(c),
-                                 in_folder(out_dir, io::identify_output_files(ids)));
+                                 in_folder(out_dir, workflows::identify_output_files(ids)));
   flags.options.max_dofs = flags.max_dofs;
   flags.options.discretization_check = !flags.no_discretization_check;
-  const io::IdentifyCommandResult r = io::run_identify(c, flags.options, progress);
-  io::write_identify_outputs(out_dir, r, progress);
+  const workflows::IdentifyCommandResult r = workflows::run_identify(c, flags.options, progress);
+  workflows::write_identify_outputs(out_dir, r, progress);
   progress("rms " + io::format_number(r.identify.before.rms, 3) + " m -> " +
            io::format_number(r.identify.after.rms, 3) + " m; wrote " +
            (out_dir / "report.json").string());

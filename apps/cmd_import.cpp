@@ -1,5 +1,6 @@
 // `isospring import PART.step -o patches.json`: a STEP/IGES part to a patch file (metres).
-// The work is io::run_import and io::import_report (isospring/io/import_command.hpp).
+// The work is workflows::run_import and workflows::import_report
+// (isospring/workflows/import_command.hpp).
 #include <iostream>
 #include <memory>
 
@@ -7,8 +8,8 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
-#include "isospring/io/import_command.hpp"
 #include "isospring/io/patch_file.hpp"
+#include "isospring/workflows/import_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 struct ImportOptions {
   std::string output;
   bool quiet = false;
-  io::ImportCommandOptions run;
+  workflows::ImportCommandOptions run;
 };
 
 void run_import(const ImportOptions& options) {
@@ -24,11 +25,11 @@ void run_import(const ImportOptions& options) {
   if (!options.run.display.empty()) extra.emplace_back(options.run.display);
   check_output_file(options.output, {options.run.input}, extra);
   // --quiet drops the "wrote" lines, not the --report asked for.
-  const io::ImportCommandResult r =
-      io::run_import(options.run, &std::cout, options.quiet ? nullptr : &std::cout);
+  const workflows::ImportCommandResult r =
+      workflows::run_import(options.run, &std::cout, options.quiet ? nullptr : &std::cout);
   io::write_patch_file(options.output, r.patches);
   FileReport report("import", options.run.input, options.output);
-  io::import_report(r, options.run, options.output, report.json, report.markdown);
+  workflows::import_report(r, options.run, options.output, report.json, report.markdown);
   report.write();
   if (!options.quiet)
     std::cout << "wrote " << options.output << ": " << r.patches.size() << " patches from "

@@ -2,12 +2,12 @@
 // dimensions, degrees, knot vectors (unique knots with multiplicities), control points, elements,
 // bounding box and length/area/volume; for a case file also its material, supports and loads; for
 // a CAD part OpenCascade's own report (units, faces, volume and area). The text and the JSON
-// are the library's (isospring/io/info_command.hpp).
+// are the library's (isospring/workflows/info_command.hpp).
 #include <iostream>
 #include <memory>
 
 #include "command.hpp"
-#include "isospring/io/info_command.hpp"
+#include "isospring/workflows/info_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -27,9 +27,9 @@ void setup_info(CLI::App& app) {
                 "measure; case or CAD summary), full precision");
   cmd->callback([file, json] {
     if (*json)
-      std::cout << io::file_info_json(*file).dump(2) << "\n";
+      std::cout << workflows::file_info_json(*file).dump(2) << "\n";
     else
-      std::cout << io::file_info_text(*file);
+      std::cout << workflows::file_info_text(*file);
   });
 }
 

@@ -1,7 +1,7 @@
 // `isospring refine IN -o OUT`: exact h-, p- and k-refinement of every patch in a patch file.
 // Order of operations: degree elevation first, then explicit knot insertion, then uniform
 // splitting (elevating before splitting is k-refinement: maximal continuity). The work is
-// io::run_refine and io::refine_report (isospring/io/refine_command.hpp).
+// workflows::run_refine and workflows::refine_report (isospring/workflows/refine_command.hpp).
 #include <iostream>
 #include <memory>
 
@@ -10,7 +10,7 @@
 #include "command.hpp"
 #include "file_report.hpp"
 #include "isospring/io/patch_file.hpp"
-#include "isospring/io/refine_command.hpp"
+#include "isospring/workflows/refine_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -19,7 +19,7 @@ struct RefineOptions {
   std::string output;
   double max_memory_gb = 0;  // 0: the available memory
   bool quiet = false;
-  io::RefineCommandOptions run;
+  workflows::RefineCommandOptions run;
 };
 
 void run_refine(RefineOptions options) {
@@ -27,11 +27,11 @@ void run_refine(RefineOptions options) {
   const MemoryLimit limit = memory_limit(options.max_memory_gb);
   options.run.memory_limit_bytes = limit.bytes;
   options.run.memory_source = limit.source;
-  const io::RefineCommandResult r =
-      io::run_refine(io::read_patch_file(options.run.input), options.run);
+  const workflows::RefineCommandResult r =
+      workflows::run_refine(io::read_patch_file(options.run.input), options.run);
   io::write_patch_file(options.output, r.after);
   FileReport report("refine", options.run.input, options.output);
-  io::refine_report(r, options.run, options.output, report.json, report.markdown);
+  workflows::refine_report(r, options.run, options.output, report.json, report.markdown);
   report.write();
   size_t points = 0;
   int elements = 0;

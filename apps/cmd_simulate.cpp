@@ -5,7 +5,7 @@
 // "velocity") plus OUTDIR/report.json comparing the last frame with the static equilibrium of
 // the same load (analysis::solve_spring_newton), which a damped run approaches ("static": null
 // when the network is a mechanism at rest and Newton has no linear start). The work is
-// io::run_simulate (isospring/io/simulate_command.hpp).
+// workflows::run_simulate (isospring/workflows/simulate_command.hpp).
 #include <chrono>
 #include <memory>
 
@@ -13,7 +13,7 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/io/report.hpp"
-#include "isospring/io/simulate_command.hpp"
+#include "isospring/workflows/simulate_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -21,7 +21,7 @@ namespace {
 struct SimulateOptions {
   std::string output;
   bool quiet = false;
-  io::SimulateCommandOptions run;
+  workflows::SimulateCommandOptions run;
 };
 
 void run_simulate(const SimulateOptions& options) {
@@ -29,7 +29,7 @@ void run_simulate(const SimulateOptions& options) {
   const io::Progress progress("simulate", options.quiet);
   const std::filesystem::path out_dir =
       output_folder(options.output, {options.run.model_file}, {"series.pvd", "report.json"});
-  nlohmann::json report = io::run_simulate(options.run, out_dir, progress);
+  nlohmann::json report = workflows::run_simulate(options.run, out_dir, progress);
   report["total_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   io::write_json_report(out_dir / "report.json", report);

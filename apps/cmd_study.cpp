@@ -7,7 +7,8 @@
 // the extrapolated value (or to the finest level when the sequence is not monotone) is the error.
 // Rates are least-squares fits over the last three levels (benchmarks.md). Writes report.json,
 // report.md, study.csv and convergence.png (gnuplot; skipped with a warning when missing).
-// The work is io::run_study and io::write_study_outputs (isospring/io/study_command.hpp).
+// The work is workflows::run_study and workflows::write_study_outputs
+// (isospring/workflows/study_command.hpp).
 #include <cmath>
 #include <memory>
 
@@ -16,8 +17,8 @@
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
-#include "isospring/io/study_command.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "isospring/workflows/study_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -25,7 +26,7 @@ namespace {
 struct StudyOptions {
   std::string case_file, output, degrees;
   bool quiet = false;
-  io::StudyCommandOptions run;
+  workflows::StudyCommandOptions run;
 };
 
 void run_study(StudyOptions options) {
@@ -33,7 +34,7 @@ void run_study(StudyOptions options) {
   if (options.run.levels < 1 || options.run.levels > 8)  // before any file is touched
     throw nurbs::InputError("--levels " + std::to_string(options.run.levels) +
                             ": give 1 to 8 levels");
-  const std::vector<std::string> outputs = io::study_output_files();
+  const std::vector<std::string> outputs = workflows::study_output_files();
   const std::filesystem::path out_dir = output_folder(options.output, {options.case_file}, outputs);
   options.run.limits = solve_limits(0);
   const io::Case c = io::read_case_file(options.case_file, options.run.limits);
@@ -44,8 +45,8 @@ void run_study(StudyOptions options) {
         throw nurbs::InputError("--degrees: " + std::to_string(p) + " is not a degree 1..10");
       options.run.degrees.push_back(static_cast<int>(p));
     }
-  const io::StudyCommandResult result = io::run_study(c, options.run, progress);
-  io::write_study_outputs(out_dir, result, progress);
+  const workflows::StudyCommandResult result = workflows::run_study(c, options.run, progress);
+  workflows::write_study_outputs(out_dir, result, progress);
   progress("wrote " + (out_dir / "report.json").string() + ", report.md, study.csv");
 }
 

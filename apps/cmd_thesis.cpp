@@ -1,11 +1,11 @@
 // `isospring thesis -o OUTDIR [--quick]`: regenerates the [S15] chapter-5 tables beside the
-// published numbers; the work is io::run_thesis (isospring/io/thesis_command.hpp).
+// published numbers; the work is workflows::run_thesis (isospring/workflows/thesis_command.hpp).
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/io/report.hpp"
-#include "isospring/io/thesis_command.hpp"
+#include "isospring/workflows/thesis_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -13,7 +13,7 @@ namespace {
 struct ThesisOptions {
   std::string output;
   bool quiet = false;
-  io::ThesisCommandOptions run;
+  workflows::ThesisCommandOptions run;
 };
 
 void run_thesis(const ThesisOptions& options) {
@@ -21,7 +21,7 @@ void run_thesis(const ThesisOptions& options) {
   // Checked first: the tables take minutes, a folder that cannot be written must fail at once.
   const std::filesystem::path out_dir =
       output_folder(options.output, {}, {"report.json", "report.md"});
-  const io::ThesisReport report = io::run_thesis(options.run, progress);
+  const workflows::ThesisReport report = workflows::run_thesis(options.run, progress);
   io::write_json_report(out_dir / "report.json", report.json);
   report.markdown.write(out_dir / "report.md");
   progress("wrote " + (out_dir / "report.md").string());

@@ -143,7 +143,7 @@ void factorise(benchmark::State& state) {
 void BM_FactorCholmod(benchmark::State& state) {
   factorise<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>(state);
 }
-// CHOLMOD's fill-reducing ordering (issue 15): arg 1 = 0 its default (AMD, then METIS too when
+// CHOLMOD's fill-reducing ordering: arg 1 = 0 its default (AMD, then METIS too when
 // AMD's factor is dense, keeping the better), 1 AMD only, 2 METIS only, 3 NESDIS only (CHOLMOD's
 // nested dissection on METIS's partitioner). Counters: nonzeros and flops of the factor.
 void BM_FactorCholmodOrdering(benchmark::State& state) {
@@ -181,7 +181,7 @@ void BM_FactorEigenLDLT(benchmark::State& state) {
   factorise<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper>>(state);
 }
 
-// ---- Iterative solvers on the same system (issue 15): time to reach ||b - K u|| / ||b|| < 1e-10
+// ---- Iterative solvers on the same system: time to reach ||b - K u|| / ||b|| < 1e-10
 // from u = 0, the right-hand side of the unit traction. `diff_vs_direct` is
 // ||u - u_cholmod|| / ||u_cholmod||, the CHOLMOD solution computed once per size (not timed).
 

@@ -1,4 +1,4 @@
-// The phases of `isospring identify` that dominate its 3D runs (issue 12), on a clamped box
+// The phases of `isospring identify` that dominate its 3D runs, on a clamped box
 // (0.2 x 0.04 x 0.04 m) k-refined to degree 3, 12 x 4 x 4 elements (2,205 DOFs, clamped at x = 0):
 // - LameAssembly: the Lame-split stiffness (make_setup, stiffness_gradient's weighted parts),
 //   element products on one thread;

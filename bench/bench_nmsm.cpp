@@ -1,7 +1,7 @@
 // NMSM speed: calibration time (cube n^3, grouped and per spring), linear static solves with a
 // prefactorised stiffness, and explicit (velocity Verlet) / implicit (backward Euler: Newton, and
 // linearly implicit with a prefactorised matrix) step rates.
-// Targets (issue 4): cube 6^3 grouped fit < 0.1 s, per spring < 2 s. The machine may be shared:
+// Targets: cube 6^3 grouped fit < 0.1 s, per spring < 2 s. The machine may be shared:
 // compare CPU times and the last_fit_cpu_s counter (process CPU of the fit alone), not wall time.
 // Direct solves at 10^5 particles (300k DOFs, 27-point 3D stencil) need minutes and GBs for the
 // factorisation, so the 10^5 rows cover the explicit step only.
@@ -23,7 +23,7 @@
 // Per spring, where the time went (6^3, per LM iteration, before): the Jacobian's K^-1 (one
 // solve with 540 right-hand sides) ~19 ms, gram()'s K^-1 (G K^-1) (another) ~18 ms, the
 // 540 x 540 Cholesky ~7 ms (~13 ms with two OpenMP threads), 10 MB Jacobian copies and
-// reallocations ~6 ms. Now: the K form (fitting/src/dual_levenberg_marquardt.hpp) replaces
+// reallocations ~6 ms. Now: the K form (fitting/src/nmsm/dual_levenberg_marquardt.hpp) replaces
 // gram() by a K^2 + G assembled in O(springs) (~5 ms), one thread, no copies. What remains is
 // the Jacobian's K^-1 and the Cholesky; below 2 s would need the dual step without a dense J.
 // Verlet, before: two passes over the springs per force (spring, damping) and five 256 KB

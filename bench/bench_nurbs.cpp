@@ -1,7 +1,7 @@
 // NURBS kernel throughput: batch evaluation of points plus first derivatives on a degree-3
 // surface with 50 x 50 control points at 10^6 random parameters, isospring against
 // OpenCascade's Geom_BSplineSurface::D1 on the same parameters (both single-threaded).
-// Target (issue 2): at least 2x OpenCascade's throughput.
+// Target: at least 2x OpenCascade's throughput.
 #include <benchmark/benchmark.h>
 
 #include <Geom_BSplineSurface.hxx>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scaling of the PETSc backend (issue 16): `isospring analyze --backend petsc` on a clamped unit
+# Scaling of the PETSc backend: `isospring analyze --backend petsc` on a clamped unit
 # cube (degree 2, N^3 elements, (N+2)^3 control points, 3 (N+2)^3 DOFs, one end traction) with 1
 # and 2 MPI ranks, and the serial direct solver (CHOLMOD) where it fits. Prints one table row per
 # run: DOFs, backend, ranks, assembly / preconditioner setup / solve / wall seconds, CG

@@ -1,9 +1,9 @@
 # isospring_module(NAME DEPS...): the library isospring_NAME (alias isospring::NAME) built from
-# NAME/src/*.cpp with the public headers in NAME/include/isospring/NAME/. Every module is installed
+# NAME/src/**/*.cpp (subfolders group a module's sources by subject) with the public headers in NAME/include/isospring/NAME/. Every module is installed
 # (cmake/IsospringInstall.cmake) as isospring::NAME of the exported package.
 function(isospring_module name)
   cmake_parse_arguments(ARG "" "" "PUBLIC;PRIVATE" ${ARGN})
-  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
+  file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
   # Headers from the source tree while building, from PREFIX/include once installed.
   set(include_dirs $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
                    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
@@ -15,7 +15,9 @@ function(isospring_module name)
     target_compile_features(isospring_${name} INTERFACE cxx_std_20)
   else()
     add_library(isospring_${name} STATIC ${sources})
-    target_include_directories(isospring_${name} PUBLIC ${include_dirs})
+    # A module's private headers are found from its src/ root, whichever subfolder includes them.
+    target_include_directories(isospring_${name} PUBLIC ${include_dirs}
+                               PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
     target_link_libraries(isospring_${name} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
     # The public headers are C++20: consumers of the installed package get the standard too.
     target_compile_features(isospring_${name} PUBLIC cxx_std_20)

@@ -4,7 +4,7 @@
 #   P/bin/isospring                        the program
 #   P/lib/cmake/isospring/                 the CMake package: find_package(isospring CONFIG)
 #   P/lib/python3/dist-packages/isospring.*.so   the Python module (when built, python/)
-# The package's targets are isospring::nurbs ... isospring::io; the config file finds their
+# The package's targets are isospring::nurbs ... isospring::workflows; the config file finds their
 # dependencies again on the consumer's machine (static libraries: private ones are linked too).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)

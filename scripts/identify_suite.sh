@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The unseen-data suite of `isospring identify` (issue 12, examples/identify_suite/README.md).
+# The unseen-data suite of `isospring identify` (examples/identify_suite/README.md).
 #
 #   bash scripts/identify_suite.sh generate   regenerate every dataset with CalculiX (ccx):
 #                                             examples/identify_suite/<dataset>/{case.json,

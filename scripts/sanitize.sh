@@ -5,7 +5,7 @@
 # harnesses; then runs those tests and a short fuzz run (scripts/fuzz.sh, FUZZ_SECONDS per
 # harness, default 30). The `sanitize` tests: the nurbs and io unit tests (the readers) and
 # test_apps_sanitize, end-to-end runs of the sanitized program on good and bad inputs (the whole
-# bad-input table of issue 19). Not in it, to stay within CI's time: the geometry, analysis and
+# bad-input table). Not in it, to stay within CI's time: the geometry, analysis and
 # fitting unit tests and the rest of test_apps (under ASan the CAD tests alone take 7 minutes of
 # CPU), and the generalised calibration below (5 minutes under ASan). Nor the PETSc backend
 # (tests label `mpi`): this build is configured without PETSc, because OpenMPI's and PETSc's

@@ -1,7 +1,8 @@
-// The NMSM calibration for Python: isospring.calibrate(case, **settings) is io::run_calibrate,
-// the call `isospring calibrate` makes, on the case's own "calibration" object with the keyword
-// arguments laid over it. The settings are read by io::read_calibration_settings, so they have
-// the case file's names, defaults, checks and error messages (as exceptions).
+// The NMSM calibration for Python: isospring.calibrate(case, **settings) is
+// workflows::run_calibrate, the call `isospring calibrate` makes, on the case's own "calibration"
+// object with the keyword arguments laid over it. The settings are read by
+// io::read_calibration_settings, so they have the case file's names, defaults, checks and error
+// messages (as exceptions).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -9,10 +10,10 @@
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/fitting/calibration.hpp"
-#include "isospring/io/calibrate_command.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "isospring/workflows/calibrate_command.hpp"
 
 namespace py = pybind11;
 
@@ -106,11 +107,11 @@ void bind_fitting(py::module_& m) {
             with.calibration[name] = to_json(value);
           }
         }
-        io::CalibrateCommandResult r;
+        workflows::CalibrateCommandResult r;
         {
           // The fit holds no Python object: other Python threads may run meanwhile.
           py::gil_scoped_release release;
-          r = io::run_calibrate(std::move(with), io::Progress("calibrate", true));
+          r = workflows::run_calibrate(std::move(with), io::Progress("calibrate", true));
         }
         py::dict result = calibration_result(r.calibration);
         result["worst_fitted_percent_e_rms"] = r.worst_fitted;

@@ -1,6 +1,6 @@
-// The measured-data loop for Python: isospring.identify(case) calls io::run_identify, the function
-// `isospring identify` calls (reading the case's "measurements", placing the markers, the loop).
-// Not here: the recalibration of the spring model (the program writes it to model.json) and
+// The measured-data loop for Python: isospring.identify(case) calls workflows::run_identify, the
+// function `isospring identify` calls (reading the case's "measurements", placing the markers, the
+// loop). Not here: the recalibration of the spring model (the program writes it to model.json) and
 // --drop-outside.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
@@ -9,7 +9,7 @@
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/io/case_file.hpp"
-#include "isospring/io/identify_command.hpp"
+#include "isospring/workflows/identify_command.hpp"
 
 namespace py = pybind11;
 
@@ -31,15 +31,15 @@ py::list parameters(const std::vector<fitting::ParameterEstimate>& estimates) {
 }
 
 py::dict identify(const io::Case& c, std::optional<int> max_dofs, bool discretization_check) {
-  io::IdentifyCommandOptions options;
+  workflows::IdentifyCommandOptions options;
   if (max_dofs) options.max_dofs = *max_dofs;
   options.discretization_check = discretization_check;
   options.recalibrate = false;  // not returned here; `isospring identify` writes it to model.json
-  io::IdentifyCommandResult result;
+  workflows::IdentifyCommandResult result;
   {
     // The loop holds no Python object: other Python threads may run meanwhile.
     py::gil_scoped_release release;
-    result = io::run_identify(c, options, io::Progress("identify", true));
+    result = workflows::run_identify(c, options, io::Progress("identify", true));
   }
   const fitting::IdentifyResult& r = result.identify;
   const std::vector<fitting::Marker>& markers = result.markers;

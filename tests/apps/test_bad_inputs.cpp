@@ -1,4 +1,4 @@
-// End-to-end table of bad inputs across the commands (issue 19): corrupted STEP files, numbers
+// End-to-end table of bad inputs across the commands: corrupted STEP files, numbers
 // that overflow a double, outputs that are inputs, unwritable output folders, loads and
 // materials whose results overflow, and sizes beyond the machine. Each must end with exit status
 // 1, 2 or 3 (never 4, never a signal) within seconds, with a message naming the file or the

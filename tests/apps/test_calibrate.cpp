@@ -119,7 +119,7 @@ TEST(Calibrate, SquareReportMatchesAnIndependentSolveOfTheWrittenModel) {
   EXPECT_TRUE(std::filesystem::exists(out / "springs.vtp"));
 }
 
-// Issue 18: progress a person can read. Not on a terminal (a pipe here): milestone lines only,
+// progress a person can read. Not on a terminal (a pipe here): milestone lines only,
 // no line per fit iteration. On a terminal (a pseudo-terminal from util-linux `script`): the
 // iterations rewrite one status line (carriage return, clear line) with stage, iteration, cost
 // and elapsed time, which the next milestone replaces.
@@ -266,7 +266,7 @@ TEST(Calibrate, SurfaceMetricOfAVolume) {
     EXPECT_NE(e["surface_percent_e_rms"], e["field_percent_e_rms"]) << e.dump();
 }
 
-// calibration.generalisation (issue 14): the load suite is fitted, the case's own four load
+// calibration.generalisation: the load suite is fitted, the case's own four load
 // cases are held out; every held-out error the report claims is that of the written model
 // (recomputed here against a fresh IGA reference), the worst is the largest over all cases, and
 // a worst case above target_percent_e_rms is a warning, not a quiet export.

@@ -1,5 +1,5 @@
 // End-to-end: `isospring calibrate` with calibration.volume_terms and calibration.shear_terms
-// (issue 14) on a small cantilever box. model.json carries both kinds (shear terms as "mu"), the
+// on a small cantilever box. model.json carries both kinds (shear terms as "mu"), the
 // held-out error recomputed here from the file (spring statics with the cell terms, against a
 // fresh IGA reference) is the one the report claims, the exports refuse the model naming the
 // shear terms, and generalisation.shear_terms lets cross-validation choose.

@@ -1,4 +1,4 @@
-// End-to-end: `isospring calibrate` with calibration.strain_points (issue 14) on a small
+// End-to-end: `isospring calibrate` with calibration.strain_points on a small
 // cantilever box. model.json carries the strain points ("points" and "gradients"), the held-out
 // error recomputed here from the file (spring statics against a fresh IGA reference) is the one
 // the report claims, `simulate` runs the model with both integrators, and the exports refuse it

@@ -1,4 +1,4 @@
-// End-to-end: `isospring calibrate` with calibration.volume_terms (issue 14) on a small cantilever
+// End-to-end: `isospring calibrate` with calibration.volume_terms on a small cantilever
 // box. The written model.json carries the volume terms, its held-out error recomputed here from
 // the file (spring statics with the volume terms, against a fresh IGA reference) is the one the
 // report claims, and the engine exports refuse the model with a message naming what they lack.

@@ -88,7 +88,7 @@ TEST(Demo, RunsThePipelineOnTheShippedBlock) {
 
 }  // namespace
 
-// Issue 18: what a person sees. Without -q and with stderr not a terminal (a pipe here), the
+// what a person sees. Without -q and with stderr not a terminal (a pipe here), the
 // demo prints its milestones in order, one line each, no fit iterations (a terminal shows those
 // on one updating line: tests/io/test_progress.cpp); its warning about groups at the lower bound
 // is in report.json and report.md too; model.json carries the four load cases, the self-weight
@@ -140,7 +140,7 @@ TEST(Demo, PrintsReadableMilestonesAndReportsItsWarnings) {
 }
 
 // A flat (2D) case through the demo: its engine exports carry in-plane gravity (-y), since the
-// particles of a flat model move in x and y only (issue 18: a -z gravity never moved them).
+// particles of a flat model move in x and y only (a -z gravity never moved them).
 TEST(Demo, FlatCaseExportsInPlaneGravity) {
   const TemporaryFolder dir;
   const auto run =

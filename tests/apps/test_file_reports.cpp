@@ -139,7 +139,7 @@ TEST(FileReports, ExportsReportWhatTheyWrote) {
   }
 }
 
-// Issue 18: refine -> fine.json, then export-step -> fine.step and fine.igs in the same folder.
+// refine -> fine.json, then export-step -> fine.step and fine.igs in the same folder.
 // Every output keeps its own report (named after the output's whole name), so the refine report
 // with its geometry check survives the exports.
 TEST(FileReports, OutputsWithOneStemKeepTheirOwnReports) {
@@ -163,7 +163,7 @@ TEST(FileReports, OutputsWithOneStemKeepTheirOwnReports) {
   EXPECT_FALSE(std::filesystem::exists(out / "fine.report.json"));
 }
 
-// Issue 18: a refined part exported to STEP or IGES comes back as a solid. import -> refine ->
+// a refined part exported to STEP or IGES comes back as a solid. import -> refine ->
 // export-step -> import --solids 0 gives one volume patch with the refined part's volume (read
 // with `info --json`, our Gauss quadrature of each file) to 1e-9, and the export report counts
 // one closed solid.

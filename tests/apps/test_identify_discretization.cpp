@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kTrueModulus = 1e7, kDeclaredModulus = 0.8e7;
-constexpr double kNoiseFraction = 2e-3;  // of the largest displacement, as in issue 12's data
+constexpr double kNoiseFraction = 2e-3;  // of the largest displacement, as in the data
 
 nlohmann::json cantilever_case(double modulus, int elements_along, bool gravity) {
   nlohmann::json load_cases = nlohmann::json::array();

@@ -1,6 +1,6 @@
 // End-to-end: `isospring identify` draws the rms residual before and after the identified
 // effects as bars (errors_before_after.png) and links it from report.md, and maps the residual
-// per load case in residuals.svg (issue 18), consistent with residuals.csv and report.json.
+// per load case in residuals.svg, consistent with residuals.csv and report.json.
 #include <gtest/gtest.h>
 
 #include <algorithm>

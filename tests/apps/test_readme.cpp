@@ -1,4 +1,4 @@
-// The README's examples, run exactly as written (issue 18: "a README that runs"). Every inline
+// The README's examples, run exactly as written ("a README that runs"). Every inline
 // code span of README.md that is an `isospring` command with arguments, and every line of its
 // ```sh blocks, is extracted from the README itself; each is either run here, in README order,
 // in one scratch folder that holds a link to the shipped `examples/` (the README's commands are

@@ -231,7 +231,7 @@ TEST(Simulate, BadInputExitsWithOne) {
 }
 
 TEST(Simulate, VolumeTermsOfACalibratedModelRunToTheirStaticEquilibrium) {
-  // The hanging 2D ladder with an area term per cell (issue 14, model.json "volumes"): the
+  // The hanging 2D ladder with an area term per cell (model.json "volumes"): the
   // damped implicit run ends at the Newton equilibrium of springs AND area terms, which differs
   // measurably from the springs' alone.
   const int rows = 4;
@@ -311,7 +311,7 @@ std::vector<Eigen::Vector3d> vector_columns(const std::string& path) {
 }
 }  // namespace
 
-// Issue 18: `calibrate` stores the loads it fitted under in model.json and `simulate` runs from
+// `calibrate` stores the loads it fitted under in model.json and `simulate` runs from
 // that model with no load options. Checked independently of the calibration code: every stored
 // load case's resultant is its traction times the loaded side's length (2 m, thickness 1), and
 // the linear static response of the WRITTEN model (its springs, its stored forces) is the IGA

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <random>
 
-#include "../../fitting/src/displacement_model.hpp"
-#include "../../fitting/src/dual_levenberg_marquardt.hpp"
+#include "../../fitting/src/nmsm/displacement_model.hpp"
+#include "../../fitting/src/nmsm/dual_levenberg_marquardt.hpp"
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/fitting/spring_mesh.hpp"
 #include "nmsm_test_models.hpp"

@@ -109,7 +109,7 @@ TEST(EffectRegistry, EveryEffectBuildsUnderItsNameAndItsNoteMatchesItsCarryOver)
   }
 }
 
-// The wart of issue 17: support_compliance's note said "springs to the ground" while the
+// The wart: support_compliance's note said "springs to the ground" while the
 // recalibration kept the supports fixed. The spring model has no ground springs, so it must say
 // NOT carried; gravity and load_scale change what they say they change.
 TEST(EffectRegistry, CarryOversDoWhatTheySay) {

@@ -1,4 +1,4 @@
-// The load suite of issue 14: which sides it loads, how it splits training and validation, and
+// The load suite: which sides it loads, how it splits training and validation, and
 // that every case deforms the part (a case that loads nothing would make the fit meaningless).
 #include <gtest/gtest.h>
 

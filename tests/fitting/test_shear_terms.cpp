@@ -1,4 +1,4 @@
-// Calibration with shear terms (issue 14, CellEnergy::kShear in spring_volume.hpp): a shear term
+// Calibration with shear terms (CellEnergy::kShear in spring_volume.hpp): a shear term
 // is several rank-one elements (one per deviatoric mode) sharing one parameter; the analytic
 // Jacobian with shear groups against finite differences, a grouped fit and the per-element
 // prior fit (L-BFGS, adjoint gradient summed over a term's columns) recover a hidden spring +

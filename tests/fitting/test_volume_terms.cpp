@@ -1,4 +1,4 @@
-// Calibration with volume terms (issue 14, spring_volume.hpp): the analytic Jacobian of the
+// Calibration with volume terms (spring_volume.hpp): the analytic Jacobian of the
 // displacement objective with volume groups against finite differences; grouped and per-element
 // (prior) fits recover a hidden spring + volume model and predict a load they never saw; on an
 // IGA solid with nu = 0.4 the volume terms lower the fitted AND the held-out error of plain

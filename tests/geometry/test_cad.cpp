@@ -218,7 +218,7 @@ TEST(CadExport, RoundTripReproducesTheGeometry) {
   }
 }
 
-// Issue 18: volume patches go out as closed solids (six sides sewn, outward normals), so a CAD
+// volume patches go out as closed solids (six sides sewn, outward normals), so a CAD
 // reader finds solids and their volume. OpenCascade's own volume of the solids read back
 // (BRepGProp, independent of our quadrature) equals the patches' volume, for an exact box and a
 // curved rational tube sector, in both formats; `import --solids` reading them back as volume

@@ -14,7 +14,7 @@ json traction(const json& side, const std::vector<double>& value) {
   return t;
 }
 
-// 100 x 20 x 20 mm cantilever clamped at x = 0, loads on x = 100 mm (issue 12's specimen).
+// 100 x 20 x 20 mm cantilever clamped at x = 0, loads on x = 100 mm (the specimen).
 // Declared: degree 2 on 10 x 2 x 2 elements, too coarse for 0.2 % noise on purpose (identify's
 // discretisation check must refine it). Markers: ccx nodes of the top face and the y = 0 face,
 // x > 5 mm, every 7th.

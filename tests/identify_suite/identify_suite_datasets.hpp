@@ -1,5 +1,5 @@
 #pragma once
-// The unseen-data suite of `isospring identify` (issue 12): specimens, the effects hidden in each
+// The unseen-data suite of `isospring identify`: specimens, the effects hidden in each
 // dataset and how CalculiX is told about them. Shared by the generator (writes the datasets with
 // ccx) and the test (runs identify on them and compares with the truth stored beside the data).
 //

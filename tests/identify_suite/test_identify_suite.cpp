@@ -1,4 +1,4 @@
-// The unseen-data suite (issue 12): `isospring identify` on every dataset of
+// The unseen-data suite: `isospring identify` on every dataset of
 // examples/identify_suite must add exactly the effects hidden in it (none on clean data, at two
 // noise levels), leave a residual within 1.3 x the noise, and recover the true modulus. The data
 // are CalculiX solutions of the true problem (tests/identify_suite/generate_identify_suite.cpp,

@@ -66,7 +66,7 @@ cmake_minimum_required(VERSION 3.22)
 project(isospring_headers LANGUAGES CXX)
 find_package(isospring CONFIG REQUIRED)
 add_library(all_headers OBJECT all_headers.cpp)
-target_link_libraries(all_headers PRIVATE isospring::io)
+target_link_libraries(all_headers PRIVATE isospring::workflows)
 ]=])
 run(${CMAKE_COMMAND} -S ${WORK}/headers -B ${WORK}/headers-build -DCMAKE_PREFIX_PATH=${PREFIX}
     -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=${BUILD_TYPE} ${launcher}

@@ -106,7 +106,7 @@ TEST(ExportMjcf, DocumentHasOneBodyPerFreeParticleAndOneTendonPerSpring) {
 }
 
 // A flat (2D) model's particles slide in x and y only: gravity along z would never move them
-// (issue 18), so the default engine gravity of a 2D model is in its plane and a z gravity is
+//, so the default engine gravity of a 2D model is in its plane and a z gravity is
 // refused with the fix; 3D models keep -z, and a model's own gravity wins over the default.
 TEST(ExportMjcf, FlatModelsGetInPlaneGravityAndRefuseZ) {
   analysis::SpringNetwork flat = braced_lattice(2, 1, 0, 0.05);

@@ -107,7 +107,7 @@ TEST(ExportSofa, SceneCarriesEveryValueExactly) {
 
 TEST(ExportSofa, EqualMassesUseUniformMassAndPlanarModelsVec2d) {
   // A flat model's Vec2d particles cannot follow a z gravity (the default): refused, with the
-  // in-plane gravity that `isospring export` gives such models by default (issue 18).
+  // in-plane gravity that `isospring export` gives such models by default.
   EXPECT_THROW((void)sofa_scene(network(true, 2)), nurbs::InputError);
   SofaOptions in_plane;
   in_plane.gravity = Eigen::Vector3d(0.0, -9.81, 0.0);

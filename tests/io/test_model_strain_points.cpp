@@ -1,4 +1,4 @@
-// Strain-point terms (issue 14, analysis/spring_strain_point.hpp) in model.json: the points and
+// Strain-point terms (analysis/spring_strain_point.hpp) in model.json: the points and
 // their basis gradients round-trip exactly (same stiffness, same nonlinear forces), bad entries
 // are named, and the SOFA / MuJoCo exports refuse them like the cell terms.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Volume terms (issue 14) in model.json and the engine exports: exact round trip, named errors,
+// Volume terms in model.json and the engine exports: exact round trip, named errors,
 // plain models unchanged on disk, and SOFA / MuJoCo refusing what they cannot represent.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Progress on stderr (issue 18: "progress a person can read"): on a terminal, the iterations of a
+// Progress on stderr ("progress a person can read"): on a terminal, the iterations of a
 // stage rewrite ONE status line (carriage return + clear line) that the next milestone replaces;
 // elsewhere (logs, pipes) only milestone lines are written; warnings are always written and kept
 // for the reports.

@@ -1,4 +1,4 @@
-// Small-multiple scatter maps as SVG (issue 18: identify's residuals.svg drew both load cases
+// Small-multiple scatter maps as SVG (identify's residuals.svg drew both load cases
 // over each other, with overlapping labels and an unlabelled colour bar). The document is read
 // back as text: one panel per (row, column), every point inside its own panel's frame, panels
 // apart and inside the canvas, equal x and y scales, one labelled colour bar per row whose top

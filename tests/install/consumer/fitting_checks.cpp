@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <isospring/io/calibrate_command.hpp>
 #include <isospring/io/case_file.hpp>
-#include <isospring/io/identify_command.hpp>
+#include <isospring/workflows/calibrate_command.hpp>
+#include <isospring/workflows/identify_command.hpp>
 #include <nlohmann/json.hpp>
 
 namespace consumer {
@@ -43,10 +43,10 @@ bool agrees(const std::string& what, double ours, double reported) {
 }
 
 bool check_calibration(const char* case_file, const char* report_file) {
-  // io::run_calibrate: the call `isospring calibrate` makes, "calibration" object included.
+  // workflows::run_calibrate: the call `isospring calibrate` makes, "calibration" object included.
   const isospring::io::Progress progress("calibrate", true);
-  const isospring::io::CalibrateCommandResult r =
-      isospring::io::run_calibrate(isospring::io::read_case_file(case_file), progress);
+  const isospring::workflows::CalibrateCommandResult r =
+      isospring::workflows::run_calibrate(isospring::io::read_case_file(case_file), progress);
   const isospring::fitting::CalibrationResult& result = r.calibration;
   const nlohmann::json report = read_json(report_file);
   std::printf("calibrate %s: %zu springs\n", r.case_name.c_str(),
@@ -55,17 +55,17 @@ bool check_calibration(const char* case_file, const char* report_file) {
   ok = same_metrics(result.fit, report.at("fit")) && ok;
   ok = same_metrics(result.holdout, report.at("holdout")) && ok;
   // The library's report.json holds the same numbers (not the timings).
-  const nlohmann::json ours = isospring::io::calibrate_report_json(r);
+  const nlohmann::json ours = isospring::workflows::calibrate_report_json(r);
   return agrees("percent_e_rms (report)", ours.at("percent_e_rms"), report.at("percent_e_rms")) &&
          ok;
 }
 
 bool check_identification(const char* case_file, const char* report_file) {
-  // io::run_identify: the call `isospring identify` makes (marker placement, the loop, the
+  // workflows::run_identify: the call `isospring identify` makes (marker placement, the loop, the
   // recalibration of the spring model).
   const isospring::io::Progress progress("identify", true);
-  const isospring::io::IdentifyCommandResult r =
-      isospring::io::run_identify(isospring::io::read_case_file(case_file), {}, progress);
+  const isospring::workflows::IdentifyCommandResult r =
+      isospring::workflows::run_identify(isospring::io::read_case_file(case_file), {}, progress);
   const isospring::fitting::IdentifyResult& result = r.identify;
 
   const nlohmann::json report = read_json(report_file);

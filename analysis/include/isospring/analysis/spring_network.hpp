@@ -16,7 +16,7 @@ struct Spring {
   int group = -1;            // calibration group (rest-length group), -1 when ungrouped
 };
 
-/// A volume (2D: area) term of one control-net cell (issue 14): energy
+/// A volume (2D: area) term of one control-net cell: energy
 ///   E = 1/2 (modulus / |V0|) (V(x) - V0)^2,
 /// V(x) the volume of the trilinear (2D: bilinear) cell through its corners, V0 its rest value.
 /// Linearised at rest it adds (modulus / |V0|) b b^T with b = dV/dx (a rank-one block over the
@@ -25,7 +25,7 @@ struct Spring {
 /// kappa = C44 adds kappa to C11 and C12 and gives nu = 1/3). Rigid motions keep V, so the
 /// term has the rigid-body null space. Force: -(modulus / |V0|) (V - V0) dV/dx, per cell.
 ///
-/// The same cell data carries a second energy (issue 14), `kind == CellEnergy::kShear`: the
+/// The same cell data carries a second energy, `kind == CellEnergy::kShear`: the
 /// deviatoric (shear) energy of the cell's mean deformation gradient,
 ///   E = modulus |V0| |dev G|^2,  G = 1/2 (F^T F - I),  F = (1/V0) sum_a x_a (dV0/dx_a)^T,
 /// (F is the cell's volume average of dx/dX, exact for affine motions; G its Green strain, so
@@ -42,7 +42,7 @@ struct VolumeTerm {
   double modulus = 0.0;      // kappa or mu [Pa] (2D: [N/m], per unit thickness)
   double rest_volume = 0.0;  // V0 [m^3] (2D: area [m^2]), signed by the corners' orientation
   int group = -1;            // calibration group, -1 when ungrouped
-  /// Non-empty: a STRAIN-POINT term (issue 14, spring_strain_point.hpp) instead of a net cell:
+  /// Non-empty: a STRAIN-POINT term (spring_strain_point.hpp) instead of a net cell:
   /// F = sum_a x_{points[a]} gradients[a]^T with gradients[a] = dR_a/dX, the NURBS basis
   /// gradients at one point of the patch (e.g. a Gauss point of a knot span), over the
   /// (p+1)^d control points supporting it; rest_volume is the point's share of the patch volume

@@ -1,5 +1,5 @@
 #pragma once
-// A reduced (subspace) model of a calibrated spring network for haptic rates (issue 15).
+// A reduced (subspace) model of a calibrated spring network for haptic rates.
 //
 // Full-space stepping cannot reach 1 kHz at 10^4 particles on one core: a prefactorised global
 // solve costs 6-12 ms there. The calibrated network's rest stiffness K and damping C are

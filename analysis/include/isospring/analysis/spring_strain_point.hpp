@@ -1,5 +1,5 @@
 #pragma once
-// Strain-point terms of a spring network (issue 14): the volume and shear energies of a
+// Strain-point terms of a spring network: the volume and shear energies of a
 // VolumeTerm evaluated on the deformation gradient of the NURBS displacement field at one point
 // of a patch instead of on a control-net cell's mean strain.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Volume (2D: area) terms of a spring network (SpringNetwork::volumes, issue 14): the volume of a
+// Volume (2D: area) terms of a spring network (SpringNetwork::volumes): the volume of a
 // trilinear (bilinear) cell through its corner particles, its exact gradient and Hessian, and
 // the energy, forces and stiffness of E = 1/2 (kappa / |V0|) (V(x) - V0)^2 per cell.
 //

@@ -5,8 +5,8 @@
 // values over into the spring model's recalibration (identify_recalibration.hpp).
 //
 // The library is a registry (effect_types()): one EffectType per effect, defined in the effect's
-// own file fitting/src/effect_<name>.cpp, listed once in fitting/src/effect_registry.cpp.
-// Library, in registry order:
+// own file fitting/src/identify/effect_<name>.cpp, listed once in
+// fitting/src/identify/effect_registry.cpp. Library, in registry order:
 //   gravity             self-weight rho * g of the declared density; g (2 or 3 components) fitted
 //   support_compliance  the fixed sides become Robin supports: springs per area k_n (normal) and
 //                       k_t (tangential), fitted as log(k / (E_prior / L))

@@ -1,6 +1,6 @@
 #pragma once
 // A calibration whose model freedom is chosen by the error on load cases it was not fitted to
-// (issue 14): k-fold cross-validation over the training load cases picks the rest-length
+//: k-fold cross-validation over the training load cases picks the rest-length
 // grouping (gamma) and, optionally, per-spring freedom with the penalty weight pulling log k
 // towards the chosen grouped optimum (prior_spring_fit.hpp); the chosen model is then refitted
 // on every training case and measured on the validation cases, which no choice has seen.

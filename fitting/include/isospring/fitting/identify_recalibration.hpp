@@ -2,7 +2,7 @@
 // Carrying an identification through to the spring model: recalibrate the NMSM (calibration.hpp)
 // against the corrected reference: the identified model with the identified E (and nu when
 // fitted), and each added effect carried over by its own EffectType::carry_over (effect.hpp;
-// fitting/src/effect_<name>.cpp), which also writes the note of what it did:
+// fitting/src/identify/effect_<name>.cpp), which also writes the note of what it did:
 //   gravity             g applied to every load case (the spring model's particles get m_i g;
 //                       with row-sum lumped masses that is exactly the consistent IGA load)
 //   load_scale          every load of case l scaled by (1 + s_l)

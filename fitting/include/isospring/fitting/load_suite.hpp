@@ -1,6 +1,6 @@
 #pragma once
 // Load cases that span a supported object's deformation modes, generated from its supports, for
-// calibrating a spring model that must hold on loads it was never fitted to (issue 14).
+// calibrating a spring model that must hold on loads it was never fitted to.
 //
 // A model fitted to one load case interpolates that case and can be far off on the next: the
 // fitted error says nothing about generalisation. The suite loads every free side of the model

@@ -1,5 +1,5 @@
 #pragma once
-// One stiffness per spring fitted to MANY load cases at once, pulled towards a prior (issue 14).
+// One stiffness per spring fitted to MANY load cases at once, pulled towards a prior.
 //
 // Objective, theta_s = log k_s:
 //   F(theta) = 1/2 mean_c (%e_rms,c / 100)^2 + 1/2 (w / S) sum_s (theta_s - log prior_s)^2

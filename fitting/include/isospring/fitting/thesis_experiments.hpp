@@ -66,7 +66,7 @@ ThesisObject thesis_coupled_spheroid();
 /// The six objects of Table 5.1 by name: square, circle, ellipse, cube, torus, coupled_spheroid.
 ThesisObject thesis_object(const std::string& name);
 
-/// The generalisation protocol of issue 14 for a thesis object: its problem with the load suite
+/// The generalisation protocol for a thesis object: its problem with the load suite
 /// of load_suite.hpp appended (default options); training = the suite's training cases; validation
 /// = the suite's validation cases AND all of the object's own cases (S15's fitted case included:
 /// the published error is on it, so measuring it unfitted is the stricter comparison).

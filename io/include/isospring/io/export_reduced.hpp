@@ -1,5 +1,5 @@
 #pragma once
-// Reduced-model export (issue 15): the subspace model of a calibrated spring network
+// Reduced-model export: the subspace model of a calibrated spring network
 // (analysis/spring_reduced_model.hpp) as a JSON document an engine steps at haptic rates without
 // the network: O(r^2) per step, O(r) per particle read or pushed. Format and step in
 // docs/reduced_model.md ("isospring.reduced_spring_model", version 1).

@@ -23,12 +23,12 @@
 //   "load_cases": [{"id": "L1", "forces": [[i, fx, fy, fz], ...]}, ...]   // external forces [N]
 // A load case's total load is its forces plus m_i g on every free particle.
 //
-// Optional volume terms (issue 14; written only when the model has them, readers that predate
+// Optional volume terms (written only when the model has them, readers that predate
 // them fail on the unknown key): one per control-net cell, energy 1/2 (kappa / |V0|) (V - V0)^2
 // with V the volume (2D: area) of the trilinear (bilinear) cell (analysis/spring_volume.hpp):
 //   "volumes": [{"particles": [8 corners in tensor order (2D: 4)], "kappa": 3500.0 [Pa; 2D N/m],
 //                "V0": 0.064 (signed by the corners' orientation, non-zero), "group": 5}, ...]
-// An entry with "mu" [Pa; 2D N/m] instead of "kappa" is a shear term (issue 14): energy
+// An entry with "mu" [Pa; 2D N/m] instead of "kappa" is a shear term: energy
 // mu |V0| |dev G|^2 of the cell's mean Green strain G (analysis::CellEnergy::kShear).
 // Every problem found by the
 // reader is an nurbs::InputError naming the file and the field, e.g.
