@@ -79,7 +79,7 @@ std::vector<Hole> block_holes(const BlockRegion& region, double tolerance) {
   for (size_t h = 0; h < region.holes.size(); ++h) {
     const ThroughHole& in = region.holes[h];
     Hole hole;
-    hole.name = "hole " + std::to_string(h + 1);
+    hole.name = hole_name(h);
     if (in.axis < 0 || in.axis > 2) refuse(hole.name + " has no axis 0, 1 or 2");
     if (!(in.to - in.from > tolerance)) refuse(hole.name + " has no length");
     if (in.loop.empty()) refuse(hole.name + " has no curves");
@@ -162,6 +162,7 @@ struct BlockGrid {
   std::array<std::vector<double>, 3> planes;     // grid planes per axis
   std::array<std::vector<KnotVector>, 3> knots;  // per grid slab along each axis
 
+  const std::vector<double>& along(int q) const { return planes[static_cast<size_t>(q)]; }
   double at(int q, int i) const { return planes[static_cast<size_t>(q)][static_cast<size_t>(i)]; }
   const KnotVector& slab_knots(int q, int i) const {
     return knots[static_cast<size_t>(q)][static_cast<size_t>(i)];
@@ -173,12 +174,10 @@ struct BlockGrid {
 void place_holes(const BlockGrid& grid, double tolerance, std::vector<Hole>& holes) {
   for (Hole& h : holes) {
     Ring& ring = h.ring;
-    const std::vector<double>&gx = grid.planes[static_cast<size_t>(h.b)],
-          &gy = grid.planes[static_cast<size_t>(h.c)];
-    place_ring(ring, gx, gy, tolerance, h.name, "plane");
-    h.slab0 = grid_index(grid.planes[static_cast<size_t>(h.axis)], h.from, tolerance);
-    h.slab1 = grid_index(grid.planes[static_cast<size_t>(h.axis)], h.to, tolerance);
-    const Square square = grid_square(ring, gx, gy);
+    place_ring(ring, grid.along(h.b), grid.along(h.c), tolerance, h.name, "plane");
+    h.slab0 = grid_index(grid.along(h.axis), h.from, tolerance);
+    h.slab1 = grid_index(grid.along(h.axis), h.to, tolerance);
+    const Square square = grid_square(ring, grid.along(h.b), grid.along(h.c));
     cut_quarters(ring, square.x0, square.x1, square.y0, square.y1, h.name);
   }
 }
@@ -188,7 +187,7 @@ std::array<std::vector<KnotVector>, 3> grid_knots(const BlockGrid& grid, std::ve
   const int degree = ring_degree(ring_pointers(holes));
   std::array<std::vector<KnotVector>, 3> knots;
   for (int q = 0; q < 3; ++q)
-    for (size_t i = 0; i + 1 < grid.planes[static_cast<size_t>(q)].size(); ++i) {
+    for (size_t i = 0; i + 1 < grid.along(q).size(); ++i) {
       std::vector<Patch*> quarters;
       for (Hole& h : holes)
         add_quarters_along(h.ring, h.b == q, h.c == q, static_cast<int>(i), quarters);
@@ -202,8 +201,7 @@ std::array<std::vector<KnotVector>, 3> grid_knots(const BlockGrid& grid, std::ve
 void ring_cells(const BlockRegion& region, const BlockGrid& grid, std::vector<Hole>& holes) {
   for (Hole& h : holes) {
     const Ring& r = h.ring;
-    const Square square = grid_square(r, grid.planes[static_cast<size_t>(h.b)],
-                                      grid.planes[static_cast<size_t>(h.c)]);
+    const Square square = grid_square(r, grid.along(h.b), grid.along(h.c));
     h.cross_patches = square_ring_patches(r, square, grid.slab_knots(h.b, r.col),
                                           grid.slab_knots(h.c, r.row), h.name);
     for (int s = h.slab0; s < h.slab1; ++s) {
