@@ -2,21 +2,26 @@
 // The measured-data loop's state and its stages, private to the fitting module. identify()
 // (identify.cpp) runs the stages in order:
 //
-//   1. fit_case_nominal             the nominal model (E, [nu]) on the case's discretisation
-//   2. choose_discretisation        the discretisation check; a refined setup when it asks for one
-//   3. fit_nominal                  the nominal fit where the loop runs, its residual, the noise
-//                                   level and the selection's weights
-//   4. collect_candidates           the effect library, the discretisation allowance and the
-//                                   model's own error at the observations
-//   5. select_forward               forward selection; after each addition, backward_step
-//   6. swap_effects                 each selected effect replaced in turn by every other candidate
-//   7. fit_final                    the noise re-estimated from the final residual, the nominal
-//                                   and the final fit under its weights, with covariances
-//   8. report_final                 parameters, carried-over notes, residual summaries
-//   9. run_holdout                  the hold-out refits
+//   1. fit_case_nominal       the nominal model (E, [nu]) on the case's discretisation
+//   2. choose_discretisation  the discretisation check; a refined setup when it asks for one
+//   3. fit_nominal            the nominal fit where the loop runs, its residual, the noise level
+//                             and the selection's weights
+//   4. collect_candidates     the effect library, the discretisation allowance and the model's
+//                             own error at the observations                      (identify.cpp)
+//   5. select_forward         forward selection; after each addition, backward_step
+//   6. swap_effects           each selected effect replaced in turn by every other candidate
+//                                                                      (identify_selection.cpp)
+//   7. fit_final              the noise re-estimated from the final residual, the nominal and
+//                             the final fit under its weights, with covariances
+//   8. report_final           parameters, carried-over notes, residual summaries
+//                                                                          (identify_final.cpp)
+//   9. run_holdout            the hold-out refits                        (identify_holdout.cpp)
 //
-// Each stage's output is a struct of its own that later stages read (const) and never change,
-// except Selection, which the selection stages (5, 6) share and update together.
+// Each stage's output is a struct of its own (CaseNominal, Discretisation, Nominal, Candidates,
+// FinalFit) that later stages only read. The exception is Selection: stages 5 and 6 update it
+// together, and stage 7 replaces its fit by the one under the final weights. Every stage writes
+// its part of the IdentifyResult. The model and fit helpers are in identify_fit.cpp, a
+// candidate's statistics in candidate_statistics.cpp.
 #include <Eigen/Core>
 #include <functional>
 #include <map>
@@ -127,7 +132,7 @@ MarkerResidual marker_residual(const Setup& setup, const Model& model, const Eig
                                const std::vector<Marker>& markers);
 
 // ---------------------------------------------------------------------------------------------
-// The statistics of a candidate (identify_tests.cpp).
+// The statistics of a candidate (candidate_statistics.cpp).
 
 // The part of the weighted residual r, and of the weighted model error e, along the Jacobian
 // columns D of parameters first_new.. that the earlier parameters' columns J cannot already
