@@ -1,7 +1,8 @@
 // `isospring identify` on real DIC data (examples/dic_plate): the steel plate with a hole of
-// Troeger et al. (../shared/data/dic-steel-plate-hole), checked against the literature (Anton et
-// al. 2024's least-squares FEM fit of the same data) and against what the data say without any
-// model. Skipped when ../shared is absent.
+// Troeger et al. (CC BY 4.0, shipped as examples/dic_plate/displacements_interpolated.csv, see
+// DATA_SOURCE.md there), checked against the literature (Anton et al. 2024's least-squares FEM fit
+// of the same data) and against what the data say without any model. The shipped copy must be the
+// shared reference file byte for byte where ../shared is present.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -9,6 +10,7 @@
 #include <array>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "isospring/fitting/identify.hpp"
@@ -19,16 +21,26 @@
 namespace isospring {
 namespace {
 
-const std::filesystem::path kData =
-    std::filesystem::path(ISOSPRING_SHARED_DIR) / "data/dic-steel-plate-hole";
 const std::filesystem::path kExample =
     std::filesystem::path(ISOSPRING_SOURCE_DIR) / "examples/dic_plate";
+const std::filesystem::path kData = kExample / "displacements_interpolated.csv";
 
-#define SKIP_WITHOUT_SHARED_DATA()                                        \
-  if (!std::filesystem::exists(kData / "displacements_interpolated.csv")) \
-  GTEST_SKIP() << kData                                                   \
-               << " is absent (the shared reference data sit next to "    \
-                  "the repository)"
+std::string bytes_of(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+// The shipped measurements are the dataset's file, unchanged (DATA_SOURCE.md).
+TEST(IdentifyDicPlate, ShippedDataAreTheDatasetsFileUnchanged) {
+  ASSERT_TRUE(std::filesystem::exists(kData)) << kData;
+  const std::string text = bytes_of(kData);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1125);  // header + 1,124 points
+  const std::filesystem::path shared = std::filesystem::path(ISOSPRING_SHARED_DIR) /
+                                       "data/dic-steel-plate-hole/displacements_interpolated.csv";
+  if (!std::filesystem::exists(shared))
+    GTEST_SKIP() << shared << " is absent: the byte comparison with the shared copy is skipped";
+  EXPECT_EQ(bytes_of(kData), bytes_of(shared));
+}
 
 nlohmann::json identify_report(const std::string& case_name, const testing::TemporaryFolder& out) {
   const auto run = testing::run_isospring("identify " + (kExample / case_name).string() + " -o " +
@@ -52,7 +64,6 @@ double parameter(const nlohmann::json& list, const std::string& name) {
 // 0.005 in nu), E within 1 %. The model's own discretisation error is checked to be far below
 // the noise, so the comparison is between the two fits, not our mesh.
 TEST(IdentifyDicPlate, ReproducesThePublishedLeastSquaresFit) {
-  SKIP_WITHOUT_SHARED_DATA();
   testing::TemporaryFolder out;
   const nlohmann::json report = identify_report("published_fit.json", out);
   EXPECT_TRUE(report["effects_added"].empty());
@@ -71,7 +82,6 @@ TEST(IdentifyDicPlate, ReproducesThePublishedLeastSquaresFit) {
 }
 
 TEST(IdentifyDicPlate, LoopFindsTheFrameMotionAndSteel) {
-  SKIP_WITHOUT_SHARED_DATA();
   testing::TemporaryFolder out;
   const nlohmann::json report = identify_report("case.json", out);
   // The dataset's README says the rigid-motion compensation was imperfect (the left end moves):
@@ -117,7 +127,6 @@ double band_strain(const std::vector<Eigen::Vector3d>& positions,
 // 562, 575: the shoulder, 5 mm beyond the measured field, does not reach into it). A homogeneous
 // plane-stress model of the specimen cannot produce the asymmetry, whatever its supports.
 TEST(IdentifyDicPlate, MeasuredAxialStrainFallsAlongTheSpecimenUnlikeAnyHomogeneousModel) {
-  SKIP_WITHOUT_SHARED_DATA();
   const io::Case c = io::read_case_file(kExample / "published_fit.json");
   ASSERT_TRUE(c.measurements);
   const io::MeasurementSettings settings = io::read_measurement_settings(
@@ -164,7 +173,6 @@ TEST(IdentifyDicPlate, MeasuredAxialStrainFallsAlongTheSpecimenUnlikeAnyHomogene
 // measured: E 1.8e-5, nu 1e-5, rms_after 1.3e-5 apart, so 1e-3 leaves room and still catches a
 // wrong geometry, support or load, each of which moves E by percents).
 TEST(IdentifyDicPlate, StepDescriptionGivesThePrimitivesIdentification) {
-  SKIP_WITHOUT_SHARED_DATA();
   const testing::TemporaryFolder primitive_out, step_out;
   const nlohmann::json primitive = identify_report("case.json", primitive_out);
   const nlohmann::json step = identify_report("case_step.json", step_out);
