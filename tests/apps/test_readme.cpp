@@ -242,8 +242,7 @@ TEST(Readme, EveryDocsPageCommandRunsAsWritten) {
   for (const std::string& page : pages) {
     const std::vector<std::string> commands =
         page_commands(file_contents((fs::path(ISOSPRING_SOURCE_DIR) / page).string()));
-    if (commands.empty()) continue;
-    shown += commands.size();
+    shown += commands.size();  // a page without commands still checks its kNotRun entries
     TemporaryFolder scratch;
     run += run_page_commands(page, commands, scratch.path());
   }
