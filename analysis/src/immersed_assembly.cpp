@@ -56,6 +56,23 @@ Eigen::MatrixXd normal_operator(const Eigen::Vector3d& n, int dim) {
       .finished();
 }
 
+void cell_stiffness(const ImmersedContext& context, size_t c, std::vector<int>& cps,
+                    Eigen::MatrixXd& local) {
+  const auto& cell = context.domain->cells[c];
+  const Element& e = context.cell_elements[c];
+  const int dim = context.basis.dim();
+  const int n = context.basis.count() * dim;
+  local.setZero(n, n);
+  BasisAt at;
+  for (size_t q = 0; q < cell.points.size(); ++q) {
+    context.basis.evaluate(e, cell.points[q], at);
+    const Eigen::MatrixXd B = strain_operator(at.gradients, dim);
+    local.noalias() +=
+        (cell.weights[q] * context.thickness) * B.transpose() * context.elasticity * B;
+  }
+  context.basis.control_points(e, cps);
+}
+
 void ImmersedScatter::add_matrix(const std::vector<int>& cps, const Eigen::MatrixXd& local) {
   const int n = static_cast<int>(cps.size());
   for (int b = 0; b < n; ++b)
@@ -107,6 +124,8 @@ void check_options(const geometry::ImmersedDomain& domain, const ImmersedOptions
   if (!(options.nitsche_factor > 2.0))
     fail("immersed analysis: nitsche_factor must exceed 2 (the coercivity bound)");
   if (!(options.ghost_penalty >= 0.0)) fail("immersed analysis: ghost_penalty must be >= 0");
+  if (!(options.ghost_fraction >= 0.0 && options.ghost_fraction <= 1.0))
+    fail("immersed analysis: ghost_fraction must lie in [0, 1]");
 }
 
 // The supports' held directions over their faces must block every rigid motion.
@@ -177,23 +196,21 @@ void add_bulk(const detail::ImmersedContext& context, detail::ImmersedScatter& s
   const Eigen::Vector3d load3 = options.body_force + options.material.density * options.gravity;
   const Eigen::VectorXd load = load3.head(dim);
   detail::BasisAt at;
+  std::vector<int> cps;
   Eigen::MatrixXd local;
   Eigen::VectorXd local_force;
   for (size_t c = 0; c < domain.cells.size(); ++c) {
+    detail::cell_stiffness(context, c, cps, local);
+    scatter.add_matrix(cps, local);
+    if (load.isZero(0.0)) continue;
     const auto& cell = domain.cells[c];
-    const detail::Element& e = context.cell_elements[c];
-    const int n = context.basis.count() * dim;
-    local.setZero(n, n);
-    local_force.setZero(n);
+    local_force.setZero(context.basis.count() * dim);
     for (size_t q = 0; q < cell.points.size(); ++q) {
-      context.basis.evaluate(e, cell.points[q], at);
-      const double w = cell.weights[q] * context.thickness;
-      const Eigen::MatrixXd B = detail::strain_operator(at.gradients, dim);
-      local.noalias() += w * B.transpose() * context.elasticity * B;
-      local_force.noalias() += w * detail::value_operator(at.values, dim).transpose() * load;
+      context.basis.evaluate(context.cell_elements[c], cell.points[q], at);
+      local_force.noalias() += cell.weights[q] * context.thickness *
+                               detail::value_operator(at.values, dim).transpose() * load;
     }
-    scatter.add_matrix(at.control_points, local);
-    scatter.add_vector(at.control_points, local_force);
+    scatter.add_vector(cps, local_force);
   }
 }
 
@@ -202,8 +219,8 @@ void add_bulk(const detail::ImmersedContext& context, detail::ImmersedScatter& s
 ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
                                  const ImmersedOptions& options) {
   check_options(domain, options);
-  detail::ImmersedContext context{&domain, &options, detail::BackgroundBasis(domain), {}, 1.0, {},
-                                  {},      {}};
+  detail::ImmersedContext context{
+      &domain, &options, detail::BackgroundBasis(domain), {}, 1.0, {}, {}, {}, {}};
   context.lame = lame_parameters(options.material, options.formulation);
   context.thickness = options.formulation == Formulation::kSolid ? 1.0 : options.material.thickness;
   context.elasticity = detail::voigt_elasticity(context.lame, domain.dimension);
@@ -216,6 +233,7 @@ ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
   scatter.dim = system.dim;
   scatter.node_of_control_point = &system.node_of_control_point;
   scatter.force = Eigen::VectorXd::Zero(dofs);
+  context.ghost = detail::ghost_faces(context);
   add_bulk(context, scatter);
   system.max_nitsche_penalty = detail::add_face_terms(context, scatter);
   if (options.ghost_penalty > 0) system.ghost_faces = detail::add_ghost_penalty(context, scatter);

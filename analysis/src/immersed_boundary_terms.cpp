@@ -47,6 +47,15 @@ std::map<int, std::vector<FaceTerm>> terms_by_element(const ImmersedContext& con
     std::vector<FaceTerm> terms;
     for (const auto& s : options.supports)
       if (s.face == b.face) terms.push_back({i, &s, Eigen::Vector3d::Zero()});
+    // On a face that is also supported, the held components' traction is Nitsche's (sigma n
+    // itself); a traction acts on the free components only: (I - P) t.
+    Eigen::Matrix3d free = Eigen::Matrix3d::Identity();
+    for (const auto& s : options.supports)
+      if (s.face == b.face) {
+        if (s.symmetry) free -= b.normal * b.normal.transpose();
+        for (int c = 0; c < 3; ++c)
+          if (!s.symmetry && s.fixed[static_cast<size_t>(c)]) free(c, c) = 0.0;
+      }
     Eigen::Vector3d traction = Eigen::Vector3d::Zero();
     bool loaded = false;
     for (const auto& t : options.tractions)
@@ -59,7 +68,7 @@ std::map<int, std::vector<FaceTerm>> terms_by_element(const ImmersedContext& con
         traction -= p.value * b.normal;
         loaded = true;
       }
-    if (loaded) terms.push_back({i, nullptr, traction});
+    if (loaded) terms.push_back({i, nullptr, free * traction});
     if (terms.empty()) continue;
     const int e = context.basis.flat(element_of_boundary_point(context, b));
     auto& list = out[e];
@@ -76,31 +85,65 @@ Eigen::MatrixXd held(const ImmersedSupport& s, const Eigen::Vector3d& n, int dim
   return P;
 }
 
-// Stiffness of the element's basis over the whole cell (Gauss, p + 1 points per direction).
-Eigen::MatrixXd full_cell_stiffness(const ImmersedContext& context, const Element& e) {
+// The stabilised energy of the 3^d block of active cells around element e: the bulk stiffness of
+// their parts plus the ghost penalty on the faces between them, over the union of their
+// control points (`cps`). Why a block and not the cell alone: a cell with a sliver of the part
+// has almost no energy of its own; the ghost penalty passes control in from its neighbours
+// (diagonal ones too, for a corner sliver whose direct neighbours are slivers as well).
+Eigen::MatrixXd block_energy(const ImmersedContext& context, const Element& e,
+                             std::vector<int>& cps) {
   const auto& basis = context.basis;
   const int dim = basis.dim();
-  const Eigen::Vector3d lo = basis.element_lo(e), hi = basis.element_hi(e);
-  int points = 1;
-  for (int d = 0; d < dim; ++d) points = std::max(points, basis.degree(d) + 1);
-  const nurbs::GaussRule g = nurbs::gauss_legendre(points);
-  const int n = static_cast<int>(g.points.size());
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(basis.count() * dim, basis.count() * dim);
-  BasisAt at;
-  for (int k = 0; k < (dim == 3 ? n : 1); ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const std::array<int, 3> q{i, j, k};
-        Eigen::Vector3d x = lo;
-        double w = context.thickness;
-        for (int d = 0; d < dim; ++d) {
-          const size_t m = static_cast<size_t>(q[static_cast<size_t>(d)]);
-          x[d] = 0.5 * (lo[d] + hi[d]) + 0.5 * (hi[d] - lo[d]) * g.points[m];
-          w *= 0.5 * (hi[d] - lo[d]) * g.weights[m];
+  std::vector<Element> block;
+  for (int k = (dim == 3 ? -1 : 0); k <= (dim == 3 ? 1 : 0); ++k)
+    for (int j = -1; j <= 1; ++j)
+      for (int i = -1; i <= 1; ++i) {
+        const Element o{e[0] + i, e[1] + j, e[2] + k};
+        bool inside = true;
+        for (int d = 0; d < 3; ++d)
+          inside = inside && o[static_cast<size_t>(d)] >= 0 &&
+                   o[static_cast<size_t>(d)] < basis.elements(d);
+        if (inside && context.cell_of_element[static_cast<size_t>(basis.flat(o))] >= 0)
+          block.push_back(o);
+      }
+  std::map<int, int> place;
+  cps.clear();
+  const auto index_of = [&](int cp) {
+    const auto [it, added] = place.emplace(cp, static_cast<int>(cps.size()));
+    if (added) cps.push_back(cp);
+    return it->second;
+  };
+  std::vector<int> local_cps;
+  for (const Element& o : block) {
+    basis.control_points(o, local_cps);
+    for (int cp : local_cps) index_of(cp);
+  }
+  const Eigen::Index n = static_cast<Eigen::Index>(cps.size()) * dim;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+  const auto add = [&](const std::vector<int>& at, const Eigen::MatrixXd& local) {
+    for (size_t b = 0; b < at.size(); ++b)
+      for (size_t a = 0; a < at.size(); ++a)
+        A.block(place[at[a]] * dim, place[at[b]] * dim, dim, dim) += local.block(
+            static_cast<Eigen::Index>(a) * dim, static_cast<Eigen::Index>(b) * dim, dim, dim);
+  };
+  Eigen::MatrixXd local;
+  for (const Element& o : block) {
+    cell_stiffness(context,
+                   static_cast<size_t>(context.cell_of_element[static_cast<size_t>(basis.flat(o))]),
+                   local_cps, local);
+    add(local_cps, local);
+  }
+  if (context.options->ghost_penalty > 0)
+    for (const Element& o : block)
+      for (int d = 0; d < dim; ++d) {
+        Element up = o;
+        ++up[static_cast<size_t>(d)];
+        const bool in_block = std::find(block.begin(), block.end(), up) != block.end();
+        const std::pair<int, int> face{basis.flat(o), d};
+        if (in_block && context.ghost.count(face)) {
+          ghost_face_matrix(context, face, local_cps, local);
+          add(local_cps, local);
         }
-        basis.evaluate(e, x, at);
-        const Eigen::MatrixXd B = strain_operator(at.gradients, dim);
-        A.noalias() += w * B.transpose() * context.elasticity * B;
       }
   return A;
 }
@@ -161,8 +204,20 @@ double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter) 
     }
     Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
     if (!supported.empty()) {
-      const double beta = context.options->nitsche_factor *
-                          largest_generalised_eigenvalue(full_cell_stiffness(context, e), boundary);
+      // The boundary form lives on the cell's basis; embed it in the block's.
+      std::vector<int> block_cps;
+      const Eigen::MatrixXd A = block_energy(context, e, block_cps);
+      Eigen::MatrixXd embedded = Eigen::MatrixXd::Zero(A.rows(), A.cols());
+      std::vector<Eigen::Index> where;
+      for (int cp : at.control_points)
+        where.push_back(static_cast<Eigen::Index>(
+            std::find(block_cps.begin(), block_cps.end(), cp) - block_cps.begin()));
+      for (size_t b = 0; b < where.size(); ++b)
+        for (size_t a = 0; a < where.size(); ++a)
+          embedded.block(where[a] * dim, where[b] * dim, dim, dim) = boundary.block(
+              static_cast<Eigen::Index>(a) * dim, static_cast<Eigen::Index>(b) * dim, dim, dim);
+      const double beta =
+          context.options->nitsche_factor * largest_generalised_eigenvalue(A, embedded);
       const Eigen::Vector3d size = context.basis.element_hi(e) - context.basis.element_lo(e);
       double h = size[0];
       for (int d = 1; d < dim; ++d) h = std::min(h, size[d]);

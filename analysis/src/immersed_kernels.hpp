@@ -3,6 +3,8 @@
 // and the scatter of local matrices into the active DOFs.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "immersed_basis.hpp"
@@ -39,9 +41,10 @@ struct ImmersedContext {
   BackgroundBasis basis;
   LameParameters lame;
   double thickness = 1.0;
-  Eigen::MatrixXd elasticity;          // voigt
-  std::vector<Element> cell_elements;  // element of each domain cell
-  std::vector<int> cell_of_element;    // flat element -> cell index, -1 when inactive
+  Eigen::MatrixXd elasticity;           // voigt
+  std::vector<Element> cell_elements;   // element of each domain cell
+  std::vector<int> cell_of_element;     // flat element -> cell index, -1 when inactive
+  std::set<std::pair<int, int>> ghost;  // ghost-penalty faces (see ghost_faces)
 };
 
 /// Nitsche terms of the supports and the loads on faces (immersed_boundary_terms.cpp); returns
@@ -49,5 +52,13 @@ struct ImmersedContext {
 double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter);
 /// Ghost penalty on the faces of cut cells (immersed_ghost_penalty.cpp); returns the face count.
 int add_ghost_penalty(const ImmersedContext& context, ImmersedScatter& scatter);
+/// The ghost-penalty faces: (flat index of the lower element, normal direction).
+std::set<std::pair<int, int>> ghost_faces(const ImmersedContext& context);
+/// One face's penalty matrix over the union of both elements' control points `cps`.
+void ghost_face_matrix(const ImmersedContext& context, const std::pair<int, int>& face,
+                       std::vector<int>& cps, Eigen::MatrixXd& local);
+/// Bulk stiffness of one domain cell over its element's basis (immersed_assembly.cpp).
+void cell_stiffness(const ImmersedContext& context, size_t cell, std::vector<int>& cps,
+                    Eigen::MatrixXd& local);
 
 }  // namespace isospring::analysis::detail

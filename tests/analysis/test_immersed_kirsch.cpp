@@ -64,7 +64,7 @@ std::vector<Level> kirsch_levels(int p, const std::vector<int>& elements) {
   for (int n : elements) {
     const ImmersedDomain domain = geometry::immerse_implicit(plate(1.0, 4.0), grid(p, n));
     const ImmersedDomain fine = geometry::immerse_implicit(plate(1.0, 4.0), grid(p, n, p + 3));
-    const ImmersedOptions options = kirsch_options(k);
+    ImmersedOptions options = kirsch_options(k);
     const ImmersedResult result = solve_immersed(domain, options);
     levels.push_back({n, testing::immersed_errors(
                              domain, result, options, fine,
@@ -120,7 +120,7 @@ TEST(ImmersedKirsch, NutilsFiniteCellPlateWithHole) {
   kirsch.nu = nu;
   kirsch.T = traction * kirsch.E;
   // The two closed forms agree (an independent check of both).
-  for (const Eigen::Vector3d x :
+  for (const Eigen::Vector3d& x :
        {Eigen::Vector3d(0.6, 0.1, 0), Eigen::Vector3d(0.3, 0.9, 0), Eigen::Vector3d(1.0, 1.0, 0)})
     EXPECT_LT((nutils_exact(x) - kirsch.displacement(x)).norm(), 1e-15) << x.transpose();
   const auto gradient = [&](const Eigen::Vector3d& x) {

@@ -56,7 +56,7 @@ testing::ErrorNorms solve_level(const testing::LameCylinder& c, int dimension, i
   g.points = p + 3;
   g.cut_points = 2 * (p + 3);
   const ImmersedDomain fine = geometry::immerse_implicit(ring(c, dimension), g);
-  const ImmersedOptions o = options(c, dimension);
+  ImmersedOptions o = options(c, dimension);
   const ImmersedResult result = solve_immersed(domain, o);
   dofs = result.dofs;
   return testing::immersed_errors(
