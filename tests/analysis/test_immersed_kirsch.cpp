@@ -70,9 +70,10 @@ std::vector<Level> kirsch_levels(int p, const std::vector<int>& elements) {
                              domain, result, options, fine,
                              [&](const Eigen::Vector3d& x) { return k.displacement(x); },
                              [&](const Eigen::Vector3d& x) { return k.stress(x); })});
-    std::printf("Kirsch immersed p=%d n=%3d dofs=%5d  L2 %.4e  energy %.4e  (beta h/E' max %.1f)\n",
+    std::printf("Kirsch immersed p=%d n=%3d dofs=%5d  L2 %.4e  energy %.4e  (beta h/E' max %.1f, "
+                "assembly %.3f s, solve %.3f s)\n",
                 p, n, result.dofs, levels.back().errors.l2, levels.back().errors.energy,
-                result.max_nitsche_penalty);
+                result.max_nitsche_penalty, result.assembly_seconds, result.solve_seconds);
   }
   return levels;
 }
