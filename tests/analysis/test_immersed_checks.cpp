@@ -244,5 +244,47 @@ TEST(ImmersedChecks, SupportsThatLeaveARigidMotionFreeAreTheUsualError) {
             std::string::npos);
 }
 
+// The project's two solvers give the same immersed solution: sparse Cholesky and block-Jacobi
+// CG (to its tolerance); and points are evaluated inside the background grid only.
+TEST(ImmersedChecks, CholeskyAndConjugateGradientsAgree) {
+  const ImmersedDomain domain =
+      geometry::immerse_implicit(plate_with_hole(), shifted_grid(3, 8, 1e-3));
+  ImmersedOptions options;
+  options.formulation = Formulation::kPlaneStress;
+  options.material = {1e5, 0.3, 0.0, 1.0};
+  for (int face : {kLeft, kBottom}) {
+    ImmersedSupport s;
+    s.face = face;
+    s.symmetry = true;
+    options.supports.push_back(s);
+  }
+  ImmersedPressure pull;
+  pull.face = kRight;
+  pull.value = -10.0;
+  options.pressures.push_back(pull);
+  const ImmersedResult direct = solve_immersed(domain, options);
+  options.method = SolverOptions::Method::kConjugateGradient;
+  options.cg_tolerance = 1e-12;
+  const ImmersedResult iterative = solve_immersed(domain, options);
+  EXPECT_GT(iterative.iterations, 0);
+  EXPECT_EQ(direct.iterations, 0);
+  double scale = 0, difference = 0;
+  int inactive = 0;  // the grid reaches beyond the part: basis functions that are no DOF
+  for (size_t a = 0; a < direct.control_displacements.size(); ++a) {
+    scale = std::max(scale, direct.control_displacements[a].norm());
+    difference = std::max(
+        difference, (direct.control_displacements[a] - iterative.control_displacements[a]).norm());
+    if (!direct.active[a]) {
+      EXPECT_EQ(direct.control_displacements[a].norm(), 0.0);
+    }
+    inactive += direct.active[a] ? 0 : 1;
+  }
+  EXPECT_GT(inactive, 0);
+  EXPECT_EQ(2 * (static_cast<int>(direct.active.size()) - inactive), direct.dofs);
+  EXPECT_LT(difference, 1e-8 * scale);
+  EXPECT_NEAR(direct.strain_energy, iterative.strain_energy, 1e-9 * direct.strain_energy);
+  EXPECT_THROW(evaluate_immersed(domain, direct, Eigen::Vector3d(10, 1, 0)), nurbs::InputError);
+}
+
 }  // namespace
 }  // namespace isospring::analysis
