@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "immersed_lines.hpp"
+#include "immersed_spheres.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/quadrature.hpp"
 
@@ -45,6 +46,22 @@ void check_input(const ImplicitShape& shape, const ImplicitGrid& options, const 
   for (size_t k = 0; k < shape.circles.size(); ++k)
     if (!(shape.circles[k].radius > 0) || !std::isfinite(shape.circles[k].radius))
       fail("implicit shape: circles[" + std::to_string(k) + "].radius must be positive");
+  if (shape.spheres.empty()) return;
+  if (shape.dimension != 3) fail("implicit shape: spheres need dimension 3");
+  if (!shape.circles.empty())
+    fail("implicit shape: a shape has circles (cylinders) or spheres, not both");
+  for (size_t k = 0; k < shape.spheres.size(); ++k) {
+    const auto& s = shape.spheres[k];
+    if (!(s.radius > 0) || !std::isfinite(s.radius))
+      fail("implicit shape: spheres[" + std::to_string(k) + "].radius must be positive");
+    for (size_t m = 0; m < k; ++m) {
+      const double l = (s.centre - shape.spheres[m].centre).norm();
+      if (l < s.radius + shape.spheres[m].radius &&
+          l > std::abs(s.radius - shape.spheres[m].radius))
+        fail("implicit shape: spheres[" + std::to_string(m) + "] and spheres[" + std::to_string(k) +
+             "] intersect; spheres must be apart or nested");
+    }
+  }
 }
 
 // Affine B-spline box: uniform open knots on [0, 1], control points at the Greville abscissae,
@@ -201,6 +218,65 @@ std::vector<PlaneRule> add_cells(const Grid& grid, const ImplicitShape& shape,
   return cross_section;
 }
 
+// Cells, sphere points and box faces of a box intersected with spheres.
+void add_sphere_shape(const Grid& grid, const ImplicitShape& shape, const ImplicitGrid& options,
+                      ImmersedDomain& domain) {
+  const int points = options.points > 0 ? options.points : options.degree + 1;
+  const int cut_points = options.cut_points > 0 ? options.cut_points : 2 * (options.degree + 1);
+  std::string warning;
+  for (int k = 0; k < grid.elements.z(); ++k)
+    for (int j = 0; j < grid.elements.y(); ++j)
+      for (int i = 0; i < grid.elements.x(); ++i) {
+        const std::array<int, 3> e{i, j, k};
+        Eigen::Vector3d lo, hi;
+        bool clipped = false;
+        for (int d = 0; d < 3; ++d) {
+          const auto& lines = grid.lines[static_cast<size_t>(d)];
+          const size_t at = static_cast<size_t>(e[static_cast<size_t>(d)]);
+          lo[d] = std::max(lines[at], shape.box_min[d]);
+          hi[d] = std::min(lines[at + 1], shape.box_max[d]);
+          clipped = clipped || lo[d] != lines[at] || hi[d] != lines[at + 1];
+        }
+        if ((hi.array() <= lo.array()).any()) continue;
+        detail::SphereRule rule;
+        const bool cut = detail::sphere_cell_rule(lo, hi, shape.spheres, 6, points, cut_points, 8,
+                                                  warning, rule);
+        for (auto& b : rule.surface) domain.boundary.push_back(b);
+        if (rule.points.empty()) continue;
+        ImmersedCell cell;
+        cell.span = {grid.spans[0][static_cast<size_t>(i)], grid.spans[1][static_cast<size_t>(j)],
+                     grid.spans[2][static_cast<size_t>(k)]};
+        cell.kind = cut || clipped ? CellKind::kCut : CellKind::kInside;
+        cell.points = std::move(rule.points);
+        cell.weights = std::move(rule.weights);
+        domain.cells.push_back(std::move(cell));
+      }
+  // Box faces, one rule per grid cell of the face.
+  for (int d = 0; d < 3; ++d)
+    for (int end = 0; end < 2; ++end) {
+      const int a = (d + 1) % 3, b = (d + 2) % 3;
+      const double t = end ? shape.box_max[d] : shape.box_min[d];
+      const auto& la = grid.lines[static_cast<size_t>(a)];
+      const auto& lb = grid.lines[static_cast<size_t>(b)];
+      for (size_t j = 0; j + 1 < lb.size(); ++j)
+        for (size_t i = 0; i + 1 < la.size(); ++i) {
+          const Eigen::Vector2d lo(std::max(la[i], shape.box_min[a]),
+                                   std::max(lb[j], shape.box_min[b]));
+          const Eigen::Vector2d hi(std::min(la[i + 1], shape.box_max[a]),
+                                   std::min(lb[j + 1], shape.box_max[b]));
+          if ((hi.array() <= lo.array()).any()) continue;
+          std::vector<Eigen::Vector3d> xs;
+          std::vector<double> ws;
+          detail::sphere_box_face(lo, hi, d, t, shape.spheres, cut_points, warning, xs, ws);
+          Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+          normal[d] = end ? 1.0 : -1.0;
+          for (size_t q = 0; q < xs.size(); ++q)
+            domain.boundary.push_back({xs[q], normal, ws[q], 2 * d + end});
+        }
+    }
+  if (!warning.empty()) domain.warnings.push_back(warning);
+}
+
 }  // namespace
 
 ImmersedDomain immerse_implicit(const ImplicitShape& shape, const ImplicitGrid& options) {
@@ -212,7 +288,16 @@ ImmersedDomain immerse_implicit(const ImplicitShape& shape, const ImplicitGrid& 
   domain.origin = grid.lo;
   domain.extent = grid.hi - grid.lo;
   if (grid.dim == 2) domain.extent.z() = 1.0;
-  domain.face_count = (shape.dimension == 2 ? 4 : 6) + static_cast<int>(shape.circles.size());
+  domain.face_count = (shape.dimension == 2 ? 4 : 6) +
+                      static_cast<int>(shape.circles.size() + shape.spheres.size());
+  if (!shape.spheres.empty()) {
+    add_sphere_shape(grid, shape, options, domain);
+    if (domain.cells.empty())
+      throw nurbs::InputError(
+          "implicit shape: the part covers no cell of the grid; check the spheres' centres, radii "
+          "and part_inside");
+    return domain;
+  }
   const std::vector<PlaneRule> cross_section = add_cells(grid, shape, options, domain);
   if (domain.cells.empty())
     throw nurbs::InputError(

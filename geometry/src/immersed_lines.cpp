@@ -39,10 +39,16 @@ std::vector<Interval> line_pieces(double t, double lo, double hi, int outer,
                                   const std::vector<LineCircle>& circles) {
   const int inner = 1 - outer;
   std::vector<Interval> parts{{lo, hi}};
+  std::vector<double> cuts;
   for (const auto& c : circles) {
     const double d = t - c.centre[outer];
     const double h2 = c.radius * c.radius - d * d;
-    if (c.part_inside) {
+    if (c.breaks_only) {
+      if (h2 > 0) {
+        cuts.push_back(c.centre[inner] - std::sqrt(h2));
+        cuts.push_back(c.centre[inner] + std::sqrt(h2));
+      }
+    } else if (c.part_inside) {
       if (h2 <= 0) return {};
       const double h = std::sqrt(h2);
       intersect(parts, c.centre[inner] - h, c.centre[inner] + h);
@@ -50,6 +56,18 @@ std::vector<Interval> line_pieces(double t, double lo, double hi, int outer,
       const double h = std::sqrt(h2);
       subtract(parts, c.centre[inner] - h, c.centre[inner] + h);
     }
+  }
+  for (double cut : cuts) {
+    std::vector<Interval> split;
+    for (const auto& [a, b] : parts) {
+      if (cut > a && cut < b) {
+        split.emplace_back(a, cut);
+        split.emplace_back(cut, b);
+      } else {
+        split.emplace_back(a, b);
+      }
+    }
+    parts = std::move(split);
   }
   return parts;
 }
@@ -157,8 +175,19 @@ void cut_rule(const Rectangle& rect, const std::vector<LineCircle>& circles,
   std::vector<LineCircle> crossing;
   for (const auto& c : circles) {
     const Overlap o = circle_overlap(rect, c);
-    if (o == Overlap::kNone) return;
+    if (o == Overlap::kNone && !c.breaks_only) return;
     if (o == Overlap::kPartial) crossing.push_back(c);
+  }
+  if (crossing.empty()) {  // a rectangle: the tensor Gauss rule
+    for (size_t b = 0; b < gauss.points.size(); ++b)
+      for (size_t a = 0; a < gauss.points.size(); ++a) {
+        const Eigen::Vector2d t(gauss.points[a], gauss.points[b]);
+        rule.points.push_back(0.5 * (rect.lo + rect.hi) +
+                              0.5 * (rect.hi - rect.lo).cwiseProduct(t));
+        rule.weights.push_back(0.25 * (rect.hi - rect.lo).prod() * gauss.weights[a] *
+                               gauss.weights[b]);
+      }
+    return;
   }
   for (int outer : {0, 1})
     if (outer_direction_usable(rect, crossing, outer) &&
@@ -200,6 +229,7 @@ Overlap circle_overlap(const Rectangle& rect, const LineCircle& circle) {
 bool on_part_side(const Eigen::Vector2d& x, const std::vector<LineCircle>& circles,
                   double tolerance) {
   for (const auto& c : circles) {
+    if (c.breaks_only) continue;
     const double d = (x - c.centre).norm() - c.radius;
     if (c.part_inside ? d > -tolerance : d < tolerance) return false;
   }

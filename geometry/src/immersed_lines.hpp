@@ -12,6 +12,7 @@ struct LineCircle {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double radius = 1.0;
   bool part_inside = false;
+  bool breaks_only = false;  // no side: only splits the lines (a kink of the integrand there)
 };
 
 struct Rectangle {

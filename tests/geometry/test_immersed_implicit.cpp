@@ -149,6 +149,47 @@ TEST(ImmersedImplicit, ExtrudedBoxWithCylindricalHoleAndThickCylinder) {
   EXPECT_NEAR(cell_moment(r, 0, 0), 0.5 * M_PI * 3 / 4, 1e-12);
 }
 
+// Spheres: an octant of a ball, a box with an off-centre spherical void in coarse cells, and an
+// octant of a hollow sphere (two nested spheres), against closed forms.
+TEST(ImmersedImplicit, SpheresVolumesAreasAndMoments) {
+  ImplicitShape octant;
+  octant.dimension = 3;
+  octant.box_max = {1, 1, 1};
+  octant.spheres.push_back({Eigen::Vector3d::Zero(), 1.0, true});
+  for (int n : {2, 5}) {
+    const ImmersedDomain d = immerse_implicit(octant, grid(2, n));
+    EXPECT_NEAR(cell_moment(d, 0, 0), M_PI / 6, 1e-10) << n;
+    EXPECT_NEAR(cell_moment(d, 1, 0), M_PI / 16, 1e-10) << n;  // int x over the octant
+    EXPECT_NEAR(face_measure(d, 6), M_PI / 2, 1e-10) << n;     // an eighth of 4 pi
+    EXPECT_NEAR(face_measure(d, 0), M_PI / 4, 1e-12) << n;     // quarter disc on x = 0
+    EXPECT_NEAR(face_measure(d, 1), 0.0, 1e-15) << n;          // x = 1 touches at a point
+    EXPECT_NEAR(cell_moment(d, 1, 1, 1), boundary_moment(d, 1, 1, 1), 1e-10) << n;
+    EXPECT_TRUE(d.warnings.empty()) << d.warnings.front();
+  }
+  ImplicitShape void_box;
+  void_box.dimension = 3;
+  void_box.box_min = {-1, -1, -1};
+  void_box.box_max = {1, 1, 1};
+  const Eigen::Vector3d c(0.1, -0.05, 0.2);
+  const double r = 0.37;
+  void_box.spheres.push_back({c, r, false});
+  const ImmersedDomain v = immerse_implicit(void_box, grid(2, 3));
+  EXPECT_NEAR(cell_moment(v, 0, 0), 8 - 4 * M_PI * r * r * r / 3, 1e-10);
+  EXPECT_NEAR(cell_moment(v, 0, 0, 1), -4 * M_PI * r * r * r / 3 * c.z(), 1e-10);
+  EXPECT_NEAR(face_measure(v, 6), 4 * M_PI * r * r, 1e-10);
+  ImplicitShape hollow = octant;
+  hollow.box_max = {2, 2, 2};
+  hollow.spheres = {{Eigen::Vector3d::Zero(), 2.0, true}, {Eigen::Vector3d::Zero(), 1.0, false}};
+  const ImmersedDomain h = immerse_implicit(hollow, grid(2, 4));
+  EXPECT_NEAR(cell_moment(h, 0, 0), 7 * M_PI / 6, 1e-10);
+  EXPECT_NEAR(face_measure(h, 7), M_PI / 2, 1e-10);
+  EXPECT_NEAR(face_measure(h, 6), 2 * M_PI, 1e-10);
+  EXPECT_NEAR(face_measure(h, 2), 3 * M_PI / 4, 1e-12);  // quarter annulus on y = 0
+  double flux = 0;
+  for (const auto& p : h.boundary) flux += p.weight * p.point.dot(p.normal);
+  EXPECT_NEAR(flux, 3 * 7 * M_PI / 6, 1e-9);
+}
+
 TEST(ImmersedImplicit, BackgroundIsTheAffineBoxAndSpansAreKnotSpans) {
   ImplicitGrid g = grid(3, 5);
   g.grid_min = {-1, -2, 0};
@@ -186,6 +227,11 @@ TEST(ImmersedImplicit, BadInputNamesTheField) {
   s = plate_with_hole(10.0, 4.0);  // the hole removes everything
   EXPECT_NE(message(s, grid(2, 4)).find("covers no cell"), std::string::npos);
   EXPECT_NE(message(plate_with_hole(1, 4), grid(0, 4)).find("degree"), std::string::npos);
+  ImplicitShape balls;
+  balls.dimension = 3;
+  balls.spheres = {{Eigen::Vector3d::Zero(), 0.5, true}, {Eigen::Vector3d(0.6, 0, 0), 0.3, false}};
+  EXPECT_NE(message(balls, grid(2, 2)).find("spheres[0] and spheres[1] intersect"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -11,6 +11,14 @@
 // the integrand (a polynomial integrated between smooth analytic limits) is smooth on every piece,
 // so the rule converges exponentially in the number of points. Boundary points lie on the exact
 // arcs and straight sides, one Gauss rule per piece between grid lines.
+//
+// Spheres: in each cut cell the lines run along an axis d for which every sphere's silhouette
+// (where lines along d touch it) stays at least half the cell's cross-section away from where
+// the sphere crosses the cell (the cell is bisected until such an axis exists). The lines'
+// limits are then smooth except where a line leaves through the cell's faces, on circles (the
+// sphere cut by the face planes), which the rule across the lines (the 2D rule above, with those
+// circles as break curves) follows exactly. Sphere points are the graph of the sphere over the
+// same kind of 2D rule, weighted by r / |x_d - c_d|.
 #include <Eigen/Core>
 #include <limits>
 #include <vector>
@@ -27,16 +35,25 @@ struct ImplicitCircle {
   bool part_inside = false;
 };
 
-/// The part: {x in the box} intersected with every circle's side.
+/// A sphere (3D only); the part lies inside it or outside it (a spherical void).
+struct ImplicitSphere {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 1.0;
+  bool part_inside = true;
+};
+
+/// The part: {x in the box} intersected with every circle's (or sphere's) side.
 /// Faces (BoundaryPoint::face, face_count = sides + circles):
 ///   2D: 0 x = box_min.x, 1 x = box_max.x, 2 y = box_min.y, 3 y = box_max.y, 4 + k circle k;
-///   3D: 0..3 as in 2D, 4 z = box_min.z, 5 z = box_max.z, 6 + k cylinder k.
+///   3D: 0..3 as in 2D, 4 z = box_min.z, 5 z = box_max.z, 6 + k cylinder k (or sphere k).
+/// A 3D shape has cylinders or spheres, not both; spheres must not intersect each other.
 /// A face the part does not touch (a box side outside a disc) keeps its number and has no points.
 struct ImplicitShape {
   int dimension = 2;  // 2 or 3
   Eigen::Vector3d box_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d box_max = Eigen::Vector3d::Ones();
   std::vector<ImplicitCircle> circles;
+  std::vector<ImplicitSphere> spheres;
 };
 
 /// The background grid: a uniform B-spline box of `degree` with `elements` per direction over
