@@ -11,7 +11,8 @@
 //   The penalty is per cell K holding support points: beta_K = nitsche_factor * C_K, with C_K the
 //   largest generalised eigenvalue of int_{G in K} |P sigma(v) n|^2 <= C_K A_K(v, v), where A_K
 //   is the stabilised energy (bulk stiffness over the part plus the ghost penalty) of the 3^d
-//   block of active cells around K, over the block's basis. By Young's inequality the form is
+//   block of active cells around a cut K (K alone when the part fills it), over the block's
+//   basis (reduced to K's DOFs by the Schur complement). By Young's inequality the form is
 //   coercive for beta_K > 2 m C_K, m the number of blocks a cell or face belongs to (m <= 3^d);
 //   that bound is pessimistic (it assumes every block is at its worst at once), and
 //   nitsche_factor = 4 (twice the single-cell bound 2) was positive definite on every cut tried,
