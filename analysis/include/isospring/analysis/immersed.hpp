@@ -120,7 +120,8 @@ ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
                               const ImmersedOptions& options);
 
 /// Displacement and its gradient (du_i/dx_j, zero beyond the dimension) at a physical point of
-/// the background box (InputError outside it).
+/// the background box (InputError outside it). Outside the part the value is the spline's
+/// extension (basis functions that are no DOF count as zero): meaningful only on the part.
 struct ImmersedPointValue {
   Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
   Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero();
