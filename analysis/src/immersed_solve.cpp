@@ -1,0 +1,135 @@
+// Immersed static solve (sparse Cholesky or block-Jacobi CG, as the body-fitted solver) and the
+// evaluation of the solution at physical points.
+#include <Eigen/CholmodSupport>
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+#include "immersed_basis.hpp"
+#include "immersed_kernels.hpp"
+#include "isospring/analysis/block_cg.hpp"
+#include "isospring/analysis/elasticity.hpp"
+#include "isospring/analysis/immersed.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::analysis {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Eigen::VectorXd solve_system(const ImmersedSystem& system, const ImmersedOptions& options,
+                             ImmersedResult& result) {
+  result.method = options.method;
+  if (options.method == SolverOptions::Method::kAuto)
+    result.method = choose_solver(system.dim, static_cast<double>(system.force.size())).method;
+  if (result.method == SolverOptions::Method::kConjugateGradient) {
+    const SymmetricBlockMatrix matrix(system.stiffness, system.dim);
+    BlockCgOptions cg;
+    cg.tolerance = options.cg_tolerance;
+    Eigen::VectorXd u;
+    const BlockCgResult out = block_cg(matrix, system.force, u, cg);
+    if (!out.converged)
+      throw std::runtime_error("immersed analysis: conjugate gradients did not converge in " +
+                               std::to_string(out.iterations) + " iterations (residual " +
+                               std::to_string(out.relative_residual) +
+                               "); use the Cholesky solver");
+    result.iterations = out.iterations;
+    result.relative_residual = out.relative_residual;
+    return u;
+  }
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
+  cholesky.compute(system.stiffness);
+  if (cholesky.info() != Eigen::Success)
+    throw std::runtime_error(
+        "immersed analysis: the stiffness matrix could not be factorised (not positive "
+        "definite); raise nitsche_factor or ghost_penalty");
+  return cholesky.solve(system.force);
+}
+
+ImmersedPointValue point_value(const detail::BackgroundBasis& basis, const ImmersedResult& result,
+                               const Eigen::Vector3d& x) {
+  detail::BasisAt at;
+  basis.evaluate(basis.element_of(x), x, at);
+  ImmersedPointValue out;
+  for (size_t a = 0; a < at.control_points.size(); ++a) {
+    const Eigen::Vector3d& u =
+        result.control_displacements[static_cast<size_t>(at.control_points[a])];
+    out.displacement += at.values[static_cast<Eigen::Index>(a)] * u;
+    out.gradient.leftCols(basis.dim()) += u * at.gradients.row(static_cast<Eigen::Index>(a));
+  }
+  return out;
+}
+
+double strain_energy(const geometry::ImmersedDomain& domain, const ImmersedResult& result,
+                     const ImmersedOptions& options) {
+  const detail::BackgroundBasis basis(domain, false);
+  double energy = 0;
+  const double thickness =
+      options.formulation == Formulation::kSolid ? 1.0 : options.material.thickness;
+  for (const auto& cell : domain.cells)
+    for (size_t q = 0; q < cell.points.size(); ++q) {
+      const Eigen::Matrix3d grad = point_value(basis, result, cell.points[q]).gradient;
+      const Eigen::Matrix3d strain = 0.5 * (grad + grad.transpose());
+      const Eigen::Matrix3d stress =
+          stress_from_strain(strain, options.material, options.formulation);
+      energy += 0.5 * cell.weights[q] * thickness * (stress.cwiseProduct(strain)).sum();
+    }
+  return energy;
+}
+
+}  // namespace
+
+ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
+                              const ImmersedOptions& options) {
+  ImmersedResult result;
+  result.dim = domain.dimension;
+  auto start = std::chrono::steady_clock::now();
+  const ImmersedSystem system = assemble_immersed(domain, options);
+  result.assembly_seconds = seconds_since(start);
+  result.max_nitsche_penalty = system.max_nitsche_penalty;
+  result.ghost_faces = system.ghost_faces;
+  result.dofs = static_cast<int>(system.force.size());
+  start = std::chrono::steady_clock::now();
+  const Eigen::VectorXd u = solve_system(system, options, result);
+  result.solve_seconds = seconds_since(start);
+  result.control_displacements.assign(system.node_of_control_point.size(), Eigen::Vector3d::Zero());
+  result.active.assign(system.node_of_control_point.size(), false);
+  for (size_t node = 0; node < system.control_point_of_node.size(); ++node) {
+    const size_t cp = static_cast<size_t>(system.control_point_of_node[node]);
+    result.active[cp] = true;
+    for (int c = 0; c < system.dim; ++c)
+      result.control_displacements[cp][c] = u[static_cast<Eigen::Index>(node) * system.dim + c];
+  }
+  result.strain_energy = strain_energy(domain, result, options);
+  return result;
+}
+
+ImmersedPointValue evaluate_immersed(const geometry::ImmersedDomain& domain,
+                                     const ImmersedResult& result, const Eigen::Vector3d& x) {
+  const int dim = domain.dimension;
+  const double slack = 1e-9 * domain.extent.head(dim).norm();
+  if (((x - domain.origin).head(dim).array() < -slack).any() ||
+      ((x - domain.origin - domain.extent).head(dim).array() > slack).any()) {
+    std::ostringstream message;
+    message << "immersed evaluation: the point (" << x.transpose()
+            << ") lies outside the background grid";
+    throw nurbs::InputError(message.str());
+  }
+  if (result.control_displacements.size() != static_cast<size_t>(domain.background.num_points()))
+    throw nurbs::InputError(
+        "immersed evaluation: the result does not belong to this domain (its control point "
+        "count differs)");
+  return point_value(detail::BackgroundBasis(domain, false), result, x);
+}
+
+Eigen::Matrix3d immersed_stress(const geometry::ImmersedDomain& domain,
+                                const ImmersedResult& result, const ImmersedOptions& options,
+                                const Eigen::Vector3d& x) {
+  const Eigen::Matrix3d grad = evaluate_immersed(domain, result, x).gradient;
+  return stress_from_strain(0.5 * (grad + grad.transpose()), options.material, options.formulation);
+}
+
+}  // namespace isospring::analysis
