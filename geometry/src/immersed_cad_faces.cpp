@@ -198,9 +198,10 @@ class FaceIntegrator {
 };
 
 // A face's rule is accepted when doubling its pieces changes its area and first moments by less
-// than this (relative); the hatcher's intersections are accurate to about 1e-11.
-constexpr double kSettled = 1e-10;
-constexpr int kDoublings = 5;
+// than this (relative); at most kDoublings rules are compared (each has four times the points of
+// the one before: trimming curves that are splines of many knots settle slowly).
+constexpr double kSettled = 1e-9;
+constexpr int kDoublings = 3;
 
 // Area and first moments of a face's points, for the convergence test.
 Eigen::Vector4d moments(const std::vector<BoundaryPoint>& points) {
@@ -251,13 +252,12 @@ std::vector<BoundaryPoint> face_quadrature(const CadSolid::Shape& shape, int ord
         fine = integrator.points(2 * pieces);
         last = change(coarse, fine);
       }
-      // Trimming curves that are splines of many knots settle more slowly; a change below 1e-8
-      // is still far below what an analysis sees.
-      if (last > 1e-8) {
+      // A change below 1e-7 is still far below what an analysis sees.
+      if (last > 1e-7) {
         std::ostringstream out;
         out.precision(2);
         out << "face " << index << ": its quadrature changed by " << last
-            << " (relative) at the last of four doublings";
+            << " (relative) at the last of " << kDoublings - 1 << " doublings";
         warnings.push_back(out.str());
       }
       all.insert(all.end(), fine.begin(), fine.end());

@@ -11,7 +11,7 @@ namespace isospring::geometry::detail {
 
 /// Boundary points of every face of `shape`: `order` Gauss points per direction and piece, pieces
 /// no longer than `piece_length` (m) on the surface, doubled until each face's area and first
-/// moments repeat to 1e-10 (relative), at most four times. Faces that do not converge are named in
+/// moments repeat to 1e-9 (relative), at most twice. Faces that do not converge are named in
 /// `warnings`. BoundaryPoint::face is the file's face index.
 std::vector<BoundaryPoint> face_quadrature(const CadSolid::Shape& shape, int order,
                                            double piece_length, std::vector<std::string>& warnings);

@@ -159,13 +159,13 @@ TEST(ImmersedCad, FilletedBoxMatchesTheSteinerFormula) {
 
 TEST(ImmersedCad, BoundaryPointsObeyTheDivergenceTheorem) {
   // (1/3) sum w x.n = volume from the cells, sum w n = 0: the boundary's normals and weights
-  // against the cells' weights, two independent integrations.
+  // against the cells' weights, two independent integrations (a box with rounded edges: planes,
+  // cylinders and OpenCascade's corner blends).
   const TopoDS_Shape box = BRepPrimAPI_MakeBox(0.05, 0.04, 0.03).Shape();
   BRepFilletAPI_MakeFillet fillet(box);
-  TopTools_IndexedMapOfShape edges;
-  TopExp::MapShapes(box, TopAbs_EDGE, edges);
-  for (int e = 1; e <= 4; ++e) fillet.Add(0.008, TopoDS::Edge(edges(e)));
-  const CadSolid solid = detail::make_cad_solid(fillet.Shape(), "partly filleted box");
+  for (TopExp_Explorer e(box, TopAbs_EDGE); e.More(); e.Next())
+    fillet.Add(0.008, TopoDS::Edge(e.Current()));
+  const CadSolid solid = detail::make_cad_solid(fillet.Shape(), "rounded box");
   const ImmersedDomain domain = immerse_solid(solid);
   double flux = 0.0;
   Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();

@@ -32,8 +32,8 @@
 // Boundary points are integrated on every face's exact trimmed parametrisation: Gauss in u
 // between break points (vertices, u-extrema of the trimming curves, knots), the iso-line
 // u = const clipped to the face by OpenCascade's hatcher (Geom2dHatch) on the trimming curves,
-// and Gauss in v on each inside piece; the number of pieces is doubled until the face's area and
-// first moments repeat to 1e-10.
+// and Gauss in v on each inside piece; the number of pieces is doubled (at most twice) until the
+// face's area and first moments repeat to 1e-9.
 #include <Eigen/Core>
 #include <filesystem>
 #include <memory>
