@@ -87,7 +87,9 @@ struct ImmersionOptions {
   /// when box_max > box_min in every direction.
   Eigen::Vector3d box_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d box_max = Eigen::Vector3d::Zero();
-  int gauss = 0;      // Gauss points per direction and piece; 0: degree + 2 (>= degree + 1)
+  /// Gauss points per direction and piece in cut cells and on faces (>= degree + 1; 0: degree
+  /// + 2). Inside cells get the tensor rule of degree + 1 points.
+  int gauss = 0;
   int max_depth = 4;  // bisections of a cut cell whose quadrature does not converge
   /// A cut cell (or a piece of it) is accepted when its volumes with `gauss` and `gauss` + 2
   /// points differ by less than this fraction of the background cell's volume.
