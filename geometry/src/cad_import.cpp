@@ -1,6 +1,7 @@
 // STEP/IGES import through OpenCascade: faces to NURBS patches, hexahedral solids to volumes.
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
 #include <Bnd_Box.hxx>
 #include <Eigen/Geometry>
@@ -50,8 +51,29 @@ std::string lower_extension(const std::filesystem::path& file) {
   return ext;
 }
 
+// Entities OpenCascade could not read in a STEP file (`unreadable`, described) are harmless when
+// none of them belongs to the geometry and the shape transferred and is valid: then a warning;
+// otherwise the file is refused as corrupted.
+void judge_unreadable_entities(const std::filesystem::path& file, bool outside_geometry,
+                               const std::string& unreadable, const TopoDS_Shape& shape,
+                               std::vector<std::string>& warnings) {
+  const std::string name = file.string();
+  const std::string corrupted = name + ": " + unreadable +
+                                ": the file is corrupted (e.g. a misspelled entity name) or uses "
+                                "entities OpenCascade does not support; export it again as STEP "
+                                "AP203/AP214";
+  if (!outside_geometry) throw InputError(corrupted);
+  if (shape.IsNull()) throw InputError(corrupted + " (the shape did not transfer)");
+  if (!BRepCheck_Analyzer(shape).IsValid())
+    throw InputError(corrupted + " (the transferred shape is not valid)");
+  warnings.push_back(name + ": " + unreadable +
+                     ": skipped; they are outside the geometry (e.g. styles, validation "
+                     "properties, units) and the shape transferred and is valid");
+}
+
 // Reads the file into one shape, in metres; returns the unit the file declares.
-TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string& file_unit) {
+TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string& file_unit,
+                                  std::vector<std::string>& warnings) {
   const std::string name = file.string();
   if (!std::filesystem::exists(file))
     throw InputError(name + ": file not found; give the path of a .step/.stp/.iges/.igs file");
@@ -84,11 +106,12 @@ TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string
       throw InputError(name +
                        ": OpenCascade cannot parse this STEP file (truncated or invalid); "
                        "export it again");
+    // Judged before the transfer when they touch the geometry: a transfer may dereference them.
     const std::string unreadable = detail::unreadable_step_entities(reader.Model());
-    if (!unreadable.empty())
-      throw InputError(name + ": " + unreadable +
-                       ": the file is corrupted (e.g. a misspelled entity name) or uses entities "
-                       "OpenCascade does not support; export it again as STEP AP203/AP214");
+    const bool outside_geometry =
+        !unreadable.empty() && detail::unreadable_entities_outside_geometry(reader.Model(), file);
+    if (!unreadable.empty() && !outside_geometry)
+      judge_unreadable_entities(file, false, unreadable, TopoDS_Shape(), warnings);
     TColStd_SequenceOfAsciiString length, angle, solid_angle;
     reader.FileUnits(length, angle, solid_angle);
     file_unit = length.IsEmpty() ? "unknown" : length.First().ToCString();
@@ -98,6 +121,8 @@ TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string
                        "model); export it again");
     reader.TransferRoots();
     shape = reader.OneShape();
+    if (!unreadable.empty())
+      judge_unreadable_entities(file, outside_geometry, unreadable, shape, warnings);
   } else if (ext == ".iges" || ext == ".igs") {
     IGESControl_Reader reader;
     if (reader.ReadFile(name.c_str()) != IFSelect_RetDone)
@@ -127,18 +152,24 @@ TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string
 // read_shape_unguarded, first in a child process: a corrupted file that crashes OpenCascade
 // becomes an input error naming the file (crash_guard.hpp). Reading twice costs the read time
 // of the file again, small beside the conversion of its faces.
-TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_unit) {
+TopoDS_Shape read_shape(const std::filesystem::path& file, std::string& file_unit,
+                        std::vector<std::string>& warnings) {
   detail::fail_if_it_crashes(file, [&] {
     std::string unit;
-    read_shape_unguarded(file, unit);
+    std::vector<std::string> ignored;
+    read_shape_unguarded(file, unit, ignored);
   });
-  return read_shape_unguarded(file, file_unit);
+  return read_shape_unguarded(file, file_unit, warnings);
 }
 
 }  // namespace
 
-TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::string& file_unit) {
-  return read_shape(file, file_unit);
+TopoDS_Shape detail::read_cad_shape(const std::filesystem::path& file, std::string& file_unit,
+                                    std::vector<std::string>* warnings) {
+  std::vector<std::string> found;
+  TopoDS_Shape shape = read_shape(file, file_unit, found);
+  if (warnings) warnings->insert(warnings->end(), found.begin(), found.end());
+  return shape;
 }
 
 namespace {
@@ -148,7 +179,7 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
   model.file = file;
   TopoDS_Shape shape;
   try {
-    shape = read_shape(file, model.file_unit);
+    shape = read_shape(file, model.file_unit, model.warnings);
   } catch (const Standard_Failure& e) {
     throw InputError(file.string() + ": OpenCascade failed reading it (" + e.GetMessageString() +
                      "); the file is probably corrupt");
@@ -279,6 +310,7 @@ std::string describe(const CadModel& model) {
     if (!model.solid_remarks[s].empty()) out << "; " << model.solid_remarks[s];
     out << "\n";
   }
+  for (const std::string& warning : model.warnings) out << "  warning: " << warning << "\n";
   for (const auto& f : model.face_reports)
     out << "  face " << f.index << ": " << f.surface_type << ", " << f.wires << " wire(s), "
         << f.edges << " edges, area " << f.area << " m^2, " << usability(f) << "\n";

@@ -49,6 +49,7 @@ void import_report(const ImportCommandResult& r, const ImportCommandOptions& opt
                        {model.bbox_max.x(), model.bbox_max.y(), model.bbox_max.z()}};
   j["cad_volume"] = model.volume;
   j["cad_area"] = model.area;
+  j["warnings"] = model.warnings;
   j["options"] = {
       {"faces", options.faces}, {"solids", options.solids}, {"thickness", options.thickness}};
   std::vector<std::vector<std::string>> face_rows;

@@ -140,7 +140,8 @@ nlohmann::json file_info_json(const std::string& file) {
                   {"volume", model.volume},
                   {"area", model.area},
                   {"face_analysis", faces},
-                  {"solid_notes", model.solid_notes}};
+                  {"solid_notes", model.solid_notes},
+                  {"warnings", model.warnings}};
       break;
     }
     case InputKind::kCaseFile: {

@@ -70,10 +70,16 @@ struct CadModel {
   std::vector<std::string> solid_notes;      // per solid: empty if a volume patch, else why not
   std::vector<std::string> solid_remarks;    // per solid: what a user should know about its
                                              // volume patches (empty: nothing)
+  /// What the reader skipped without harm to the shape, e.g. STEP entities outside the geometry
+  /// (styles, validation properties) that OpenCascade cannot read, when the shape transferred and
+  /// passed OpenCascade's validity check (BRepCheck_Analyzer).
+  std::vector<std::string> warnings;
 };
 
 /// Reads a STEP or IGES file (by extension, case-insensitive). Throws nurbs::InputError naming the
-/// file when it is missing, empty, not STEP/IGES, unreadable or has no geometry.
+/// file when it is missing, empty, not STEP/IGES, unreadable or has no geometry. STEP entities
+/// OpenCascade cannot read are an error when they belong to the geometry (or the shape does not
+/// transfer or is invalid), otherwise a warning in CadModel::warnings.
 CadModel read_cad(const std::filesystem::path& file);
 
 /// Human-readable report: unit, counts, bounding box, volume/area and one line per face.

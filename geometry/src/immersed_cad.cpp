@@ -1,0 +1,261 @@
+// Immersed domain of a CAD solid: grid, classification, cell and boundary quadrature
+// (immersed_cad.hpp).
+#include <Standard_Failure.hxx>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "cad_solid_shape.hpp"
+#include "immersed_cad_cells.hpp"
+#include "immersed_cad_faces.hpp"
+#include "immersed_cad_lines.hpp"
+#include "isospring/geometry/immersed_cad.hpp"
+#include "isospring/nurbs/error.hpp"
+#include "isospring/nurbs/quadrature.hpp"
+
+namespace isospring::geometry {
+
+using nurbs::InputError;
+
+namespace {
+
+struct Grid {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero(), extent = Eigen::Vector3d::Ones();
+  Eigen::Vector3i cells = Eigen::Vector3i::Ones();
+  Eigen::Vector3d h() const { return extent.cwiseQuotient(cells.cast<double>()); }
+  Eigen::Vector3d corner(const Eigen::Vector3i& index) const {
+    return origin + h().cwiseProduct(index.cast<double>());
+  }
+  long index(const Eigen::Vector3i& i) const {
+    return (static_cast<long>(i.z()) * cells.y() + i.y()) * cells.x() + i.x();
+  }
+};
+
+std::string vec(const Eigen::Vector3d& x) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "(" << x.x() << ", " << x.y() << ", " << x.z() << ")";
+  return out.str();
+}
+
+void check_options(const ImmersionOptions& o, const std::string& name) {
+  const std::string where = name + ": immersion option ";
+  if (o.degree < 1 || o.degree > 8)
+    throw InputError(where + "degree = " + std::to_string(o.degree) + ": give 1..8");
+  if ((o.cells.array() < 0).any() || ((o.cells.array() > 0).any() && (o.cells.array() == 0).any()))
+    throw InputError(where + "cells: give three positive counts, or none and a cell_size");
+  if (!(std::isfinite(o.cell_size) && o.cell_size >= 0.0))
+    throw InputError(where + "cell_size must be a positive length in m (or 0 with cells)");
+  if (!(std::isfinite(o.margin) && o.margin >= 0.0))
+    throw InputError(where + "margin must be a length >= 0 in m");
+  if (o.gauss != 0 && o.gauss < o.degree + 1)
+    throw InputError(where + "gauss = " + std::to_string(o.gauss) +
+                     ": give at least degree + 1 = " + std::to_string(o.degree + 1) +
+                     " (or 0 for degree + 2)");
+  if (o.max_depth < 0 || o.max_depth > 8)
+    throw InputError(where + "max_depth = " + std::to_string(o.max_depth) + ": give 0..8");
+  if (!(o.tolerance > 0.0 && o.tolerance < 1.0))
+    throw InputError(where + "tolerance must be in (0, 1)");
+}
+
+Grid make_grid(const detail::SolidProbe& probe, const ImmersionOptions& o,
+               const std::string& name) {
+  const Eigen::Vector3d part_min = probe.box_min(), part_max = probe.box_max();
+  const Eigen::Vector3d part = part_max - part_min;
+  Grid grid;
+  if ((o.box_max.array() > o.box_min.array()).all()) {
+    const double slack = 1e-9 * part.norm();
+    if ((o.box_min.array() > part_min.array() + slack).any() ||
+        (o.box_max.array() < part_max.array() - slack).any())
+      throw InputError(name + ": immersion option box " + vec(o.box_min) + ".." + vec(o.box_max) +
+                       " does not contain the part " + vec(part_min) + ".." + vec(part_max) +
+                       "; enlarge it or leave it out (the part's bounding box is used)");
+    grid.origin = o.box_min;
+    grid.extent = o.box_max - o.box_min;
+  } else {
+    grid.origin = part_min - Eigen::Vector3d::Constant(o.margin);
+    grid.extent = part + Eigen::Vector3d::Constant(2.0 * o.margin);
+  }
+  if ((o.cells.array() > 0).all()) {
+    grid.cells = o.cells;
+  } else {
+    const double size = o.cell_size > 0.0 ? o.cell_size : grid.extent.maxCoeff() / 10.0;
+    for (int k = 0; k < 3; ++k)
+      grid.cells[k] = std::max(1, static_cast<int>(std::ceil(grid.extent[k] / size - 1e-9)));
+  }
+  const double count = grid.cells.cast<double>().prod();
+  if (count > 2e7)
+    throw InputError(name + ": " + std::to_string(static_cast<long>(count)) +
+                     " background cells are too many; give a larger cell_size or fewer cells");
+  if ((part.array() < grid.h().array()).all() || o.cell_size >= part.maxCoeff() ||
+      (grid.cells.array() == 1).all())
+    throw InputError(name + ": the part " + vec(part) + " m is smaller than one cell " +
+                     vec(grid.h()) + " m in every direction; give a cell_size below " +
+                     std::to_string(part.maxCoeff()) + " m or more cells");
+  return grid;
+}
+
+// Affine B-spline box: open uniform knots, control points at the Greville abscissae.
+nurbs::Patch background_patch(const Grid& grid, int degree) {
+  std::vector<nurbs::KnotVector> knots;
+  for (int k = 0; k < 3; ++k) knots.push_back(nurbs::KnotVector::uniform(degree, grid.cells[k]));
+  std::vector<Eigen::Vector3d> points;
+  const auto greville = [&](int dir, int i) {
+    double s = 0.0;
+    for (int j = 1; j <= degree; ++j) s += knots[static_cast<size_t>(dir)][i + j];
+    return s / degree;
+  };
+  for (int k = 0; k < knots[2].num_basis(); ++k)
+    for (int j = 0; j < knots[1].num_basis(); ++j)
+      for (int i = 0; i < knots[0].num_basis(); ++i)
+        points.push_back(grid.origin + grid.extent.cwiseProduct(Eigen::Vector3d(
+                                           greville(0, i), greville(1, j), greville(2, k))));
+  return nurbs::Patch(std::move(knots), std::move(points));
+}
+
+enum class State : unsigned char { kOutside, kInside, kCut };
+
+// Halves blocks of cells until no face comes near a block (then its centre decides for all of
+// it) or the block is one cell (then it is cut).
+void classify(detail::SolidProbe& probe, const Grid& grid, const Eigen::Vector3i& lo,
+              const Eigen::Vector3i& hi, std::vector<State>& states) {
+  const Eigen::Vector3d a = grid.corner(lo), b = grid.corner(hi);
+  State state = State::kCut;
+  if (!probe.near_boundary(a, b)) {
+    state = probe.contains(0.5 * (a + b)) ? State::kInside : State::kOutside;
+  } else if ((hi - lo).maxCoeff() > 1) {
+    int k = 0;
+    (hi - lo).maxCoeff(&k);
+    Eigen::Vector3i mid_hi = hi, mid_lo = lo;
+    mid_hi[k] = mid_lo[k] = lo[k] + (hi[k] - lo[k]) / 2;
+    classify(probe, grid, lo, mid_hi, states);
+    classify(probe, grid, mid_lo, hi, states);
+    return;
+  }
+  for (int z = lo.z(); z < hi.z(); ++z)
+    for (int y = lo.y(); y < hi.y(); ++y)
+      for (int x = lo.x(); x < hi.x(); ++x)
+        states[static_cast<size_t>(grid.index({x, y, z}))] = state;
+}
+
+ImmersedCell tensor_cell(const Grid& grid, const Eigen::Vector3i& index, int n) {
+  const nurbs::GaussRule rule = nurbs::gauss_legendre(n);
+  const Eigen::Vector3d lo = grid.corner(index), h = grid.h();
+  ImmersedCell cell;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Eigen::Vector3d r(rule.points[i], rule.points[j], rule.points[k]);
+        cell.points.push_back(lo + 0.5 * h.cwiseProduct(r + Eigen::Vector3d::Ones()));
+        cell.weights.push_back(h.prod() / 8.0 * rule.weights[i] * rule.weights[j] *
+                               rule.weights[k]);
+      }
+  return cell;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The cells: inside cells get the tensor Gauss rule, cut cells the line rule
+// (immersed_cad_cells.hpp); a cut candidate whose lines meet no boundary is inside or outside.
+void add_cells(detail::SolidProbe& probe, const Grid& grid, const std::vector<State>& states,
+               const ImmersionOptions& o, ImmersedDomain& domain, ImmersionStats& stats) {
+  std::vector<std::vector<const BoundaryPoint*>> near(states.size());
+  const Eigen::Vector3d h = grid.h();
+  for (const BoundaryPoint& b : domain.boundary) {
+    Eigen::Vector3i i = ((b.point - grid.origin).cwiseQuotient(h)).array().floor().cast<int>();
+    i = i.cwiseMax(0).cwiseMin(grid.cells - Eigen::Vector3i::Ones());
+    near[static_cast<size_t>(grid.index(i))].push_back(&b);
+  }
+  detail::CutCellSettings settings;
+  settings.order = o.gauss > 0 ? o.gauss : o.degree + 2;
+  settings.tolerance = o.tolerance;
+  settings.max_depth = o.max_depth;
+  detail::CutCellStats cut;
+  for (int z = 0; z < grid.cells.z(); ++z)
+    for (int y = 0; y < grid.cells.y(); ++y)
+      for (int x = 0; x < grid.cells.x(); ++x) {
+        const Eigen::Vector3i index(x, y, z);
+        const State state = states[static_cast<size_t>(grid.index(index))];
+        if (state == State::kOutside) continue;
+        ImmersedCell cell;
+        if (state == State::kCut) {
+          const Eigen::Vector3d lo = grid.corner(index), hi = lo + h;
+          const detail::CutCellRule rule = detail::cut_cell_rule(
+              probe, lo, hi, near[static_cast<size_t>(grid.index(index))], settings, h.prod(), cut);
+          if (rule.points.empty()) continue;
+          cell.kind = CellKind::kCut;
+          cell.points = rule.points;
+          cell.weights = rule.weights;
+          if (!rule.crossed) cell = tensor_cell(grid, index, o.degree + 1);
+        } else {
+          cell = tensor_cell(grid, index, o.degree + 1);
+        }
+        cell.span = index + Eigen::Vector3i::Constant(o.degree);
+        (cell.kind == CellKind::kCut ? stats.cut_cells : stats.inside_cells) += 1;
+        domain.cells.push_back(std::move(cell));
+      }
+  stats.cut_boxes = cut.boxes;
+  // Pieces left at max_depth are worth a warning only when together they could move the
+  // part's volume by more than 1e-6.
+  double volume = 0.0;
+  for (const ImmersedCell& cell : domain.cells)
+    for (double w : cell.weights) volume += w;
+  if (cut.unresolved_error > 1e-6 * volume) {
+    std::ostringstream out;
+    out.precision(3);
+    out << cut.unresolved << " pieces of cut cells did not reach the quadrature tolerance after "
+        << o.max_depth << " bisections; their volumes may be off by "
+        << cut.unresolved_error / volume
+        << " of the part's in all: a finer grid or a larger max_depth resolves them";
+    domain.warnings.push_back(out.str());
+  }
+}
+
+ImmersedDomain immerse(const CadSolid& solid, const ImmersionOptions& o, ImmersionStats& stats) {
+  check_options(o, solid.name());
+  detail::SolidProbe probe(solid.shape());
+  const Grid grid = make_grid(probe, o, solid.name());
+  ImmersedDomain domain;
+  domain.dimension = 3;
+  domain.origin = grid.origin;
+  domain.extent = grid.extent;
+  domain.background = background_patch(grid, o.degree);
+  domain.face_count = solid.face_count();
+
+  auto start = std::chrono::steady_clock::now();
+  const int order = o.gauss > 0 ? o.gauss : o.degree + 2;
+  domain.boundary =
+      detail::face_quadrature(solid.shape(), order, grid.h().minCoeff(), domain.warnings);
+  stats.boundary_seconds = seconds_since(start);
+
+  start = std::chrono::steady_clock::now();
+  std::vector<State> states(static_cast<size_t>(grid.cells.cast<long>().prod()), State::kOutside);
+  classify(probe, grid, Eigen::Vector3i::Zero(), grid.cells, states);
+  stats.classification_seconds = seconds_since(start);
+  stats.distance_queries = probe.distance_queries();
+
+  start = std::chrono::steady_clock::now();
+  add_cells(probe, grid, states, o, domain, stats);
+  stats.cut_cell_seconds = seconds_since(start);
+  stats.lines = probe.lines();
+  stats.classified_lines = probe.classified_lines();
+  return domain;
+}
+
+}  // namespace
+
+ImmersedDomain immerse_solid(const CadSolid& solid, const ImmersionOptions& options,
+                             ImmersionStats* stats) {
+  ImmersionStats local;
+  try {
+    return immerse(solid, options, stats ? *stats : local);
+  } catch (const Standard_Failure& e) {
+    throw InputError(solid.name() + ": OpenCascade failed immersing the solid (" +
+                     e.GetMessageString() + "); check the part in the CAD program");
+  }
+}
+
+}  // namespace isospring::geometry

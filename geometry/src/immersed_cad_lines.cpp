@@ -1,0 +1,193 @@
+// Axis-parallel lines against a solid's exact B-rep (immersed_cad_lines.hpp).
+#include "immersed_cad_lines.hpp"
+
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <gp_Lin.hxx>
+#include <gp_Pln.hxx>
+
+#include <algorithm>
+
+namespace isospring::geometry::detail {
+
+namespace {
+
+Eigen::Vector3d corner(const Bnd_Box& box, bool upper) {
+  double x0, y0, z0, x1, y1, z1;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  return upper ? Eigen::Vector3d(x1, y1, z1) : Eigen::Vector3d(x0, y0, z0);
+}
+
+gp_Pnt to_gp(const Eigen::Vector3d& x) {
+  return gp_Pnt(x.x(), x.y(), x.z());
+}
+
+}  // namespace
+
+SolidProbe::SolidProbe(const CadSolid::Shape& shape) : shape_(shape), classifier_(shape.solid) {
+  Bnd_Box box;
+  BRepBndLib::AddOptimal(shape.solid, box, false, false);
+  box_min_ = corner(box, false);
+  box_max_ = corner(box, true);
+  tighten_box();
+  // Two faces report a crossing through their common edge each, within the edge's tolerance.
+  double tolerance = 0.0;
+  for (TopExp_Explorer e(shape.solid, TopAbs_EDGE); e.More(); e.Next())
+    tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Edge(e.Current())));
+  merge_ = std::max(4.0 * tolerance, 1e-10 * size());
+  for (const TopoDS_Face& face : shape.faces) {
+    Bnd_Box face_box;
+    BRepBndLib::AddOptimal(face, face_box, false, false);
+    face_min_.push_back(corner(face_box, false) - Eigen::Vector3d::Constant(merge_));
+    face_max_.push_back(corner(face_box, true) + Eigen::Vector3d::Constant(merge_));
+    // Hits within the face's edge tolerance of its boundary count as on the face (UseBToler).
+    intersectors_.push_back(std::make_unique<IntCurvesFace_Intersector>(face, 1e-9, true, true));
+  }
+}
+
+// OpenCascade's optimal box is Precision::Confusion() (1e-7 m) too large on a side it finds by
+// numerical extrema (curved or spline faces). A grid on it would have the part's extreme faces
+// 1e-7 m inside its boundary planes, where lines along them lie within the faces' tolerance and
+// are ambiguous. Each side is moved onto the part by the exact distance between the side's
+// plane and the faces near it.
+void SolidProbe::tighten_box() {
+  const double slack = 1e-6 * std::max(size(), 1e-300);
+  const double extent = 10.0 * size();
+  for (int k = 0; k < 3; ++k)
+    for (const bool upper : {false, true}) {
+      const double bound = upper ? box_max_[k] : box_min_[k];
+      Eigen::Vector3d origin = 0.5 * (box_min_ + box_max_), normal = Eigen::Vector3d::Zero();
+      origin[k] = bound;
+      normal[k] = 1.0;
+      const TopoDS_Face plane =
+          BRepBuilderAPI_MakeFace(gp_Pln(to_gp(origin), gp_Dir(normal.x(), normal.y(), normal.z())),
+                                  -extent, extent, -extent, extent);
+      double nearest = slack;
+      for (const TopoDS_Face& face : shape_.faces) {
+        Bnd_Box face_box;
+        BRepBndLib::AddOptimal(face, face_box, false, false);
+        const double side = upper ? corner(face_box, true)[k] : corner(face_box, false)[k];
+        if (std::abs(side - bound) > slack) continue;
+        BRepExtrema_DistShapeShape distance(plane, face, Extrema_ExtFlag_MIN);
+        if (distance.IsDone()) nearest = std::min(nearest, distance.Value());
+      }
+      if (nearest < slack) (upper ? box_max_[k] : box_min_[k]) += upper ? -nearest : nearest;
+    }
+}
+
+std::vector<SolidProbe::Event> SolidProbe::events(const Eigen::Vector3d& point, int axis) {
+  ++lines_;
+  Eigen::Vector3d origin = point;
+  origin[axis] = 0.0;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  direction[axis] = 1.0;
+  const gp_Lin line(to_gp(origin), gp_Dir(direction.x(), direction.y(), direction.z()));
+  const double w0 = box_min_[axis] - 1e-3 * size(), w1 = box_max_[axis] + 1e-3 * size();
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  std::vector<Event> hits;
+  for (size_t f = 0; f < intersectors_.size(); ++f) {
+    if (point[a] < face_min_[f][a] || point[a] > face_max_[f][a] || point[b] < face_min_[f][b] ||
+        point[b] > face_max_[f][b])
+      continue;
+    IntCurvesFace_Intersector& intersector = *intersectors_[f];
+    intersector.Perform(line, w0, w1);
+    if (!intersector.IsDone()) continue;
+    for (int i = 1; i <= intersector.NbPnt(); ++i) {
+      const IntCurveSurface_TransitionOnCurve transition = intersector.Transition(i);
+      hits.push_back({intersector.WParameter(i), transition == IntCurveSurface_In    ? 1
+                                                 : transition == IntCurveSurface_Out ? -1
+                                                                                     : 0});
+    }
+  }
+  std::sort(hits.begin(), hits.end(), [](const Event& x, const Event& y) { return x.t < y.t; });
+  // One crossing through an edge or vertex is reported by every face that meets there.
+  std::vector<Event> merged;
+  for (const Event& hit : hits) {
+    if (!merged.empty() && hit.t - merged.back().t <= merge_) {
+      merged.back().net += hit.net;
+    } else {
+      merged.push_back(hit);
+    }
+  }
+  return merged;
+}
+
+std::vector<Interval> SolidProbe::classify_pieces(const Eigen::Vector3d& point, int axis,
+                                                  const std::vector<Event>& events) {
+  ++classified_;
+  std::vector<Interval> inside;
+  for (size_t k = 0; k + 1 < events.size(); ++k) {
+    Eigen::Vector3d middle = point;
+    middle[axis] = 0.5 * (events[k].t + events[k + 1].t);
+    if (!contains(middle)) continue;
+    if (!inside.empty() && inside.back().hi == events[k].t)
+      inside.back().hi = events[k + 1].t;
+    else
+      inside.push_back({events[k].t, events[k + 1].t});
+  }
+  return inside;
+}
+
+std::vector<Interval> SolidProbe::inside(const Eigen::Vector3d& point, int axis, double lo,
+                                         double hi) {
+  const std::vector<Event> found = events(point, axis);
+  std::vector<Interval> whole;
+  bool in = false, consistent = true;
+  double start = 0.0;
+  for (const Event& e : found) {
+    if (e.net > 0) {
+      if (in) consistent = false;
+      in = true;
+      start = e.t;
+    } else if (e.net < 0) {
+      if (!in)
+        consistent = false;
+      else
+        whole.push_back({start, e.t});
+      in = false;
+    }
+  }
+  if (in) consistent = false;
+  if (!consistent) whole = classify_pieces(point, axis, found);
+  std::vector<Interval> clipped;
+  for (const Interval& piece : whole) {
+    const double a = std::max(piece.lo, lo), b = std::min(piece.hi, hi);
+    if (b > a) clipped.push_back({a, b});
+  }
+  return clipped;
+}
+
+std::vector<double> SolidProbe::crossings(const Eigen::Vector3d& point, int axis, double lo,
+                                          double hi) {
+  std::vector<double> found;
+  for (const Event& e : events(point, axis))
+    if (e.t > lo && e.t < hi) found.push_back(e.t);
+  return found;
+}
+
+bool SolidProbe::near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const double radius = 0.5 * (hi - lo).norm() + merge_;
+  const TopoDS_Vertex vertex = BRepBuilderAPI_MakeVertex(to_gp(centre));
+  for (size_t f = 0; f < shape_.faces.size(); ++f) {
+    if ((face_min_[f].array() > hi.array()).any() || (face_max_[f].array() < lo.array()).any())
+      continue;
+    ++distances_;
+    BRepExtrema_DistShapeShape distance(vertex, shape_.faces[f], Extrema_ExtFlag_MIN);
+    if (!distance.IsDone() || distance.Value() <= radius) return true;
+  }
+  return false;
+}
+
+bool SolidProbe::contains(const Eigen::Vector3d& point) {
+  classifier_.Perform(to_gp(point), std::max(1e-9 * size(), 1e-12));
+  return classifier_.State() == TopAbs_IN;
+}
+
+}  // namespace isospring::geometry::detail

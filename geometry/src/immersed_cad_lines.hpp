@@ -1,0 +1,67 @@
+#pragma once
+// Axis-parallel lines against the exact B-rep of a solid: where they cross its boundary and where
+// they are inside (OpenCascade's IntCurvesFace_Intersector per face, faces culled by their
+// bounding boxes), and OpenCascade's classifier and face distances for points and boxes.
+#include <BRepClass3d_SolidClassifier.hxx>
+#include <IntCurvesFace_Intersector.hxx>
+
+#include <Eigen/Core>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "cad_solid_shape.hpp"
+
+namespace isospring::geometry::detail {
+
+struct Interval {
+  double lo = 0.0, hi = 0.0;
+};
+
+class SolidProbe {
+ public:
+  explicit SolidProbe(const CadSolid::Shape& shape);
+
+  /// Where the line through `point` along `axis` is inside the solid, as intervals of the axis
+  /// coordinate clipped to [lo, hi]. The whole line is intersected, so whether it starts inside
+  /// is known; crossings are merged within the edges' tolerance and their transitions (in or
+  /// out of the part) must alternate, else the pieces between them are classified.
+  std::vector<Interval> inside(const Eigen::Vector3d& point, int axis, double lo, double hi);
+
+  /// Axis coordinates in (lo, hi) where that line meets the boundary (crossings and touches).
+  std::vector<double> crossings(const Eigen::Vector3d& point, int axis, double lo, double hi);
+
+  /// Could a face meet the box [lo, hi]? (A face whose bounding box meets it and whose exact
+  /// distance from the box centre is within the half-diagonal; conservative.)
+  bool near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
+  /// Is the point inside the solid (OpenCascade's classifier)?
+  bool contains(const Eigen::Vector3d& point);
+
+  Eigen::Vector3d box_min() const { return box_min_; }
+  Eigen::Vector3d box_max() const { return box_max_; }
+  double size() const { return (box_max_ - box_min_).norm(); }
+  long lines() const { return lines_; }                  // lines intersected so far
+  long classified_lines() const { return classified_; }  // of which needed the classifier
+  long distance_queries() const { return distances_; }
+
+ private:
+  struct Event {
+    double t = 0.0;
+    int net = 0;  // entries minus exits of the part at this crossing (0: a touch)
+  };
+  std::vector<Event> events(const Eigen::Vector3d& point, int axis);
+  void tighten_box();
+  std::vector<Interval> classify_pieces(const Eigen::Vector3d& point, int axis,
+                                        const std::vector<Event>& events);
+
+  const CadSolid::Shape& shape_;
+  std::vector<std::unique_ptr<IntCurvesFace_Intersector>> intersectors_;
+  std::vector<Eigen::Vector3d> face_min_, face_max_;  // bounding boxes, enlarged by tolerance
+  Eigen::Vector3d box_min_, box_max_;                 // of the solid (exact, optimal)
+  double merge_ = 0.0;  // crossings closer than this along a line are one
+  BRepClass3d_SolidClassifier classifier_;
+  long lines_ = 0, classified_ = 0, distances_ = 0;
+};
+
+}  // namespace isospring::geometry::detail
