@@ -20,6 +20,7 @@ struct CalibrateOptions {
   std::string case_file;
   std::string output;
   bool quiet = false;
+  double max_step_us = 0.0;  // > 0: the case's calibration.max_step_us
 };
 
 void run_calibrate(const CalibrateOptions& options) {
@@ -29,6 +30,10 @@ void run_calibrate(const CalibrateOptions& options) {
       output_folder(options.output, {options.case_file}, workflows::calibrate_output_files());
   progress("reading " + options.case_file);
   io::Case c = io::read_case_file(options.case_file, solve_limits(0));
+  if (options.max_step_us > 0.0) {
+    if (c.calibration.is_null()) c.calibration = nlohmann::json::object();
+    c.calibration["max_step_us"] = options.max_step_us;
+  }
   std::vector<std::string> ids;
   for (const auto& load : c.problem.load_cases) ids.push_back(load.id);
   io::check_outputs_spare_inputs(case_inputs(c),
@@ -63,6 +68,11 @@ void setup_calibrate(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->output, "Output folder (created if missing)")->required();
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
+  cmd->add_option("--max-step-us", options->max_step_us,
+                  "Budget per engine step in microseconds (calibration.max_step_us): with a "
+                  "\"generalisation\" object the most accurate model kind within it, otherwise "
+                  "a refusal of a model over it")
+      ->check(CLI::PositiveNumber);
   cmd->callback([options] { run_calibrate(*options); });
 }
 

@@ -41,10 +41,12 @@ find_package(nlohmann_json 3.10 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)
 find_package(VTK 9.1 REQUIRED COMPONENTS CommonCore CommonDataModel IOXML IOLegacy)
 
+# MuJoCo (Debian: libmujoco-dev): the MJCF export's tests and the runtime's MuJoCo example
+# (examples/mujoco); everything else builds without it.
+find_package(mujoco QUIET)
 if(ISOSPRING_BUILD_TESTS)
   find_package(GTest REQUIRED)
   include(GoogleTest)
-  find_package(mujoco QUIET)  # only for the MJCF export test
 endif()
 if(ISOSPRING_BUILD_BENCH)
   find_package(benchmark REQUIRED)

@@ -130,7 +130,7 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
                  "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
                  "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
                  "target_percent_e_rms", "generalisation", "volume_terms", "shear_terms",
-                 "strain_points"});
+                 "strain_points", "max_step_us"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)
@@ -173,6 +173,8 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
            "shear_terms or strain_points; set it to false");
   request.acceleration_objective = f.boolean("acceleration_objective", true);
   request.target_percent_e_rms = f.number("target_percent_e_rms", 0.0, 0.0, false);
+  // A budget per engine step [us]: the most accurate model kind within it (step_cost.hpp).
+  s.max_step_us = f.number("max_step_us", 0.0, 0.0, false);
   if (f.has("generalisation")) {
     if (s.per_spring || !s.gamma_sweep.empty())
       f.fail("generalisation",

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "export_xml.hpp"
+#include "isospring/analysis/spring_mechanics.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/model_file.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -35,7 +36,32 @@ Eigen::Vector3d engine_gravity(const analysis::SpringNetwork& network,
   return flat ? Eigen::Vector3d(0.0, -9.81, 0.0) : Eigen::Vector3d(0.0, 0.0, -9.81);
 }
 
+namespace {
+
+// Gershgorin's bound on omega_max^2 of M^-1 K with K the whole rest stiffness.
+double largest_omega_squared(const analysis::SpringNetwork& network) {
+  const Eigen::SparseMatrix<double> k = analysis::rest_stiffness(network);
+  Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(k.rows());
+  for (Eigen::Index c = 0; c < k.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(k, c); it; ++it)
+      row_sums[it.row()] += std::abs(it.value());
+  double omega_squared = 0.0;
+  for (size_t p = 0; p < network.positions.size(); ++p)
+    if (!network.fixed[p] && network.masses[p] > 0)
+      for (int c = 0; c < network.dimension; ++c)
+        omega_squared =
+            std::max(omega_squared, row_sums[static_cast<Eigen::Index>(p) * network.dimension + c] /
+                                        network.masses[p]);
+  return omega_squared;
+}
+
+}  // namespace
+
 double suggested_timestep(const analysis::SpringNetwork& network) {
+  if (!network.volumes.empty()) {
+    const double omega_squared = largest_omega_squared(network);
+    return omega_squared > 0 ? 0.2 * 2.0 / std::sqrt(omega_squared) : 1e-3;
+  }
   std::vector<double> stiffness_sum(network.positions.size(), 0.0);
   for (const analysis::Spring& s : network.springs) {
     stiffness_sum[static_cast<size_t>(s.i)] += s.stiffness;
@@ -52,14 +78,13 @@ double suggested_timestep(const analysis::SpringNetwork& network) {
 std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOptions& options) {
   if (const std::string problem = check_spring_network(network); !problem.empty())
     throw nurbs::InputError("cannot export to MuJoCo: the spring model is invalid: " + problem);
-  if (!network.volumes.empty())
+  if (!network.volumes.empty() && options.runtime_model.empty())
     throw nurbs::InputError(
         "cannot export to MuJoCo: the spring model has " + detail::cell_terms(network) +
-        " (calibration.volume_terms, shear_terms) and MuJoCo 2.2 tendons are central springs; it "
-        "has no volume-preservation or cell-strain element; export model.json (which carries "
-        "them, and which `isospring simulate` runs) or calibrate with volume_terms and shear_terms "
-        "off for a "
-        "plain spring model");
+        " and MuJoCo 2.2 has no element for them (its tendons are central springs); they run "
+        "through MuJoCo's passive-force callback with the isospring runtime, from a model.json "
+        "next to the scene: give MjcfOptions::runtime_model, or use write_mjcf / `isospring "
+        "export`, which write both files");
   if (network.dimension == 2 && options.gravity.z() != 0.0)
     throw nurbs::InputError(
         "cannot export a flat (2D) spring model to MuJoCo with gravity along z: its particles "
@@ -84,6 +109,13 @@ std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOpti
       << "       Written for MuJoCo 2.2. -->\n";
   if (!options.comment.empty())
     out << "  <!-- " << detail::xml_comment(options.comment) << " -->\n";
+  if (!network.volumes.empty())
+    out << "  <!-- " << detail::xml_comment(detail::cell_terms(network))
+        << " are not in this file: MuJoCo has no element for them. The isospring runtime\n"
+        << "       evaluates them from the model.json named below in MuJoCo's passive-force\n"
+        << "       callback (mjcb_passive), springs masked out; see examples/mujoco. -->\n"
+        << "  <custom>\n    <text name=\"isospring_model\" data=\""
+        << detail::xml_escape(options.runtime_model) << "\"/>\n  </custom>\n";
   out << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
       << "  <option timestep=\"" << number(timestep) << "\" gravity=\"" << vector3(options.gravity)
       << "\" integrator=\"" << (options.implicit_integrator ? "implicit" : "Euler") << "\">\n"
@@ -108,9 +140,12 @@ std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOpti
     out << "    <body name=\"" << particle << "\" pos=\"" << position << "\">\n"
         << "      <inertial pos=\"0 0 0\" mass=\"" << number(m) << "\" diaginertia=\""
         << number(inertia) << " " << number(inertia) << " " << number(inertia) << "\"/>\n";
-    for (int a = 0; a < network.dimension; ++a)
-      out << "      <joint name=\"" << particle << axes[a][0] << "\" axis=\"" << axes[a][1]
-          << "\"/>\n";
+    for (int a = 0; a < network.dimension; ++a) {
+      out << "      <joint name=\"" << particle << axes[a][0] << "\" axis=\"" << axes[a][1] << "\"";
+      if (options.particle_damping_rate > 0)
+        out << " damping=\"" << number(options.particle_damping_rate * m) << "\"";
+      out << "/>\n";
+    }
     out << "      <geom/>\n      <site name=\"" << particle << "\" pos=\"0 0 0\"/>\n"
         << "    </body>\n";
   }
@@ -134,7 +169,15 @@ std::string mjcf_document(const analysis::SpringNetwork& network, const MjcfOpti
 
 void write_mjcf(const std::filesystem::path& path, const analysis::SpringNetwork& network,
                 const MjcfOptions& options) {
-  write_file_atomically(path, mjcf_document(network, options));
+  if (network.volumes.empty()) {
+    write_file_atomically(path, mjcf_document(network, options));
+    return;
+  }
+  MjcfOptions with_terms = options;
+  with_terms.runtime_model = path.stem().string() + ".isospring.json";
+  const std::string document = mjcf_document(network, with_terms);  // checks before writing
+  write_model_json(path.parent_path() / with_terms.runtime_model, network);
+  write_file_atomically(path, document);
 }
 
 }  // namespace isospring::io

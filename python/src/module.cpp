@@ -17,4 +17,5 @@ PYBIND11_MODULE(isospring, m) {
   isospring::python::bind_analysis(m);
   isospring::python::bind_fitting(m);
   isospring::python::bind_identify(m);
+  isospring::python::bind_runtime(m);
 }

@@ -3,7 +3,8 @@
 #   2. the installed program analyses CASE, calibrates CALIBRATE_CASE and identifies IDENTIFY_CASE
 #      (their report.json files are the reference);
 #   3. the consumer project (tests/install/consumer) is configured with only
-#      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, the cases and those reports;
+#      -DCMAKE_PREFIX_PATH=PREFIX, built, and run on PATCH, the cases and those reports; its C
+#      program runs the engine runtime on the calibrated model.json;
 #   4. every installed header compiles on its own with the package's targets;
 #   5. with PYTHON (the Python module is built): the installed module imports from
 #      PREFIX/lib/python3/dist-packages and keeps the refined annulus' arc at radius 1.
@@ -25,6 +26,7 @@ file(MAKE_DIRECTORY ${WORK})
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${PREFIX})
 foreach(installed bin/isospring include/isospring/nurbs/patch.hpp include/isospring/io/case_file.hpp
+                  include/isospring/runtime/runtime.h
                   lib/cmake/isospring/isospringConfig.cmake
                   lib/cmake/isospring/isospringConfigVersion.cmake
                   lib/cmake/isospring/isospringTargets.cmake)
@@ -55,7 +57,8 @@ run(${CMAKE_COMMAND} --build ${WORK}/consumer-build)
 # Every installed header compiles with what the package's targets give a consumer: a header
 # that needed a private dependency (OpenCascade, CGAL, Ceres, VTK, Spectra) or a file that was
 # not installed would fail here.
-file(GLOB headers RELATIVE ${PREFIX}/include ${PREFIX}/include/isospring/*/*.hpp)
+file(GLOB headers RELATIVE ${PREFIX}/include ${PREFIX}/include/isospring/*/*.hpp
+     ${PREFIX}/include/isospring/*/*.h)
 set(includes "")
 foreach(header ${headers})
   string(APPEND includes "#include <${header}>\n")
@@ -77,6 +80,9 @@ message("every installed header compiles: ${count} headers")
 
 run(${WORK}/consumer-build/consumer ${PATCH} ${CASE} ${WORK}/analyze/report.json
     ${CALIBRATE_CASE} ${WORK}/calibrate/report.json ${IDENTIFY_CASE} ${WORK}/identify/report.json)
+message("${last_output}")
+# The runtime from C on the model the installed program calibrated.
+run(${WORK}/consumer-build/runtime_consumer ${WORK}/calibrate/model.json)
 message("${last_output}")
 
 if(PYTHON)

@@ -195,6 +195,49 @@ def test_calibration_matches_the_program():
     assert np.all(result["stiffness"] > 0)
 
 
+def test_runtime_forces_and_jacobian():
+    """isospring.RuntimeModel on the model.json the program writes: its forces are the springs'
+    written out here in numpy, its Jacobian-vector product the central difference of them."""
+    case_file = os.path.join(EXAMPLES, "calibrate_square.json")
+    with tempfile.TemporaryDirectory() as folder:
+        subprocess.run([PROGRAM, "calibrate", case_file, "-o", folder, "-q"], check=True)
+        path = os.path.join(folder, "model.json")
+        model = isospring.RuntimeModel(path)
+        with open(path) as f:
+            document = json.load(f)
+    dim = document.get("dimension", 3)
+    assert model.dimension == dim and model.particles == len(document["particles"])
+    assert model.term_count(isospring.TERM_SPRINGS) == len(document["springs"])
+    rest = np.array([p["x"][:dim] for p in document["particles"]])
+    assert np.array_equal(model.rest_positions, rest)
+    x = rest.ravel() + 0.01 * RNG.standard_normal(rest.size)
+    v = RNG.standard_normal(rest.size)
+    f, energy = model.forces(x, v)
+    expected = np.zeros_like(x)
+    expected_energy = 0.0
+    for s in document["springs"]:
+        i, j = s["i"], s["j"]
+        l = x[dim * i:dim * i + dim] - x[dim * j:dim * j + dim]
+        length = np.linalg.norm(l)
+        rate = l @ (v[dim * i:dim * i + dim] - v[dim * j:dim * j + dim])
+        force = -s["k"] * (length - s["L0"]) / length * l - s.get("c", 0.0) * rate / length**2 * l
+        expected[dim * i:dim * i + dim] += force
+        expected[dim * j:dim * j + dim] -= force
+        expected_energy += 0.5 * s["k"] * (length - s["L0"]) ** 2
+    assert np.max(np.abs(f - expected)) <= 1e-12 * np.max(np.abs(expected))
+    assert abs(energy - expected_energy) <= 1e-12 * expected_energy
+    dx = RNG.standard_normal(x.size)
+    h = 1e-6
+    central = (model.forces(x + h * dx, v)[0] - model.forces(x - h * dx, v)[0]) / (2 * h)
+    df = model.force_jvp(x, dx, v)
+    assert np.max(np.abs(df - central)) <= 1e-6 * np.max(np.abs(central))
+    try:
+        isospring.RuntimeModel(os.path.join(EXAMPLES, "calibrate_square.json"))
+        raise AssertionError("a case file was loaded as a model")
+    except isospring.InputError as e:
+        assert "calibrate_square.json: format" in str(e), str(e)
+
+
 def test_calibration_settings_are_the_case_files():
     """Keyword arguments are laid over the case's settings, under the case file's names, and are
     checked by the same reader (the program's messages, as exceptions)."""

@@ -2,6 +2,7 @@
 #include "isospring/fitting/calibration.hpp"
 
 #include "isospring/fitting/prior_spring_fit.hpp"
+#include "isospring/fitting/step_cost.hpp"
 
 #include <algorithm>
 #include <array>
@@ -188,6 +189,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
   const int dim = dofs.dofs_per_node();
   result.mesh = build_spring_mesh(problem, settings.mesh);
   SpringMesh& mesh = result.mesh;
+  check_step_budget(mesh.network, settings.max_step_us);
   const std::vector<int> particle_of_node_map = particle_of_node(problem, mesh);
   assign_masses(problem, mesh, settings.mass_model);
 

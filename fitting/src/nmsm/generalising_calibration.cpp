@@ -1,6 +1,8 @@
 // Cross-validated choice of the spring model's freedom (header: procedure and why).
 #include "isospring/fitting/generalising_calibration.hpp"
 
+#include "isospring/fitting/step_cost.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -131,6 +133,12 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
           base.mesh.volume_terms = volume_terms;
           base.mesh.shear_terms = shear_terms;
           base.mesh.strain_points = strain_points;
+          // A kind over the step budget is recorded, not fitted (its terms fix its cost).
+          const double step_us = estimated_step_us(build_spring_mesh(problem, base.mesh).network);
+          std::string over_budget;
+          if (base.max_step_us > 0.0 && step_us > base.max_step_us)
+            over_budget = format("estimated engine step %.4g us over the budget max_step_us = %.4g",
+                                 step_us, base.max_step_us);
           // Grouped candidates; the per-spring ones start from the best grouping's fold optima.
           int best_grouped = -1;
           for (double gamma : options.gammas) {
@@ -140,6 +148,8 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
             candidate.shear_terms = shear_terms;
             candidate.strain_points = strain_points;
             candidate.gamma = gamma;
+            candidate.estimated_step_us = step_us;
+            candidate.failure = over_budget;
             score(candidate, [gamma](CalibrationSettings& s, int) { s.gamma = gamma; });
             result.candidates.push_back(candidate);
             if (candidate.failure.empty() &&
@@ -167,6 +177,7 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
             candidate.strain_points = strain_points;
             candidate.gamma = gamma;
             candidate.prior_weight = w;
+            candidate.estimated_step_us = step_us;
             candidate.failure = failure;
             score(candidate, [&](CalibrationSettings& s, int f) {
               s.gamma = gamma;
@@ -222,7 +233,10 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
     }
   }
   if (!done)
-    throw std::runtime_error("generalisation: no candidate could be refitted (" + failure + ")");
+    throw std::runtime_error(
+        "generalisation: no candidate could be refitted (" +
+        (failure.empty() && !result.candidates.empty() ? result.candidates[0].failure : failure) +
+        ")");
   result.worst_fitted = worst_of(result.calibration.fit);
   result.worst_validation = worst_of(result.calibration.holdout);
   result.worst = std::max(result.worst_fitted, result.worst_validation);

@@ -44,6 +44,11 @@ struct CalibrationSettings {
   double damping_alpha = 0.0;              // > 0: [S15 4.18] damping on the fitted springs
   double damping_ratio = 0.0;              // > 0: c = 2 zeta sqrt(k m_reduced) instead (not both)
   int max_iterations = 200;
+  /// > 0: a budget for one engine step [us] (step_cost.hpp's estimate of the runtime's force
+  /// evaluation): calibrate() refuses a model over it (nurbs::InputError, before any fit), and
+  /// calibrate_for_generalisation() leaves out the model kinds over it, so that it picks the
+  /// most accurate model within the budget.
+  double max_step_us = 0.0;
   int field_samples = 11;  // per direction for the field metrics
   /// false: only the control-point metrics (cross-validation folds need no more).
   bool field_metrics = true;

@@ -56,6 +56,7 @@ struct CandidateScore {
   int parameters = 0;
   std::vector<double> percent_e_rms;  // per training case, by the fold fit that left it out
   double worst = 0.0;                 // the score: the largest of percent_e_rms
+  double estimated_step_us = 0.0;     // the model's engine step (step_cost.hpp)
   std::string failure;                // non-empty: a fold fit failed (the candidate is out)
 };
 
