@@ -62,6 +62,15 @@ std::string gamma_text(double gamma) {
   return text;
 }
 
+// What every gamma's fit reads: sweep_gammas' arguments.
+struct SweepInputs {
+  const analysis::Problem& problem;
+  const CalibrationSettings& settings;
+  const SpringMesh& mesh;
+  const FitSetup& setup;
+  const FitBounds& bounds;
+};
+
 // The fit's iterations as settings.iteration calls (a terminal's updating line) or, without
 // one, as settings.progress lines; none when neither is set.
 void report_iterations(const CalibrationSettings& settings, double gamma,
@@ -104,20 +113,20 @@ void set_upper_bounds(const SpringMesh& mesh, const FitBounds& bounds,
 
 // The fit of one gamma whose rest-length groups are `groups`; `grouping` gets the fit's own
 // (one group per spring with per_spring).
-DisplacementFitResult fit_gamma(const analysis::Problem& problem,
-                                const CalibrationSettings& settings, const SpringMesh& mesh,
-                                const FitSetup& setup, const FitBounds& bounds, double gamma,
-                                const Grouping& groups, Grouping& grouping) {
+DisplacementFitResult fit_gamma(const SweepInputs& in, double gamma, const Grouping& groups,
+                                Grouping& grouping) {
+  const CalibrationSettings& settings = in.settings;
+  const SpringMesh& mesh = in.mesh;
   DisplacementFitOptions options;
   options.max_iterations = settings.max_iterations;
   options.min_stiffness_ratio = settings.min_stiffness_ratio;
-  options.youngs_modulus = problem.material.youngs_modulus;
+  options.youngs_modulus = in.problem.material.youngs_modulus;
   report_iterations(settings, gamma, options);
   if (settings.per_spring) {
     // Start from the grouped optimum: the per-spring problem is large and underdetermined.
     if (settings.per_spring_start.empty()) {
       options.grouping = groups;
-      options.initial = per_element_values(fit_displacements(setup.data, options));
+      options.initial = per_element_values(fit_displacements(in.setup.data, options));
     } else if (settings.per_spring_start.size() ==
                mesh.network.springs.size() + mesh.network.volumes.size()) {
       options.initial = settings.per_spring_start;
@@ -130,28 +139,26 @@ DisplacementFitResult fit_gamma(const analysis::Problem& problem,
     options.grouping = one_group_per_spring(mesh.network);
     if (settings.prior_weight > 0.0) {
       grouping = options.grouping;
-      return fit_with_prior(setup.data, options.initial, settings);
+      return fit_with_prior(in.setup.data, options.initial, settings);
     }
     options.regularization = settings.regularization;
     options.regularization_groups = groups;
   } else {
     options.grouping = groups;
   }
-  set_upper_bounds(mesh, bounds, options);
+  set_upper_bounds(mesh, in.bounds, options);
   grouping = options.grouping;
-  return fit_displacements(setup.data, options);
+  return fit_displacements(in.setup.data, options);
 }
 
 // Fits `gamma` into `entry` and scores the usable fit by the control-point error of a fresh
 // linear solve per fitted case; the best so far moves into `outcome`. Throws what the fit or
 // the solve throws (the caller records a std::runtime_error as the entry's failure).
-void fit_and_score(const analysis::Problem& problem, const CalibrationSettings& settings,
-                   const SpringMesh& mesh, const FitSetup& setup, const FitBounds& bounds,
-                   const Grouping& groups, SweepEntry& entry, SweepOutcome& outcome,
-                   double& best_score, bool& found) {
+void fit_and_score(const SweepInputs& in, const Grouping& groups, SweepEntry& entry,
+                   SweepOutcome& outcome, double& best_score, bool& found) {
+  const FitSetup& setup = in.setup;
   Grouping grouping;
-  DisplacementFitResult fit =
-      fit_gamma(problem, settings, mesh, setup, bounds, entry.gamma, groups, grouping);
+  DisplacementFitResult fit = fit_gamma(in, entry.gamma, groups, grouping);
   entry.parameters = grouping.num_groups();
   double sum = 0.0;
   for (double e : fit.percent_e_rms) sum += e * e;
@@ -162,7 +169,7 @@ void fit_and_score(const analysis::Problem& problem, const CalibrationSettings& 
   entry.volume_modulus = fit.volume_modulus;
   entry.failure = unusable_fit(fit);
   if (!entry.failure.empty()) return;
-  analysis::SpringNetwork network = mesh.network;
+  analysis::SpringNetwork network = in.mesh.network;
   set_fitted(network, fit, grouping);
   double score = 0.0;
   for (int c : setup.fitted) {
@@ -235,6 +242,7 @@ SweepOutcome sweep_gammas(const analysis::Problem& problem, const CalibrationSet
                           const SpringMesh& mesh, const FitSetup& setup, const FitBounds& bounds) {
   std::vector<double> gammas = settings.gamma_sweep;
   if (gammas.empty()) gammas.push_back(settings.gamma);
+  const SweepInputs inputs{problem, settings, mesh, setup, bounds};
   SweepOutcome outcome;
   std::vector<Grouping> rest_groupings;  // per sweep entry
   double best_score = INFINITY;
@@ -258,8 +266,7 @@ SweepOutcome sweep_gammas(const analysis::Problem& problem, const CalibrationSet
       continue;
     }
     try {
-      fit_and_score(problem, settings, mesh, setup, bounds, groups, entry, outcome, best_score,
-                    found);
+      fit_and_score(inputs, groups, entry, outcome, best_score, found);
     } catch (const nurbs::InputError&) {
       throw;  // bad settings or data: no gamma can do better
     } catch (const std::runtime_error& e) {
