@@ -84,7 +84,7 @@ void setup_analyze(CLI::App& app) {
       "OUTDIR/<load-case-id>_control_displacements.csv (i,x,y,z,ux,uy,uz per control point) and\n"
       "OUTDIR/result.vtm + OUTDIR/result/ (ParaView: sampled and Bezier geometry with\n"
       "displacement_<id>, stress_<id>, von_mises_<id>, strain_energy_density_<id>; control net).\n"
-      "Case-file format: README.md, section \"Case files\".");
+      "Case-file format: docs/case-files.md.");
   cmd->add_option("CASE", options->run.case_file, "Case file (.json)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -96,7 +96,7 @@ void setup_analyze(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "cholesky", "cg"}));
   cmd->add_option("--backend", options->run.backend,
                   "serial (default) or petsc: PETSc with MPI, distributed over the ranks of "
-                  "`mpirun -np N isospring analyze ...` (README, \"Running on a cluster\")")
+                  "`mpirun -np N isospring analyze ...` (docs/cluster.md)")
       ->check(CLI::IsMember({"serial", "petsc"}));
   cmd->add_option("--preconditioner", options->run.preconditioner,
                   "--backend petsc: gamg (smoothed aggregation with the rigid-body modes, "

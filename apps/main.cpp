@@ -40,7 +40,7 @@ void add_registered_commands(CLI::App& app) {
 }  // namespace isospring::apps
 
 int main(int argc, char** argv) {
-  // OMP_WAIT_POLICY=passive unless the user chose a policy (README, "Performance"): CHOLMOD's
+  // OMP_WAIT_POLICY=passive unless the user chose a policy (docs/performance.md): CHOLMOD's
   // OpenMP threads then sleep instead of spinning at barriers on a loaded machine. libgomp reads
   // it before main, so this re-executes the program once with it set.
   isospring::analysis::restart_with_passive_threads(argv);

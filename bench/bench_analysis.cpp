@@ -8,7 +8,7 @@
 // incomplete-Cholesky CG `--solver cg` used before, Eigen's default (Jacobi) CG on the upper
 // triangle and on both triangles, and block_cg.hpp's Jacobi and block-Jacobi CG (what
 // `--solver cg` uses now), each with its difference from CHOLMOD's answer. The side-by-side
-// table of README "Performance" is one run of
+// table of docs/performance.md is one run of
 //   bench_analysis --benchmark_filter='BM_(FactorCholmod|FactorEigenLDLT|Iterative[A-Za-z]*)/16/'
 // and one with /32 (without FactorEigenLDLT: hours); 32^3 needs about 5 GB and minutes.
 #include <benchmark/benchmark.h>

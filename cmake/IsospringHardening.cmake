@@ -1,4 +1,4 @@
-# Sanitizer and fuzzing instrumentation for every target of the project (README.md, "Hardening").
+# Sanitizer and fuzzing instrumentation for every target of the project (docs/hardening.md).
 #
 # ISOSPRING_SANITIZE: AddressSanitizer + UndefinedBehaviorSanitizer; any UB report is fatal
 # (-fno-sanitize-recover=all), as are ASan's (ASan always halts on its first error). Meant for a

@@ -1,6 +1,7 @@
 # isospring_module(NAME DEPS...): the library isospring_NAME (alias isospring::NAME) built from
-# NAME/src/**/*.cpp (subfolders group a module's sources by subject) with the public headers in NAME/include/isospring/NAME/. Every module is installed
-# (cmake/IsospringInstall.cmake) as isospring::NAME of the exported package.
+# NAME/src/**/*.cpp (subfolders group a module's sources by subject) with the public headers in
+# NAME/include/isospring/NAME/. Every module is installed (cmake/IsospringInstall.cmake) as
+# isospring::NAME of the exported package.
 function(isospring_module name)
   cmake_parse_arguments(ARG "" "" "PUBLIC;PRIVATE" ${ARGN})
   file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)

@@ -55,7 +55,7 @@ void solve_direct(const Problem& problem, const DofMap& dofs, const Constraints&
 // columns replaced by the identity: the system keeps its node blocks, and no reduced copy of K is
 // made. Why not incomplete Cholesky (what this was before): on the clamped 32^3 cube its
 // factor alone took longer than the whole block-Jacobi solve, for 114 instead of 189 iterations
-// (README "Performance").
+// (docs/performance.md).
 void solve_iterative(const Problem& problem, const DofMap& dofs, const Constraints& constraints,
                      const Eigen::SparseMatrix<double>& stiffness, const SolverOptions& options,
                      StaticResult& result) {

@@ -2,6 +2,7 @@
 #include "isospring/geometry/block_split.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -61,18 +62,24 @@ Patch sweep(const Patch& cross, const Hole& hole, double a0, double a1, const Kn
   return Patch({cross.knots(0), cross.knots(1), knots}, points, weights);
 }
 
-}  // namespace
+bool crosses(const Hole& h, int q) {
+  return h.b == q || h.c == q;
+}
 
-std::vector<Patch> split_block_region(const BlockRegion& region, double tolerance) {
-  if (!region.inside) refuse("the region has no inside test");
-  for (int q = 0; q < 3; ++q)
-    if (region.planes[static_cast<size_t>(q)].size() < 2)
-      refuse("the solid has fewer than two faces normal to axis " + std::to_string(q));
+std::vector<Ring*> ring_pointers(std::vector<Hole>& holes) {
+  std::vector<Ring*> rings;
+  for (Hole& h : holes) rings.push_back(&h.ring);
+  return rings;
+}
+
+// The holes with their rings (loops counter-clockwise, centres and extents) and their centres in
+// 3D; refuses holes without an axis, a length or curves.
+std::vector<Hole> block_holes(const BlockRegion& region, double tolerance) {
   std::vector<Hole> holes;
   for (size_t h = 0; h < region.holes.size(); ++h) {
     const ThroughHole& in = region.holes[h];
     Hole hole;
-    hole.name = "hole " + std::to_string(h + 1);
+    hole.name = hole_name(h);
     if (in.axis < 0 || in.axis > 2) refuse(hole.name + " has no axis 0, 1 or 2");
     if (!(in.to - in.from > tolerance)) refuse(hole.name + " has no length");
     if (in.loop.empty()) refuse(hole.name + " has no curves");
@@ -87,10 +94,14 @@ std::vector<Patch> split_block_region(const BlockRegion& region, double toleranc
     hole.axis_point[hole.c] = hole.ring.center.y();
     holes.push_back(hole);
   }
-  auto crosses = [](const Hole& h, int q) { return h.b == q || h.c == q; };
-  // Half sides of the squares: no face plane inside a square (the grid planes run through the
-  // whole solid); two holes apart by d along a common cross axis share d in proportion to their
-  // sizes; holes on one line (same coordinate on a common cross axis) get the same square.
+  return holes;
+}
+
+// Half sides of the squares: no face plane inside a square (the grid planes run through the
+// whole solid); two holes apart by d along a common cross axis share d in proportion to their
+// sizes; holes on one line (same coordinate on a common cross axis) get the same square. Refuses
+// overlapping holes and holes without room for a ring.
+void size_squares(const BlockRegion& region, double tolerance, std::vector<Hole>& holes) {
   for (Hole& h : holes) {
     for (int q : {h.b, h.c})
       for (double v : region.planes[static_cast<size_t>(q)]) {
@@ -115,23 +126,20 @@ std::vector<Patch> split_block_region(const BlockRegion& region, double toleranc
         refuse(h.name + " and " + k.name + " overlap");
     }
   }
-  for (size_t pass = 0; pass < holes.size(); ++pass)
-    for (Hole& h : holes)
-      for (Hole& k : holes)
-        for (int q = 0; q < 3; ++q)
-          if (&k != &h && crosses(h, q) && crosses(k, q) &&
-              std::abs(k.axis_point[q] - h.axis_point[q]) <= tolerance)
-            h.ring.half = k.ring.half = std::min(h.ring.half, k.ring.half);
-  for (const Hole& h : holes)
-    if (h.ring.extent > 0.9 * h.ring.half) {
-      std::ostringstream why;
-      why.precision(3);
-      why << h.name << " (half size " << h.ring.extent << ") is too close to a face or to "
-          << "another hole for a ring of patches (room: a square of half side " << h.ring.half
-          << ")";
-      refuse(why.str());
-    }
-  // The grid: face planes, the squares' sides and the holes' ends.
+  share_squares_in_line(ring_pointers(holes), [&](size_t i, size_t j) {
+    const Hole &h = holes[i], &k = holes[j];
+    for (int q = 0; q < 3; ++q)
+      if (crosses(h, q) && crosses(k, q) &&
+          std::abs(k.axis_point[q] - h.axis_point[q]) <= tolerance)
+        return true;
+    return false;
+  });
+  for (const Hole& h : holes) check_ring_room(h.ring, h.name, "a face");
+}
+
+// The grid planes along each axis: face planes, the squares' sides and the holes' ends.
+std::array<std::vector<double>, 3> grid_planes(const BlockRegion& region,
+                                               const std::vector<Hole>& holes, double tolerance) {
   std::array<std::vector<double>, 3> grid;
   for (int q = 0; q < 3; ++q) {
     std::vector<double> values = region.planes[static_cast<size_t>(q)];
@@ -146,69 +154,75 @@ std::vector<Patch> split_block_region(const BlockRegion& region, double toleranc
     }
     grid[static_cast<size_t>(q)] = merged(values, tolerance);
   }
-  auto at = [&](int q, int i) { return grid[static_cast<size_t>(q)][static_cast<size_t>(i)]; };
-  auto index = [&](int q, double v) {
-    return grid_index(grid[static_cast<size_t>(q)], v, tolerance);
-  };
+  return grid;
+}
+
+// The grid and its knots, with the lookups every later stage uses.
+struct BlockGrid {
+  std::array<std::vector<double>, 3> planes;     // grid planes per axis
+  std::array<std::vector<KnotVector>, 3> knots;  // per grid slab along each axis
+
+  const std::vector<double>& along(int q) const { return planes[static_cast<size_t>(q)]; }
+  double at(int q, int i) const { return planes[static_cast<size_t>(q)][static_cast<size_t>(i)]; }
+  const KnotVector& slab_knots(int q, int i) const {
+    return knots[static_cast<size_t>(q)][static_cast<size_t>(i)];
+  }
+};
+
+// Each hole in its grid cells (its square one cell across, its length whole slabs), its loop cut
+// into quarters on the square.
+void place_holes(const BlockGrid& grid, double tolerance, std::vector<Hole>& holes) {
   for (Hole& h : holes) {
     Ring& ring = h.ring;
-    ring.col = index(h.b, h.axis_point[h.b] - ring.half);
-    ring.row = index(h.c, h.axis_point[h.c] - ring.half);
-    if (ring.col + 1 != index(h.b, h.axis_point[h.b] + ring.half) ||
-        ring.row + 1 != index(h.c, h.axis_point[h.c] + ring.half))
-      refuse("a cut plane crosses the square around " + h.name);
-    h.slab0 = index(h.axis, h.from);
-    h.slab1 = index(h.axis, h.to);
-    cut_quarters(ring, at(h.b, ring.col), at(h.b, ring.col + 1), at(h.c, ring.row),
-                 at(h.c, ring.row + 1), h.name);
+    place_ring(ring, grid.along(h.b), grid.along(h.c), tolerance, h.name, "plane");
+    h.slab0 = grid_index(grid.along(h.axis), h.from, tolerance);
+    h.slab1 = grid_index(grid.along(h.axis), h.to, tolerance);
+    const Square square = grid_square(ring, grid.along(h.b), grid.along(h.c));
+    cut_quarters(ring, square.x0, square.x1, square.y0, square.y1, h.name);
   }
-  // One degree everywhere; per grid slab the union of the knots of the quarters along it.
-  int degree = 2;
-  for (const Hole& h : holes)
-    for (const Patch* q : {&h.ring.below, &h.ring.right, &h.ring.above, &h.ring.left})
-      degree = std::max(degree, q->degree(0));
+}
+
+// One degree everywhere; per grid slab the union of the knots of the quarters along it.
+std::array<std::vector<KnotVector>, 3> grid_knots(const BlockGrid& grid, std::vector<Hole>& holes) {
+  const int degree = ring_degree(ring_pointers(holes));
   std::array<std::vector<KnotVector>, 3> knots;
   for (int q = 0; q < 3; ++q)
-    for (size_t i = 0; i + 1 < grid[static_cast<size_t>(q)].size(); ++i) {
+    for (size_t i = 0; i + 1 < grid.along(q).size(); ++i) {
       std::vector<Patch*> quarters;
-      for (Hole& h : holes) {
-        if (h.b == q && h.ring.col == static_cast<int>(i)) {
-          quarters.push_back(&h.ring.below);
-          quarters.push_back(&h.ring.above);
-        }
-        if (h.c == q && h.ring.row == static_cast<int>(i)) {
-          quarters.push_back(&h.ring.left);
-          quarters.push_back(&h.ring.right);
-        }
-      }
+      for (Hole& h : holes)
+        add_quarters_along(h.ring, h.b == q, h.c == q, static_cast<int>(i), quarters);
       knots[static_cast<size_t>(q)].push_back(common_knots(quarters, degree));
     }
-  auto slab_knots = [&](int q, int i) -> const KnotVector& {
-    return knots[static_cast<size_t>(q)][static_cast<size_t>(i)];
-  };
+  return knots;
+}
+
+// Each hole's four ring patches in its cross plane; refuses a hole whose ring cells are not solid
+// (a point between the loop and the square's corner, in every slab along the hole).
+void ring_cells(const BlockRegion& region, const BlockGrid& grid, std::vector<Hole>& holes) {
   for (Hole& h : holes) {
     const Ring& r = h.ring;
-    const double x0 = at(h.b, r.col), x1 = at(h.b, r.col + 1), y0 = at(h.c, r.row),
-                 y1 = at(h.c, r.row + 1);
-    const Vector3d bl(x0, y0, 0), br(x1, y0, 0), tl(x0, y1, 0), tr(x1, y1, 0);
-    const KnotVector &along_x = slab_knots(h.b, r.col), &along_y = slab_knots(h.c, r.row);
-    h.cross_patches = {ring_patch(r.below, line(bl, br, along_x), true, h.name),
-                       ring_patch(r.right, line(br, tr, along_y), true, h.name),
-                       ring_patch(r.above, line(tl, tr, along_x), true, h.name),
-                       ring_patch(r.left, line(bl, tl, along_y), true, h.name)};
-    // The ring's cells must be solid: a point between the loop and the square's corner.
+    const Square square = grid_square(r, grid.along(h.b), grid.along(h.c));
+    h.cross_patches = square_ring_patches(r, square, grid.slab_knots(h.b, r.col),
+                                          grid.slab_knots(h.c, r.row), h.name);
     for (int s = h.slab0; s < h.slab1; ++s) {
       Vector3d corner;
-      corner[h.b] = x0 + 0.02 * (x1 - x0);
-      corner[h.c] = y0 + 0.02 * (y1 - y0);
-      corner[h.axis] = (at(h.axis, s) + at(h.axis, s + 1)) / 2.0;
+      corner[h.b] = square.x0 + 0.02 * (square.x1 - square.x0);
+      corner[h.c] = square.y0 + 0.02 * (square.y1 - square.y0);
+      corner[h.axis] = (grid.at(h.axis, s) + grid.at(h.axis, s + 1)) / 2.0;
       if (!region.inside(corner))
         refuse(h.name + " does not run through solid material over its length");
     }
   }
+}
+
+// The patches cell by cell (axis 0 fastest): a hole's four swept ring patches in its slabs, or a
+// box where the cell is inside the solid.
+std::vector<Patch> grid_patches(const BlockRegion& region, const BlockGrid& grid,
+                                const std::vector<Hole>& holes) {
   std::vector<Patch> patches;
-  const int n0 = static_cast<int>(grid[0].size()) - 1, n1 = static_cast<int>(grid[1].size()) - 1,
-            n2 = static_cast<int>(grid[2].size()) - 1;
+  const int n0 = static_cast<int>(grid.planes[0].size()) - 1,
+            n1 = static_cast<int>(grid.planes[1].size()) - 1,
+            n2 = static_cast<int>(grid.planes[2].size()) - 1;
   for (int k = 0; k < n2; ++k)
     for (int j = 0; j < n1; ++j)
       for (int i = 0; i < n0; ++i) {
@@ -221,16 +235,36 @@ std::vector<Patch> split_block_region(const BlockRegion& region, double toleranc
         if (hole != holes.end()) {
           const int s = cell[static_cast<size_t>(hole->axis)];
           for (const Patch& cross : hole->cross_patches)
-            patches.push_back(sweep(cross, *hole, at(hole->axis, s), at(hole->axis, s + 1),
-                                    slab_knots(hole->axis, s)));
+            patches.push_back(sweep(cross, *hole, grid.at(hole->axis, s),
+                                    grid.at(hole->axis, s + 1), grid.slab_knots(hole->axis, s)));
           continue;
         }
-        const Vector3d lo(at(0, i), at(1, j), at(2, k)),
-            hi(at(0, i + 1), at(1, j + 1), at(2, k + 1));
+        const Vector3d lo(grid.at(0, i), grid.at(1, j), grid.at(2, k)),
+            hi(grid.at(0, i + 1), grid.at(1, j + 1), grid.at(2, k + 1));
         if (!region.inside((lo + hi) / 2.0)) continue;
-        patches.push_back(box(lo, hi, {slab_knots(0, i), slab_knots(1, j), slab_knots(2, k)}));
+        patches.push_back(
+            box(lo, hi, {grid.slab_knots(0, i), grid.slab_knots(1, j), grid.slab_knots(2, k)}));
       }
   return patches;
+}
+
+}  // namespace
+
+// The stages in order: the holes, their squares, the grid, the holes in their cells, the knots,
+// the ring patches, the patches cell by cell.
+std::vector<Patch> split_block_region(const BlockRegion& region, double tolerance) {
+  if (!region.inside) refuse("the region has no inside test");
+  for (int q = 0; q < 3; ++q)
+    if (region.planes[static_cast<size_t>(q)].size() < 2)
+      refuse("the solid has fewer than two faces normal to axis " + std::to_string(q));
+  std::vector<Hole> holes = block_holes(region, tolerance);
+  size_squares(region, tolerance, holes);
+  BlockGrid grid;
+  grid.planes = grid_planes(region, holes, tolerance);
+  place_holes(grid, tolerance, holes);
+  grid.knots = grid_knots(grid, holes);
+  ring_cells(region, grid, holes);
+  return grid_patches(region, grid, holes);
 }
 
 }  // namespace isospring::geometry

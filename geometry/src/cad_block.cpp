@@ -13,6 +13,7 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Wire.hxx>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -72,10 +73,9 @@ std::optional<int> axis_of(const Eigen::Matrix3d& frame, const Vector3d& d) {
   return std::nullopt;
 }
 
-bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::Patch>& patches,
-                   std::string& why, std::string& remark) {
-  const double tolerance = std::max(4.0 * BRep_Tool::MaxTolerance(solid, TopAbs_VERTEX), 1e-9);
-  // The frame: the first planar face's normal and the first one normal to it.
+// The block's axes: the first planar face's normal and the first one normal to it (columns of
+// `frame`, right-handed); false (with why) when there are no such faces.
+bool block_frame(const TopoDS_Shape& solid, Eigen::Matrix3d& frame, std::string& why) {
   std::vector<Vector3d> normals;
   for (TopExp_Explorer f(solid, TopAbs_FACE); f.More(); f.Next()) {
     const BRepAdaptor_Surface s(TopoDS::Face(f.Current()));
@@ -85,7 +85,6 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
     why = "not an orthogonal block (no planar face)";
     return false;
   }
-  Eigen::Matrix3d frame;
   frame.col(0) = normals.front();
   const auto second = std::find_if(normals.begin(), normals.end(), [&](const Vector3d& n) {
     return std::abs(n.dot(normals.front())) < kParallel;
@@ -96,12 +95,53 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
   }
   frame.col(1) = *second;
   frame.col(2) = frame.col(0).cross(frame.col(1));
+  return true;
+}
+
+// What the faces tell in the frame's coordinates: the face planes per axis, the ends of the holes
+// (inner wires of the planar faces) and the cylindrical hole walls.
+struct BlockFaces {
+  std::array<std::vector<double>, 3> planes;  // BlockRegion::planes
+  std::vector<HoleEnd> ends;
+  std::vector<Cylinder> cylinders;
+};
+
+// The inner wires of a planar face normal to axis q at coordinate `level`, as hole ends. Throws
+// std::runtime_error when an edge leaves the face's plane.
+void add_hole_ends(const TopoDS_Face& face, int q, double level, const Eigen::Matrix3d& frame,
+                   double tolerance, std::vector<HoleEnd>& ends) {
+  const int b = (q + 1) % 3, c = (q + 2) % 3;
+  const TopoDS_Wire outer = BRepTools::OuterWire(face);
+  for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) {
+    const TopoDS_Wire wire = TopoDS::Wire(w.Current());
+    if (wire.IsSame(outer)) continue;
+    HoleEnd end;
+    end.axis = q;
+    end.level = level;
+    int points = 0;
+    for (BRepTools_WireExplorer e(wire, face); e.More(); e.Next()) {
+      nurbs::Patch curve = edge_curve(e.Current());
+      for (int i = 0; i < curve.num_points(); ++i) {
+        const Vector3d x = frame.transpose() * curve.control_point(i);
+        if (std::abs(x[q] - level) > tolerance) throw std::runtime_error("an edge leaves its face");
+        curve.set_control_point(i, Vector3d(x[b], x[c], 0.0));
+        end.mid += Vector3d(x[b], x[c], 0.0);
+        ++points;
+      }
+      end.loop.push_back(curve);
+    }
+    end.mid /= std::max(points, 1);
+    ends.push_back(end);
+  }
+}
+
+// Every face is a plane normal to an axis of the frame or a straight hole wall along one; false
+// (with why) otherwise or when OpenCascade cannot convert an edge.
+bool read_block_faces(const TopoDS_Shape& solid, const Eigen::Matrix3d& frame, double tolerance,
+                      BlockFaces& out, std::string& why) {
   auto local = [&](const gp_Pnt& p) -> Vector3d {
     return frame.transpose() * Vector3d(p.X(), p.Y(), p.Z());
   };
-  BlockRegion region;
-  std::vector<HoleEnd> ends;
-  std::vector<Cylinder> cylinders;
   try {
     for (TopExp_Explorer f(solid, TopAbs_FACE); f.More(); f.Next()) {
       const TopoDS_Face face = TopoDS::Face(f.Current());
@@ -115,7 +155,7 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
           return false;
         }
         if (s.GetType() == GeomAbs_Cylinder)
-          cylinders.push_back({*axis, local(s.Cylinder().Location()), s.Cylinder().Radius()});
+          out.cylinders.push_back({*axis, local(s.Cylinder().Location()), s.Cylinder().Radius()});
         continue;  // a hole wall: the holes come from the inner wires of the planar faces
       }
       if (s.GetType() != GeomAbs_Plane) {
@@ -127,32 +167,10 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
         why = "not an orthogonal block (a planar face is slanted)";
         return false;
       }
-      const int q = *axis, b = (q + 1) % 3, c = (q + 2) % 3;
+      const int q = *axis;
       const double level = local(s.Plane().Location())[q];
-      region.planes[static_cast<size_t>(q)].push_back(level);
-      const TopoDS_Wire outer = BRepTools::OuterWire(face);
-      for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) {
-        const TopoDS_Wire wire = TopoDS::Wire(w.Current());
-        if (wire.IsSame(outer)) continue;
-        HoleEnd end;
-        end.axis = q;
-        end.level = level;
-        int points = 0;
-        for (BRepTools_WireExplorer e(wire, face); e.More(); e.Next()) {
-          nurbs::Patch curve = edge_curve(e.Current());
-          for (int i = 0; i < curve.num_points(); ++i) {
-            const Vector3d x = frame.transpose() * curve.control_point(i);
-            if (std::abs(x[q] - level) > tolerance)
-              throw std::runtime_error("an edge leaves its face");
-            curve.set_control_point(i, Vector3d(x[b], x[c], 0.0));
-            end.mid += Vector3d(x[b], x[c], 0.0);
-            ++points;
-          }
-          end.loop.push_back(curve);
-        }
-        end.mid /= std::max(points, 1);
-        ends.push_back(end);
-      }
+      out.planes[static_cast<size_t>(q)].push_back(level);
+      add_hole_ends(face, q, level, frame, tolerance, out.ends);
     }
   } catch (const Standard_Failure& e) {
     why = std::string("not an orthogonal block (OpenCascade cannot convert an edge: ") +
@@ -162,10 +180,40 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
     why = std::string("not an orthogonal block (") + e.what() + ")";
     return false;
   }
-  // The ends of one hole: inner wires of faces normal to one axis with the same loop centre,
-  // paired in order along it (a bore through two walls has four ends).
+  return true;
+}
+
+// The hole from `entry` to `exit` (ends of one hole, entry.level < exit.level). A hole whose wall
+// is a cylinder is built from the cylinder, exactly: CAD programs may store its edges as
+// polynomial fits (the CAx-IF L-bracket: degree 5, 4.6e-6 short of the circle's area at one end,
+// exact arcs at the other).
+ThroughHole through_hole(const HoleEnd& entry, const HoleEnd& exit,
+                         const std::vector<Cylinder>& cylinders) {
+  ThroughHole hole;
+  hole.axis = entry.axis;
+  hole.from = entry.level;
+  hole.to = exit.level;
+  hole.loop = entry.loop;
+  const int b = (hole.axis + 1) % 3, c = (hole.axis + 2) % 3;
+  for (const Cylinder& cylinder : cylinders)
+    if (cylinder.axis == hole.axis && on_cylinder(entry.loop, b, c, cylinder) &&
+        on_cylinder(exit.loop, b, c, cylinder)) {
+      hole.loop = {circular_arc(Vector3d(cylinder.point[b], cylinder.point[c], 0.0),
+                                cylinder.radius, 0.0, 2.0 * M_PI)};
+      break;
+    }
+  return hole;
+}
+
+// The ends of one hole: inner wires of faces normal to one axis with the same loop centre, paired
+// in order along it (a bore through two walls has four ends). Adds to `allowance` [m^3] the
+// file's own disagreement between each hole's ends (and the loop used), times its length:
+// OpenCascade's volume of such a solid is uncertain by as much. False (with why) when a hole ends
+// inside the solid.
+bool pair_hole_ends(const BlockFaces& faces, double tolerance, std::vector<ThroughHole>& holes,
+                    double& allowance, std::string& why) {
+  const std::vector<HoleEnd>& ends = faces.ends;
   std::vector<bool> used(ends.size(), false);
-  double allowance = 0.0;  // m^3
   for (size_t i = 0; i < ends.size(); ++i) {
     if (used[i]) continue;
     std::vector<size_t> same;
@@ -182,40 +230,30 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
               [&](size_t a, size_t b) { return ends[a].level < ends[b].level; });
     for (size_t k = 0; k < same.size(); k += 2) {
       const HoleEnd &entry = ends[same[k]], &exit = ends[same[k + 1]];
-      ThroughHole hole;
-      hole.axis = entry.axis;
-      hole.from = entry.level;
-      hole.to = exit.level;
-      hole.loop = entry.loop;
-      // A hole whose wall is a cylinder is built from the cylinder, exactly: CAD programs may
-      // store its edges as polynomial fits (the CAx-IF L-bracket: degree 5, 4.6e-6 short of the
-      // circle's area at one end, exact arcs at the other).
-      const int b = (hole.axis + 1) % 3, c = (hole.axis + 2) % 3;
-      for (const Cylinder& cylinder : cylinders)
-        if (cylinder.axis == hole.axis && on_cylinder(entry.loop, b, c, cylinder) &&
-            on_cylinder(exit.loop, b, c, cylinder)) {
-          hole.loop = {circular_arc(Vector3d(cylinder.point[b], cylinder.point[c], 0.0),
-                                    cylinder.radius, 0.0, 2.0 * M_PI)};
-          break;
-        }
-      // The file's own disagreement between the hole's ends (and the loop used), times its
-      // length: OpenCascade's volume of such a solid is uncertain by as much.
+      const ThroughHole hole = through_hole(entry, exit, faces.cylinders);
       const double used = planar_split_detail::enclosed_area(hole.loop);
       const double spread =
           std::max(std::abs(planar_split_detail::enclosed_area(entry.loop) - used),
                    std::abs(planar_split_detail::enclosed_area(exit.loop) - used));
       allowance += spread * (hole.to - hole.from);
-      region.holes.push_back(hole);
+      holes.push_back(hole);
     }
     for (size_t j : same) used[j] = true;
   }
+  return true;
+}
+
+// The region cut into conforming patches (split_block_region, inside test by OpenCascade's
+// classifier), back in global coordinates; false (with why) when it cannot be cut or a patch has
+// a Jacobian <= 0.
+bool cut_block(const TopoDS_Shape& solid, const Eigen::Matrix3d& frame, double tolerance,
+               BlockRegion& region, std::vector<nurbs::Patch>& cut, std::string& why) {
   BRepClass3d_SolidClassifier classifier(solid);
   region.inside = [&](const Vector3d& x) {
     const Vector3d p = frame * x;
     classifier.Perform(gp_Pnt(p.x(), p.y(), p.z()), tolerance);
     return classifier.State() == TopAbs_IN;
   };
-  std::vector<nurbs::Patch> cut;
   try {
     cut = split_block_region(region, tolerance);
   } catch (const std::exception& e) {
@@ -229,6 +267,13 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
             " of its cut has a Jacobian <= 0";
       return false;
     }
+  return true;
+}
+
+// The cut's volume must be OpenCascade's to 1e-9, or to within `allowance` (then `remark` says
+// so; otherwise it is cleared); false (with why) otherwise.
+bool block_volume_matches(const std::vector<nurbs::Patch>& cut, double volume, double allowance,
+                          std::string& why, std::string& remark) {
   const double measured = measure(cut);
   const double mismatch = std::abs(measured - volume);
   std::ostringstream out;
@@ -248,6 +293,25 @@ bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::
            "by the CAD program); the holes are built from their cylindrical walls";
     remark = out.str();
   }
+  return true;
+}
+
+// The stages in order: the block's axes, its faces (planes, hole ends, hole walls), the holes,
+// the cut, and the check against OpenCascade's volume.
+bool block_patches(const TopoDS_Shape& solid, double volume, std::vector<nurbs::Patch>& patches,
+                   std::string& why, std::string& remark) {
+  const double tolerance = std::max(4.0 * BRep_Tool::MaxTolerance(solid, TopAbs_VERTEX), 1e-9);
+  Eigen::Matrix3d frame;
+  if (!block_frame(solid, frame, why)) return false;
+  BlockFaces faces;
+  if (!read_block_faces(solid, frame, tolerance, faces, why)) return false;
+  BlockRegion region;
+  region.planes = faces.planes;
+  double allowance = 0.0;  // m^3
+  if (!pair_hole_ends(faces, tolerance, region.holes, allowance, why)) return false;
+  std::vector<nurbs::Patch> cut;
+  if (!cut_block(solid, frame, tolerance, region, cut, why)) return false;
+  if (!block_volume_matches(cut, volume, allowance, why, remark)) return false;
   patches = std::move(cut);
   return true;
 }

@@ -138,132 +138,175 @@ bool prism_patch(const TopoDS_Shape& solid, const TopTools_IndexedMapOfShape& fa
   return false;
 }
 
-bool hexahedron_patch(const TopoDS_Shape& solid,
-                      const std::function<const nurbs::Patch*(const TopoDS_Shape&)>& natural_patch,
-                      nurbs::Patch& patch, std::string& why) {
+// The solid's topology as a block: its vertices, edges and faces, which vertices each vertex is
+// joined to and by which edge, the vertices' positions and the block's corner numbering.
+struct HexTopology {
   TopTools_IndexedMapOfShape vertices, edges, faces;
-  TopExp::MapShapes(solid, TopAbs_VERTEX, vertices);
-  TopExp::MapShapes(solid, TopAbs_EDGE, edges);
-  TopExp::MapShapes(solid, TopAbs_FACE, faces);
+  std::array<std::set<int>, 8> adjacent;            // 0-based vertex -> its 3 neighbours
+  std::map<std::pair<int, int>, int> edge_between;  // (vertex, vertex), smaller first -> edge
+  std::array<Eigen::Vector3d, 8> x;                 // vertex positions
+  std::array<int, 8> order{};                       // corner i + 2 j + 4 k -> vertex
+};
+
+// 8 vertices, 12 edges, 6 faces of one wire of 4 edges each, every vertex joining 3 edges; false
+// (with why) otherwise.
+bool hexahedral_topology(const TopoDS_Shape& solid, HexTopology& t, std::string& why) {
+  TopExp::MapShapes(solid, TopAbs_VERTEX, t.vertices);
+  TopExp::MapShapes(solid, TopAbs_EDGE, t.edges);
+  TopExp::MapShapes(solid, TopAbs_FACE, t.faces);
   std::ostringstream counts;
-  counts << vertices.Extent() << " vertices, " << edges.Extent() << " edges, " << faces.Extent()
-         << " faces";
-  if (vertices.Extent() != 8 || edges.Extent() != 12 || faces.Extent() != 6) {
+  counts << t.vertices.Extent() << " vertices, " << t.edges.Extent() << " edges, "
+         << t.faces.Extent() << " faces";
+  if (t.vertices.Extent() != 8 || t.edges.Extent() != 12 || t.faces.Extent() != 6) {
     why = "not hexahedral (" + counts.str() + "; a block needs 8, 12 and 6)";
     return false;
   }
   for (int f = 1; f <= 6; ++f) {
     TopTools_IndexedMapOfShape wires;
-    TopExp::MapShapes(faces(f), TopAbs_WIRE, wires);
-    if (wires.Extent() != 1 || outer_wire_edges(TopoDS::Face(faces(f))) != 4) {
+    TopExp::MapShapes(t.faces(f), TopAbs_WIRE, wires);
+    if (wires.Extent() != 1 || outer_wire_edges(TopoDS::Face(t.faces(f))) != 4) {
       why = "not hexahedral (a face is not bounded by one loop of 4 edges)";
       return false;
     }
   }
-  std::array<std::set<int>, 8> adjacent;
-  std::map<std::pair<int, int>, int> edge_between;  // (vertex, vertex) -> edge index
   for (int e = 1; e <= 12; ++e) {
     TopoDS_Vertex a, b;
-    TopExp::Vertices(TopoDS::Edge(edges(e)), a, b);
-    const int i = vertices.FindIndex(a) - 1, j = vertices.FindIndex(b) - 1;
-    if (i < 0 || j < 0 || i == j || edge_between.count({std::min(i, j), std::max(i, j)})) {
+    TopExp::Vertices(TopoDS::Edge(t.edges(e)), a, b);
+    const int i = t.vertices.FindIndex(a) - 1, j = t.vertices.FindIndex(b) - 1;
+    if (i < 0 || j < 0 || i == j || t.edge_between.count({std::min(i, j), std::max(i, j)})) {
       why = "not hexahedral (a closed or doubled edge)";
       return false;
     }
-    edge_between[{std::min(i, j), std::max(i, j)}] = e;
-    adjacent[static_cast<size_t>(i)].insert(j);
-    adjacent[static_cast<size_t>(j)].insert(i);
+    t.edge_between[{std::min(i, j), std::max(i, j)}] = e;
+    t.adjacent[static_cast<size_t>(i)].insert(j);
+    t.adjacent[static_cast<size_t>(j)].insert(i);
   }
-  for (const auto& a : adjacent)
+  for (const auto& a : t.adjacent)
     if (a.size() != 3) {
       why = "not hexahedral (a vertex does not join exactly 3 edges)";
       return false;
     }
-  std::array<Eigen::Vector3d, 8> x;
+  return true;
+}
+
+// The vertices' positions and the corner numbering (number_corners); false (with why) when the
+// corners cannot be numbered consistently.
+bool corners_of(HexTopology& t, std::string& why) {
   for (int v = 0; v < 8; ++v) {
-    const gp_Pnt p = BRep_Tool::Pnt(TopoDS::Vertex(vertices(v + 1)));
-    x[static_cast<size_t>(v)] = {p.X(), p.Y(), p.Z()};
+    const gp_Pnt p = BRep_Tool::Pnt(TopoDS::Vertex(t.vertices(v + 1)));
+    t.x[static_cast<size_t>(v)] = {p.X(), p.Y(), p.Z()};
   }
-  std::array<int, 8> order{};
-  if (!number_corners(adjacent, x, order)) {
+  if (!number_corners(t.adjacent, t.x, t.order)) {
     why = "not hexahedral (no consistent numbering of the corners)";
     return false;
   }
-  bool prismatic = false;
+  return true;
+}
+
+// edge[d][a + 2 b]: the edge along direction d at the other two directions' ends a, b (in
+// increasing direction order).
+using BlockEdges = std::array<std::array<nurbs::Patch, 4>, 3>;
+
+// The 12 edges as curves from corner to corner, ends snapped onto the shared vertices (they may be
+// off by the vertex tolerance), compatible per direction. Throws std::runtime_error when an edge
+// ends farther than twice the vertex tolerance from its vertex.
+BlockEdges block_edges(const HexTopology& t, double vertex_tolerance) {
+  BlockEdges edge;
+  for (int d = 0; d < 3; ++d) {
+    std::vector<nurbs::Patch> curves;
+    for (int ab = 0; ab < 4; ++ab) {
+      const int a = ab & 1, b = ab >> 1;
+      // Corner indices of the edge's start (direction d at 0) and end (at 1).
+      std::array<int, 3> ijk{};
+      const int other0 = d == 0 ? 1 : 0, other1 = d == 2 ? 1 : 2;
+      ijk[static_cast<size_t>(other0)] = a;
+      ijk[static_cast<size_t>(other1)] = b;
+      ijk[static_cast<size_t>(d)] = 0;
+      const int s = t.order[static_cast<size_t>(ijk[0] + 2 * ijk[1] + 4 * ijk[2])];
+      ijk[static_cast<size_t>(d)] = 1;
+      const int e_end = t.order[static_cast<size_t>(ijk[0] + 2 * ijk[1] + 4 * ijk[2])];
+      const TopoDS_Edge e =
+          TopoDS::Edge(t.edges(t.edge_between.at({std::min(s, e_end), std::max(s, e_end)}))
+                           .Oriented(TopAbs_FORWARD));
+      nurbs::Patch c = edge_curve(e);
+      TopoDS_Vertex first, second;
+      TopExp::Vertices(e, first, second);
+      if (t.vertices.FindIndex(first) - 1 != s) c = reverse_direction(c, 0);
+      for (auto [index, corner] : {std::pair{0, s}, std::pair{c.num_points() - 1, e_end}}) {
+        const double gap = (c.control_point(index) - t.x[static_cast<size_t>(corner)]).norm();
+        if (gap > 2.0 * vertex_tolerance + 1e-12)
+          throw std::runtime_error("an edge ends " + std::to_string(gap) + " m from its vertex");
+        c.set_control_point(index, t.x[static_cast<size_t>(corner)]);
+      }
+      curves.push_back(c);
+    }
+    const std::vector<nurbs::Patch> compatible = make_compatible(curves);
+    for (int ab = 0; ab < 4; ++ab)
+      edge[static_cast<size_t>(d)][static_cast<size_t>(ab)] = compatible[static_cast<size_t>(ab)];
+  }
+  return edge;
+}
+
+// Faces u=a over (v, w), v=b over (u, w), w=c over (u, v) as Coons patches of their edges
+// (coons_patch(bottom, right, top, left) with bottom/top along the first face direction).
+std::array<nurbs::Patch, 6> block_faces(const BlockEdges& edge) {
+  auto E = [&](int d, int a, int b) -> const nurbs::Patch& {
+    return edge[static_cast<size_t>(d)][static_cast<size_t>(a + 2 * b)];
+  };
+  std::array<nurbs::Patch, 6> face_patch;
+  for (int e = 0; e < 2; ++e) {
+    face_patch[static_cast<size_t>(e)] =
+        coons_patch(E(1, e, 0), E(2, e, 1), E(1, e, 1), E(2, e, 0));
+    face_patch[static_cast<size_t>(2 + e)] =
+        coons_patch(E(0, e, 0), E(2, 1, e), E(0, e, 1), E(2, 0, e));
+    face_patch[static_cast<size_t>(4 + e)] =
+        coons_patch(E(0, 0, e), E(1, 1, e), E(0, 1, e), E(1, 0, e));
+  }
+  return face_patch;
+}
+
+// Each Coons face must be the CAD face with the same corners; false (with why naming the first
+// that is not) otherwise.
+bool faces_are_blends(const TopoDS_Shape& solid, const HexTopology& t,
+                      const std::array<nurbs::Patch, 6>& face_patch, double vertex_tolerance,
+                      double size, std::string& why) {
+  for (int f = 0; f < 6; ++f) {
+    const nurbs::Patch& p = face_patch[static_cast<size_t>(f)];
+    const Eigen::Vector3d mid = p.point({0.5, 0.5, 0});
+    const int g = face_with_corners(t.faces, p, 2.0 * vertex_tolerance + 1e-12);
+    const double best = g > 0 ? surface_deviation(p, TopoDS::Face(t.faces(g))) : INFINITY;
+    const double tolerance = std::max(1e-9 * size, BRep_Tool::MaxTolerance(solid, TopAbs_EDGE));
+    if (!(best <= tolerance)) {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << "hexahedral, but the face near (" << mid.transpose() << ") is not the blend of "
+          << "its edges (" << (std::isfinite(best) ? std::to_string(best) + " m off" : "no match")
+          << ")";
+      why = msg.str();
+      return false;
+    }
+  }
+  return true;
+}
+
+// The trivariate Coons volume of the faces' Coons patches or, when a face is not the blend of its
+// edges, the extrusion of a natural face (`prismatic`); false (with why) when it is neither or
+// OpenCascade or a construction fails.
+bool block_volume(const TopoDS_Shape& solid, const HexTopology& t,
+                  const std::function<const nurbs::Patch*(const TopoDS_Shape&)>& natural_patch,
+                  nurbs::Patch& patch, bool& prismatic, std::string& why) {
   try {
-    // The 12 edges as curves from corner to corner, ends snapped onto the shared vertices (they
-    // may be off by the vertex tolerance), compatible per direction. edge[d][a + 2 b]: along
-    // direction d at the other two directions' ends a, b (in increasing direction order).
     const double vertex_tolerance = BRep_Tool::MaxTolerance(solid, TopAbs_VERTEX);
-    std::array<std::array<nurbs::Patch, 4>, 3> edge;
-    for (int d = 0; d < 3; ++d) {
-      std::vector<nurbs::Patch> curves;
-      for (int ab = 0; ab < 4; ++ab) {
-        const int a = ab & 1, b = ab >> 1;
-        // Corner indices of the edge's start (direction d at 0) and end (at 1).
-        std::array<int, 3> ijk{};
-        const int other0 = d == 0 ? 1 : 0, other1 = d == 2 ? 1 : 2;
-        ijk[static_cast<size_t>(other0)] = a;
-        ijk[static_cast<size_t>(other1)] = b;
-        ijk[static_cast<size_t>(d)] = 0;
-        const int s = order[static_cast<size_t>(ijk[0] + 2 * ijk[1] + 4 * ijk[2])];
-        ijk[static_cast<size_t>(d)] = 1;
-        const int t = order[static_cast<size_t>(ijk[0] + 2 * ijk[1] + 4 * ijk[2])];
-        const TopoDS_Edge e = TopoDS::Edge(
-            edges(edge_between.at({std::min(s, t), std::max(s, t)})).Oriented(TopAbs_FORWARD));
-        nurbs::Patch c = edge_curve(e);
-        TopoDS_Vertex first, second;
-        TopExp::Vertices(e, first, second);
-        if (vertices.FindIndex(first) - 1 != s) c = reverse_direction(c, 0);
-        for (auto [index, corner] : {std::pair{0, s}, std::pair{c.num_points() - 1, t}}) {
-          const double gap = (c.control_point(index) - x[static_cast<size_t>(corner)]).norm();
-          if (gap > 2.0 * vertex_tolerance + 1e-12)
-            throw std::runtime_error("an edge ends " + std::to_string(gap) + " m from its vertex");
-          c.set_control_point(index, x[static_cast<size_t>(corner)]);
-        }
-        curves.push_back(c);
-      }
-      const std::vector<nurbs::Patch> compatible = make_compatible(curves);
-      for (int ab = 0; ab < 4; ++ab)
-        edge[static_cast<size_t>(d)][static_cast<size_t>(ab)] = compatible[static_cast<size_t>(ab)];
-    }
-    auto E = [&](int d, int a, int b) -> const nurbs::Patch& {
-      return edge[static_cast<size_t>(d)][static_cast<size_t>(a + 2 * b)];
-    };
-    // Faces u=a over (v, w), v=b over (u, w), w=c over (u, v) as Coons patches of their edges
-    // (coons_patch(bottom, right, top, left) with bottom/top along the first face direction).
-    std::array<nurbs::Patch, 6> face_patch;
-    for (int e = 0; e < 2; ++e) {
-      face_patch[static_cast<size_t>(e)] =
-          coons_patch(E(1, e, 0), E(2, e, 1), E(1, e, 1), E(2, e, 0));
-      face_patch[static_cast<size_t>(2 + e)] =
-          coons_patch(E(0, e, 0), E(2, 1, e), E(0, e, 1), E(2, 0, e));
-      face_patch[static_cast<size_t>(4 + e)] =
-          coons_patch(E(0, 0, e), E(1, 1, e), E(0, 1, e), E(1, 0, e));
-    }
-    // Each Coons face must be the CAD face with the same corners.
+    const std::array<nurbs::Patch, 6> face_patch = block_faces(block_edges(t, vertex_tolerance));
     const double size =
-        (x[static_cast<size_t>(order[7])] - x[static_cast<size_t>(order[0])]).norm();
-    for (int f = 0; f < 6; ++f) {
-      const nurbs::Patch& p = face_patch[static_cast<size_t>(f)];
-      const Eigen::Vector3d mid = p.point({0.5, 0.5, 0});
-      const int g = face_with_corners(faces, p, 2.0 * vertex_tolerance + 1e-12);
-      const double best = g > 0 ? surface_deviation(p, TopoDS::Face(faces(g))) : INFINITY;
-      const double tolerance = std::max(1e-9 * size, BRep_Tool::MaxTolerance(solid, TopAbs_EDGE));
-      if (!(best <= tolerance)) {
-        std::ostringstream msg;
-        msg.precision(3);
-        msg << "hexahedral, but the face near (" << mid.transpose() << ") is not the blend of "
-            << "its edges (" << (std::isfinite(best) ? std::to_string(best) + " m off" : "no match")
-            << ")";
-        why = msg.str();
-        if (!prism_patch(solid, faces, natural_patch, size, patch)) return false;
-        why.clear();  // a prism after all: the extrusion of a natural face
-        prismatic = true;
-        break;
-      }
+        (t.x[static_cast<size_t>(t.order[7])] - t.x[static_cast<size_t>(t.order[0])]).norm();
+    if (faces_are_blends(solid, t, face_patch, vertex_tolerance, size, why)) {
+      patch = coons_volume(face_patch, 2.0 * vertex_tolerance + 1e-12);
+    } else {
+      if (!prism_patch(solid, t.faces, natural_patch, size, patch)) return false;
+      why.clear();  // a prism after all: the extrusion of a natural face
+      prismatic = true;
     }
-    if (!prismatic) patch = coons_volume(face_patch, 2.0 * vertex_tolerance + 1e-12);
   } catch (const Standard_Failure& e) {
     why = std::string("hexahedral, but OpenCascade failed: ") + e.GetMessageString();
     return false;
@@ -271,6 +314,13 @@ bool hexahedron_patch(const TopoDS_Shape& solid,
     why = std::string("hexahedral, but ") + e.what();
     return false;
   }
+  return true;
+}
+
+// Right-handed, positive Jacobian inside and OpenCascade's volume to 1e-6; false (with why)
+// otherwise.
+bool volume_accepted(const TopoDS_Shape& solid, bool prismatic, nurbs::Patch& patch,
+                     std::string& why) {
   // The corner numbering judged handedness by straight corner-to-corner vectors; a strongly
   // curved block may still come out left-handed everywhere: mirror the first direction then.
   if (jacobian_range(patch).max < 0.0) patch = reverse_direction(patch, 0);
@@ -289,6 +339,18 @@ bool hexahedron_patch(const TopoDS_Shape& solid,
     return false;
   }
   return true;
+}
+
+// The stages in order: the topology, the corner numbering, the volume (Coons or prism), and its
+// checks.
+bool hexahedron_patch(const TopoDS_Shape& solid,
+                      const std::function<const nurbs::Patch*(const TopoDS_Shape&)>& natural_patch,
+                      nurbs::Patch& patch, std::string& why) {
+  HexTopology t;
+  if (!hexahedral_topology(solid, t, why) || !corners_of(t, why)) return false;
+  bool prismatic = false;
+  if (!block_volume(solid, t, natural_patch, patch, prismatic, why)) return false;
+  return volume_accepted(solid, prismatic, patch, why);
 }
 
 }  // namespace

@@ -44,7 +44,7 @@ class GeometryFields {
     if (!object_.contains(field))
       fail(field,
            "is missing; a " + type_ +
-               " needs it (geometry types and their fields: README.md, 'Case files', 'geometry')");
+               " needs it (geometry types and their fields: docs/case-files.md, 'geometry')");
     return to_number(object_.at(field), field);
   }
 

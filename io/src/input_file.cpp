@@ -25,7 +25,7 @@ InputKind input_kind(const std::filesystem::path& path) {
   if (document.is_object() && document.contains("geometry")) return InputKind::kCaseFile;
   throw nurbs::InputError(path.string() +
                           ": neither a patch file (no \"patches\") nor a case file (no "
-                          "\"geometry\"); see the README for both formats");
+                          "\"geometry\"); see docs/case-files.md for both formats");
 }
 
 std::vector<nurbs::Patch> read_patches_any(const std::filesystem::path& path) {

@@ -77,7 +77,7 @@ py::dict identify(const io::Case& c, std::optional<int> max_dofs, bool discretiz
 void bind_identify(py::module_& m) {
   m.def("identify", &identify, py::arg("case"), py::kw_only(), py::arg("max_dofs") = py::none(),
         py::arg("discretization_check") = true,
-        "The measured-data loop on the case's \"measurements\" (README.md, \"Measured data\"): "
+        "The measured-data loop on the case's \"measurements\" (docs/identify.md): "
         "fits E (and nu), adds the missing effects. Returns a dict: effects_added, parameters and "
         "parameters_before (effect, name, unit, value, standard_error), youngs_modulus, "
         "poisson_ratio, rms/max before and after, noise_estimate, and per marker load_case, "

@@ -25,14 +25,14 @@ std::vector<int> used_entries(const std::array<int, 3>& values, const io::Case& 
 
 void bind_io(py::module_& m) {
   m.def("read_patch_file", &io::read_patch_file, py::arg("path"),
-        "The patches of a patch file (README.md, \"Patch files\"); raises InputError naming the "
-        "file, the patch and the field when it is invalid.");
+        "The patches of a patch file (docs/case-files.md, \"Patch files\"); raises InputError "
+        "naming the file, the patch and the field when it is invalid.");
   m.def("write_patch_file", &io::write_patch_file, py::arg("path"), py::arg("patches"),
         "Writes patches as a patch file (atomically, full double precision).");
 
   py::class_<io::Case>(m, "Case",
                        "A validated case file: exact geometry, the discretised patches, material, "
-                       "supports and load cases (README.md, \"Case files\").")
+                       "supports and load cases (docs/case-files.md).")
       .def_readonly("name", &io::Case::name)
       .def_property_readonly("file", [](const io::Case& c) { return c.file; })
       .def_readonly("dimension", &io::Case::dimension, "2 (plane) or 3 (solid).")

@@ -1,4 +1,4 @@
-// The Python module `isospring` (README.md, "Using isospring as a library"). The library's
+// The Python module `isospring` (docs/library.md). The library's
 // InputError (bad files, fields, values) becomes isospring.InputError, a ValueError, with the same
 // message the program prints.
 #include <pybind11/pybind11.h>

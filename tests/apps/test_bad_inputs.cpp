@@ -287,7 +287,7 @@ const std::string kOverwrite = "would overwrite the input";
 const std::string kOverflow = "does not fit in a double";
 
 INSTANTIATE_TEST_SUITE_P(
-    Issue19, BadInputs,
+    AcrossCommands, BadInputs,
     ::testing::Values(
         // 1. Outputs that are inputs.
         BadInput{"RefineOntoItsInput", "refine {d}/p.json -o {d}/p.json", kOverwrite},

@@ -1,7 +1,7 @@
 // Calibration for generalisation on the [S15] square: fitted to the load suite, the
 // model must predict [S15]'s own load cases, which it never saw, within [S15]'s published
 // FITTED-case error (Table 5.3: 1.14 %e_rms); a per-spring model fitted to S15's single case
-// misses the axial pull by ~20 %e_rms (README table before load-suite calibration).
+// misses the axial pull by ~20 %e_rms (docs/nmsm-results.md, the single-case table).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -199,8 +199,8 @@ TEST(IdentifyEffects, HoldoutImprovesWhenTheEffectIsReal) {
 }
 
 // Every candidate is fitted only when a score test at the current fit does not rule it out
-// (identify.cpp). The test's one Gauss-Newton step must predict what the fit then finds: for
-// gravity, linear in its parameters, the two F statistics agree closely.
+// (identify_selection.cpp). The test's one Gauss-Newton step must predict what the fit then
+// finds: for gravity, linear in its parameters, the two F statistics agree closely.
 TEST(IdentifyEffects, ScoreScreeningOfALinearCandidateAgreesWithItsFit) {
   const Synthetic data = make_data({{"gravity", kGravity}}, 5);
   IdentifyOptions options;

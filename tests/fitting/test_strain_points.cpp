@@ -1,7 +1,7 @@
 // Strain points in the calibration: the spring mesh places a volume and a shear term
 // at every Gauss point of every knot span, and on the [S15] square cross-validation prefers them
 // to plain springs and the chosen model predicts every held-out load within [S15]'s published
-// FITTED-case error (1.14 %e_rms), which plain springs miss (worst 3.30, README).
+// FITTED-case error (1.14 %e_rms), which plain springs miss (worst 3.30, docs/nmsm-results.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>

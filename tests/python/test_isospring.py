@@ -242,20 +242,20 @@ def test_identify_matches_the_program():
         assert abs(np.max(np.abs(residual)) / result["max_" + stage] - 1) < 1e-12
 
 
-def test_readme_snippet_runs():
-    """The Python example of README.md, "Using isospring as a library", as written."""
-    with open(os.path.join(SOURCE, "README.md")) as f:
-        readme = f.read()
-    section = readme[readme.index("## Using isospring as a library"):]
+def test_library_page_snippet_runs():
+    """The Python example of docs/library.md ("Using isospring as a library"), as written."""
+    with open(os.path.join(SOURCE, "docs", "library.md")) as f:
+        page = f.read()
+    section = page[page.index("## Python"):]
     start = section.index("```python\n") + len("```python\n")
     snippet = section[start:section.index("```", start)]
     assert "isospring.analyze" in snippet
     cwd = os.getcwd()
-    os.chdir(SOURCE)  # the snippet's paths are relative to the repository, as in the README
+    os.chdir(SOURCE)  # the snippet's paths are relative to the repository, as on the page
     printed = io.StringIO()
     try:
         with contextlib.redirect_stdout(printed):
-            exec(compile(snippet, "README.md", "exec"), {})
+            exec(compile(snippet, "docs/library.md", "exec"), {})
     finally:
         os.chdir(cwd)
     lines = printed.getvalue().splitlines()

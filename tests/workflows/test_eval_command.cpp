@@ -10,7 +10,8 @@
 #include "isospring/nurbs/knot_vector.hpp"
 #include "isospring/workflows/eval_command.hpp"
 
-namespace isospring::io {
+namespace isospring::workflows {
+using namespace isospring::io;  // the formats the use cases read and write
 namespace {
 
 const std::string kAnnulus =
@@ -100,4 +101,4 @@ TEST(EvalUseCase, OverflowIsAnErrorNotANumber) {
 }
 
 }  // namespace
-}  // namespace isospring::io
+}  // namespace isospring::workflows

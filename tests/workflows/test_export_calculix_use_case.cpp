@@ -10,7 +10,8 @@
 #include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/export_calculix_command.hpp"
 
-namespace isospring::io {
+namespace isospring::workflows {
+using namespace isospring::io;  // the formats the use cases read and write
 namespace {
 namespace fs = std::filesystem;
 
@@ -88,4 +89,4 @@ TEST(ExportCalculixUseCase, WritesTheDeckAndReportsWhatItDefines) {
 }
 
 }  // namespace
-}  // namespace isospring::io
+}  // namespace isospring::workflows

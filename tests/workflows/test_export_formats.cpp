@@ -14,7 +14,8 @@
 #include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/export_formats.hpp"
 
-namespace isospring::io {
+namespace isospring::workflows {
+using namespace isospring::io;  // the formats the use cases read and write
 namespace {
 namespace fs = std::filesystem;
 
@@ -146,4 +147,4 @@ TEST_F(ExportFormats, OutputIsTheWritersOwn) {
 }
 
 }  // namespace
-}  // namespace isospring::io
+}  // namespace isospring::workflows

@@ -8,7 +8,8 @@
 #include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/export_step_command.hpp"
 
-namespace isospring::io {
+namespace isospring::workflows {
+using namespace isospring::io;  // the formats the use cases read and write
 namespace {
 namespace fs = std::filesystem;
 
@@ -57,4 +58,4 @@ TEST(ExportStepUseCase, WritesTheBlockAsOneClosedSolidAndReportsIt) {
 }
 
 }  // namespace
-}  // namespace isospring::io
+}  // namespace isospring::workflows

@@ -16,7 +16,8 @@
 #include "isospring/workflows/info_command.hpp"
 #include "isospring/workflows/refine_command.hpp"
 
-namespace isospring::io {
+namespace isospring::workflows {
+using namespace isospring::io;  // the formats the use cases read and write
 namespace {
 namespace fs = std::filesystem;
 
@@ -120,4 +121,4 @@ TEST(ExportUseCase, FormatsByExtension) {
 }
 
 }  // namespace
-}  // namespace isospring::io
+}  // namespace isospring::workflows

@@ -13,7 +13,8 @@
 #include "isospring/workflows/identify_command.hpp"
 #include "isospring/workflows/study_command.hpp"
 
-namespace isospring::io {
+namespace isospring::workflows {
+using namespace isospring::io;  // the formats the use cases read and write
 namespace {
 namespace fs = std::filesystem;
 
@@ -180,4 +181,4 @@ TEST(StudyUseCase, TwoLevelsOfTheKirschPlate) {
 }
 
 }  // namespace
-}  // namespace isospring::io
+}  // namespace isospring::workflows

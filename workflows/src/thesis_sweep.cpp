@@ -6,6 +6,8 @@
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::workflows::thesis {
+// The use cases read and write io's formats; io's names are used unqualified here.
+using namespace isospring::io;
 
 // The gamma values every grouped fit sweeps (Algorithm 5.1, coarse to fine): S15's Table 5.5
 // values (0.8 0.7 0.6 0.5 0.2 0.1 0.05 0.01 0.001) so that every published row has a partner.

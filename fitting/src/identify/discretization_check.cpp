@@ -186,6 +186,284 @@ DiscretizationLadder knot_insertion_intermediate(const analysis::Problem& proble
   };
 }
 
+namespace {
+
+// Errors against the finest level K solved so far: e_k = |u_K - u_k| + e_K (triangle
+// inequality), with e_K, the "tail", from the last two differences D = u_{j+1} - u_j as a
+// geometric series, r |D_{K-1}| / (1 - r) with r = |D_{K-1}| / |D_{K-2}|, or |D_{K-1}| itself
+// when there is no such ratio (r = 1/2 assumed).
+struct Tail {
+  std::vector<Eigen::Vector3d> vector;  // per marker: estimated u_K - u_exact
+  double rms = 0.0, max = 0.0;          // of `vector`
+  double ratio = kNaN;
+  std::string how;
+};
+
+// One run of the check as its stages (run()). The stages share the levels solved so far (their
+// problems and predictions at the markers, in check_.levels order), the finest level solved and
+// the level chosen so far (-1: none).
+class LadderRun {
+ public:
+  LadderRun(const analysis::Problem& problem, const std::vector<Marker>& markers,
+            const std::vector<MarkerPlacement>& placements, double youngs_modulus,
+            double poisson_ratio, const DiscretizationOptions& options,
+            const std::function<void(const std::string&)>& progress, DiscretizationCheck check)
+      : problem_(problem),
+        markers_(markers),
+        placements_(placements),
+        youngs_modulus_(youngs_modulus),
+        poisson_ratio_(poisson_ratio),
+        options_(options),
+        progress_(progress),
+        ladder_(options.ladder ? options.ladder : knot_insertion_ladder(problem)),
+        intermediate_(options.intermediate ? options.intermediate
+                      : options.ladder     ? DiscretizationLadder()
+                                           : knot_insertion_intermediate(problem)),
+        dim_(problem.formulation == analysis::Formulation::kSolid ? 3 : 2),
+        check_(std::move(check)) {
+    for (size_t l = 0; l < problem.load_cases.size(); ++l)
+      case_index_[problem.load_cases[l].id] = l;
+    for (const auto& patch : problem.patches) {
+      const auto [lo, hi] = patch.control_bounds();
+      size_ = std::max(size_, (hi - lo).norm());
+    }
+  }
+
+  DiscretizationCheck run() {
+    say("discretisation check: solving the case's own discretisation");
+    solve(problem_, "the case's discretisation");
+    climb();
+    estimate_against_finest();
+    settle();
+    try_intermediate();
+    if (check_.chosen > 0)
+      check_.chosen_problem = std::move(solved_problems_[static_cast<size_t>(check_.chosen)]);
+    return std::move(check_);
+  }
+
+ private:
+  void say(const std::string& s) const {
+    if (progress_) progress_(s);
+  }
+  void solve(analysis::Problem level_problem, const std::string& description);
+  void check_level(const analysis::Problem& level, const std::string& description) const {
+    check_same_geometry(problem_, level, placements_, size_, description);
+    check_same_point_conditions(problem_, level, description);
+  }
+  bool solve_next(int level);
+  Tail tail_of(size_t finest) const;
+  std::vector<Eigen::Vector3d> estimate(size_t k, size_t finest, const Tail& tail,
+                                        DiscretizationLevel& row) const;
+  void climb();
+  void estimate_against_finest();
+  void settle();
+  void try_intermediate();
+
+  const analysis::Problem& problem_;
+  const std::vector<Marker>& markers_;
+  const std::vector<MarkerPlacement>& placements_;
+  const double youngs_modulus_, poisson_ratio_;
+  const DiscretizationOptions& options_;
+  const std::function<void(const std::string&)>& progress_;
+  const DiscretizationLadder ladder_, intermediate_;
+  const int dim_;
+  std::map<std::string, size_t> case_index_;
+  double size_ = 0.0;  // the model's size, the scale of the geometry check's tolerance
+  DiscretizationCheck check_;
+  std::vector<analysis::Problem> solved_problems_;
+  std::vector<std::vector<Eigen::Vector3d>> predictions_;
+  size_t finest_ = 0;
+  int chosen_ = -1;
+};
+
+// Solves a level at the fitted material and appends its row and its predictions at the markers.
+void LadderRun::solve(analysis::Problem level_problem, const std::string& description) {
+  const auto start = std::chrono::steady_clock::now();
+  level_problem.material.youngs_modulus = youngs_modulus_;
+  level_problem.material.poisson_ratio = poisson_ratio_;
+  const analysis::StaticResult solution = analysis::solve_static(level_problem);
+  level_problem.material = problem_.material;  // the chosen problem keeps the case's prior
+  DiscretizationLevel row;
+  row.level = static_cast<int>(check_.levels.size());
+  row.description = description;
+  row.dofs = solution.dofs;
+  row.error_rms = row.error_max = row.error_rms_after_material = kNaN;
+  predictions_.push_back(at_markers(level_problem, solution, markers_, placements_, case_index_));
+  row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  check_.levels.push_back(row);
+  solved_problems_.push_back(std::move(level_problem));
+}
+
+// Solves ladder level `level` unless there is none, it exceeds the budget or max_levels.
+bool LadderRun::solve_next(int level) {
+  if (level > options_.max_levels) {
+    check_.note = "max_levels (" + std::to_string(options_.max_levels) + ") reached";
+    return false;
+  }
+  std::string description;
+  std::optional<analysis::Problem> next = ladder_(level, &description);
+  if (!next) {
+    check_.note = "no finer discretisation after level " + std::to_string(level - 1);
+    return false;
+  }
+  check_level(*next, description);
+  const int dofs = analysis::DofMap(*next).num_dofs();
+  if (dofs > options_.max_dofs && level == 1)
+    // Without one finer level there is no estimate at all, and nothing to widen the F-tests
+    // by: running on would silently treat the case as converged.
+    throw nurbs::InputError(
+        "the DOF budget (max_dofs " + std::to_string(options_.max_dofs) +
+        ") allows no refinement of the case: its first refinement (" + description + ") has " +
+        std::to_string(dofs) +
+        " DOFs, so its discretisation error cannot be estimated; raise max_dofs "
+        "(measurements.max_dofs or --max-dofs) to at least " +
+        std::to_string(dofs) +
+        ", or turn the check off (measurements.discretization_check false or "
+        "--no-discretization-check) if the case is known to be converged");
+  if (dofs > options_.max_dofs) {
+    check_.budget_exhausted = true;
+    check_.note = "the next level (" + description + ", " + std::to_string(dofs) +
+                  " DOFs) exceeds the DOF budget of " + std::to_string(options_.max_dofs);
+    return false;
+  }
+  say("discretisation check: level " + std::to_string(level) + " (" + description + ", " +
+      std::to_string(dofs) + " DOFs)");
+  solve(std::move(*next), description);
+  return true;
+}
+
+Tail LadderRun::tail_of(size_t finest) const {
+  Tail t;
+  t.vector.assign(markers_.size(), Eigen::Vector3d::Zero());
+  if (finest == 0) return t;
+  const Difference last = difference(predictions_[finest], predictions_[finest - 1], dim_);
+  double scale = 1.0;
+  t.how = "no convergence ratio: its error taken as the last difference";
+  if (finest >= 2) {
+    const Difference before = difference(predictions_[finest - 1], predictions_[finest - 2], dim_);
+    t.ratio = before.rms > 0.0 ? last.rms / before.rms : kNaN;
+    if (t.ratio > 0.0 && t.ratio < 1.0) {
+      scale = t.ratio / (1.0 - t.ratio);
+      t.how = "its error extrapolated with ratio " + format(t.ratio);
+    } else if (t.ratio >= 1.0) {
+      t.how =
+          "not converging (ratio " + format(t.ratio) + "): its error taken as the last difference";
+    }
+  }
+  for (size_t m = 0; m < markers_.size(); ++m)
+    t.vector[m] = scale * (predictions_[finest][m] - predictions_[finest - 1][m]);
+  t.rms = scale * last.rms;
+  t.max = scale * last.max;
+  return t;
+}
+
+// u_k - u_exact ~ (u_k - u_K) + tail, as a per-marker vector; its size by the triangle
+// inequality (rms and max of |u_k - u_K| plus those of the tail), an upper-bound estimate.
+std::vector<Eigen::Vector3d> LadderRun::estimate(size_t k, size_t finest, const Tail& tail,
+                                                 DiscretizationLevel& row) const {
+  const Difference to_finest = difference(predictions_[finest], predictions_[k], dim_);
+  row.error_rms = to_finest.rms + tail.rms;
+  row.error_max = to_finest.max + tail.max;
+  row.error_rms_after_material = to_finest.rms_after_material + tail.rms;
+  row.estimate = k == finest
+                     ? "finest level solved, " + tail.how
+                     : "difference to level " + std::to_string(finest) + " (" + tail.how + ")";
+  std::vector<Eigen::Vector3d> error(markers_.size());
+  for (size_t m = 0; m < markers_.size(); ++m)
+    error[m] = predictions_[k][m] - predictions_[finest][m] + tail.vector[m];
+  return error;
+}
+
+// Up the ladder until a level is chosen or the ladder ends. While the ladder goes on, a level
+// is only chosen with a convergence ratio behind its estimate (at least two finer levels, or one
+// finer level whose own error is extrapolated from a ratio < 1): a ladder's first steps can be
+// pre-asymptotic (degree elevation on one element through a thickness stalls), and one
+// difference alone then underestimates the error.
+void LadderRun::climb() {
+  constexpr double kRichardsonMargin = 0.5;
+  while (chosen_ < 0 && solve_next(static_cast<int>(finest_) + 1)) {
+    ++finest_;
+    const Tail tail = tail_of(finest_);
+    // Candidates: every level with two finer ones; level finest - 1 too when the finest level's
+    // own error comes from a convergence ratio.
+    const bool ratio_known = tail.ratio > 0.0 && tail.ratio < 1.0;
+    const size_t candidates = ratio_known ? finest_ : finest_ - 1;  // levels 0 .. candidates - 1
+    for (size_t k = 0; k < candidates && chosen_ < 0; ++k) {
+      DiscretizationLevel row;
+      estimate(k, finest_, tail, row);
+      if (row.error_rms <= check_.target) chosen_ = static_cast<int>(k);
+    }
+    // The finest level itself, on its extrapolated error alone (Richardson: r |D| / (1 - r)),
+    // when that is at most half the target: the factor 2 covers a ratio that is still
+    // pre-asymptotic, and the next level, the ladder's largest solve by far (a degree-3 solid
+    // grows 4.6x per step), is not needed to certify it.
+    if (chosen_ < 0 && ratio_known && tail.rms <= kRichardsonMargin * check_.target)
+      chosen_ = static_cast<int>(finest_);
+    say("discretisation check: level 0 off by " +
+        format(difference(predictions_[finest_], predictions_[0], dim_).rms) +
+        " m rms against level " + std::to_string(finest_) + " (noise " + format(check_.noise) +
+        " m)");
+  }
+}
+
+// Final estimates against the finest level; when the ladder ended before a level met the
+// target with two finer levels behind it, one finer level has to do.
+void LadderRun::estimate_against_finest() {
+  if (finest_ == 0) {
+    check_.levels[0].estimate = "none: no finer level could be solved";  // errors stay NaN
+    return;
+  }
+  const Tail tail = tail_of(finest_);
+  for (size_t k = 0; k <= finest_; ++k) {
+    std::vector<Eigen::Vector3d> error = estimate(k, finest_, tail, check_.levels[k]);
+    if (chosen_ < 0 && k < finest_ && check_.levels[k].error_rms <= check_.target)
+      chosen_ = static_cast<int>(k);
+    if (static_cast<int>(k) == chosen_ || (chosen_ < 0 && k == finest_))
+      check_.marker_error = std::move(error);
+  }
+}
+
+// The outcome: the chosen level (the finest when none met the target) and whether it is in
+// target.
+void LadderRun::settle() {
+  check_.done = true;
+  check_.within_target = chosen_ >= 0;
+  check_.chosen = chosen_ >= 0 ? chosen_ : static_cast<int>(finest_);
+  if (chosen_ < 0 && finest_ > 0 &&
+      check_.levels[finest_].error_rms <= check_.target) {  // only the extrapolated tail is in
+    check_.within_target = true;
+    check_.note += "; the finest level's extrapolated error is in target";
+  }
+  if (check_.within_target) check_.budget_exhausted = false;  // the budget did not matter
+}
+
+// A level between the chosen one and the one before it (DiscretizationOptions::intermediate),
+// estimated against the finest level like the others; it replaces the chosen level when it is
+// within the target too.
+void LadderRun::try_intermediate() {
+  if (!(check_.within_target && check_.chosen >= 1 && intermediate_)) return;
+  const int above = check_.chosen;
+  std::string description;
+  std::optional<analysis::Problem> between = intermediate_(above, &description);
+  const int dofs = between ? analysis::DofMap(*between).num_dofs() : 0;
+  if (!(between && dofs < check_.levels[static_cast<size_t>(above)].dofs &&
+        dofs <= options_.max_dofs))
+    return;
+  description +=
+      " (between levels " + std::to_string(above - 1) + " and " + std::to_string(above) + ")";
+  check_level(*between, description);
+  say("discretisation check: " + description + ", " + std::to_string(dofs) + " DOFs");
+  solve(std::move(*between), description);
+  const size_t k = check_.levels.size() - 1;
+  std::vector<Eigen::Vector3d> error = estimate(k, finest_, tail_of(finest_), check_.levels[k]);
+  if (check_.levels[k].error_rms <= check_.target) {
+    check_.chosen = static_cast<int>(k);
+    check_.marker_error = std::move(error);
+  }
+}
+
+}  // namespace
+
 DiscretizationCheck check_discretization(const analysis::Problem& problem,
                                          const std::vector<Marker>& markers,
                                          const std::vector<MarkerPlacement>& placements,
@@ -201,212 +479,9 @@ DiscretizationCheck check_discretization(const analysis::Problem& problem,
   }
   if (markers.size() != placements.size())
     throw std::invalid_argument("check_discretization: one placement per marker expected");
-  auto say = [&](const std::string& s) {
-    if (progress) progress(s);
-  };
-  const DiscretizationLadder ladder =
-      options.ladder ? options.ladder : knot_insertion_ladder(problem);
-  const DiscretizationLadder intermediate = options.intermediate ? options.intermediate
-                                            : options.ladder     ? DiscretizationLadder()
-                                                             : knot_insertion_intermediate(problem);
-
-  std::map<std::string, size_t> case_index;
-  for (size_t l = 0; l < problem.load_cases.size(); ++l) case_index[problem.load_cases[l].id] = l;
-  const int dim = problem.formulation == analysis::Formulation::kSolid ? 3 : 2;
-  double size = 0.0;
-  for (const auto& patch : problem.patches) {
-    const auto [lo, hi] = patch.control_bounds();
-    size = std::max(size, (hi - lo).norm());
-  }
-
-  std::vector<analysis::Problem> solved_problems;
-  std::vector<std::vector<Eigen::Vector3d>> predictions;
-  auto solve = [&](analysis::Problem level_problem, const std::string& description) {
-    const auto start = std::chrono::steady_clock::now();
-    level_problem.material.youngs_modulus = youngs_modulus;
-    level_problem.material.poisson_ratio = poisson_ratio;
-    const analysis::StaticResult solution = analysis::solve_static(level_problem);
-    level_problem.material = problem.material;  // the chosen problem keeps the case's prior
-    DiscretizationLevel row;
-    row.level = static_cast<int>(check.levels.size());
-    row.description = description;
-    row.dofs = solution.dofs;
-    row.error_rms = row.error_max = row.error_rms_after_material = kNaN;
-    predictions.push_back(at_markers(level_problem, solution, markers, placements, case_index));
-    row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    check.levels.push_back(row);
-    solved_problems.push_back(std::move(level_problem));
-  };
-
-  say("discretisation check: solving the case's own discretisation");
-  solve(problem, "the case's discretisation");
-  // Solves ladder level `level` unless there is none, it exceeds the budget or max_levels.
-  auto solve_next = [&](int level) {
-    if (level > options.max_levels) {
-      check.note = "max_levels (" + std::to_string(options.max_levels) + ") reached";
-      return false;
-    }
-    std::string description;
-    std::optional<analysis::Problem> next = ladder(level, &description);
-    if (!next) {
-      check.note = "no finer discretisation after level " + std::to_string(level - 1);
-      return false;
-    }
-    check_same_geometry(problem, *next, placements, size, description);
-    check_same_point_conditions(problem, *next, description);
-    const int dofs = analysis::DofMap(*next).num_dofs();
-    if (dofs > options.max_dofs && level == 1)
-      // Without one finer level there is no estimate at all, and nothing to widen the F-tests
-      // by: running on would silently treat the case as converged.
-      throw nurbs::InputError(
-          "the DOF budget (max_dofs " + std::to_string(options.max_dofs) +
-          ") allows no refinement of the case: its first refinement (" + description + ") has " +
-          std::to_string(dofs) +
-          " DOFs, so its discretisation error cannot be estimated; raise max_dofs "
-          "(measurements.max_dofs or --max-dofs) to at least " +
-          std::to_string(dofs) +
-          ", or turn the check off (measurements.discretization_check false or "
-          "--no-discretization-check) if the case is known to be converged");
-    if (dofs > options.max_dofs) {
-      check.budget_exhausted = true;
-      check.note = "the next level (" + description + ", " + std::to_string(dofs) +
-                   " DOFs) exceeds the DOF budget of " + std::to_string(options.max_dofs);
-      return false;
-    }
-    say("discretisation check: level " + std::to_string(level) + " (" + description + ", " +
-        std::to_string(dofs) + " DOFs)");
-    solve(std::move(*next), description);
-    return true;
-  };
-
-  // Errors against the finest level K solved so far: e_k = |u_K - u_k| + e_K (triangle
-  // inequality), with e_K, the "tail", from the last two differences D = u_{j+1} - u_j as a
-  // geometric series, r |D_{K-1}| / (1 - r) with r = |D_{K-1}| / |D_{K-2}|, or |D_{K-1}| itself
-  // when there is no such ratio (r = 1/2 assumed). While the ladder goes on, a level is only
-  // chosen with a convergence ratio behind its estimate (at least two finer levels, or one finer
-  // level whose own error is extrapolated from a ratio < 1): a ladder's first steps can be
-  // pre-asymptotic (degree elevation on one element through a thickness stalls), and one
-  // difference alone then underestimates the error.
-  struct Tail {
-    std::vector<Eigen::Vector3d> vector;  // per marker: estimated u_K - u_exact
-    double rms = 0.0, max = 0.0;          // of `vector`
-    double ratio = kNaN;
-    std::string how;
-  };
-  auto tail_of = [&](size_t finest) {
-    Tail t;
-    t.vector.assign(markers.size(), Eigen::Vector3d::Zero());
-    if (finest == 0) return t;
-    const Difference last = difference(predictions[finest], predictions[finest - 1], dim);
-    double scale = 1.0;
-    t.how = "no convergence ratio: its error taken as the last difference";
-    if (finest >= 2) {
-      const Difference before = difference(predictions[finest - 1], predictions[finest - 2], dim);
-      t.ratio = before.rms > 0.0 ? last.rms / before.rms : kNaN;
-      if (t.ratio > 0.0 && t.ratio < 1.0) {
-        scale = t.ratio / (1.0 - t.ratio);
-        t.how = "its error extrapolated with ratio " + format(t.ratio);
-      } else if (t.ratio >= 1.0) {
-        t.how = "not converging (ratio " + format(t.ratio) +
-                "): its error taken as the last difference";
-      }
-    }
-    for (size_t m = 0; m < markers.size(); ++m)
-      t.vector[m] = scale * (predictions[finest][m] - predictions[finest - 1][m]);
-    t.rms = scale * last.rms;
-    t.max = scale * last.max;
-    return t;
-  };
-  // u_k - u_exact ~ (u_k - u_K) + tail, as a per-marker vector; its size by the triangle
-  // inequality (rms and max of |u_k - u_K| plus those of the tail), an upper-bound estimate.
-  auto estimate = [&](size_t k, size_t finest, const Tail& tail, DiscretizationLevel& row) {
-    const Difference to_finest = difference(predictions[finest], predictions[k], dim);
-    row.error_rms = to_finest.rms + tail.rms;
-    row.error_max = to_finest.max + tail.max;
-    row.error_rms_after_material = to_finest.rms_after_material + tail.rms;
-    row.estimate = k == finest
-                       ? "finest level solved, " + tail.how
-                       : "difference to level " + std::to_string(finest) + " (" + tail.how + ")";
-    std::vector<Eigen::Vector3d> error(markers.size());
-    for (size_t m = 0; m < markers.size(); ++m)
-      error[m] = predictions[k][m] - predictions[finest][m] + tail.vector[m];
-    return error;
-  };
-
-  constexpr double kRichardsonMargin = 0.5;
-  size_t finest = 0;
-  int chosen = -1;
-  while (chosen < 0 && solve_next(static_cast<int>(finest) + 1)) {
-    ++finest;
-    const Tail tail = tail_of(finest);
-    // Candidates: every level with two finer ones; level finest - 1 too when the finest level's
-    // own error comes from a convergence ratio.
-    const bool ratio_known = tail.ratio > 0.0 && tail.ratio < 1.0;
-    const size_t candidates = ratio_known ? finest : finest - 1;  // levels 0 .. candidates - 1
-    for (size_t k = 0; k < candidates && chosen < 0; ++k) {
-      DiscretizationLevel row;
-      estimate(k, finest, tail, row);
-      if (row.error_rms <= check.target) chosen = static_cast<int>(k);
-    }
-    // The finest level itself, on its extrapolated error alone (Richardson: r |D| / (1 - r)),
-    // when that is at most half the target: the factor 2 covers a ratio that is still
-    // pre-asymptotic, and the next level, the ladder's largest solve by far (a degree-3 solid
-    // grows 4.6x per step), is not needed to certify it.
-    if (chosen < 0 && ratio_known && tail.rms <= kRichardsonMargin * check.target)
-      chosen = static_cast<int>(finest);
-    say("discretisation check: level 0 off by " +
-        format(difference(predictions[finest], predictions[0], dim).rms) + " m rms against level " +
-        std::to_string(finest) + " (noise " + format(noise) + " m)");
-  }
-  // Final estimates against the finest level; when the ladder ended before a level met the
-  // target with two finer levels behind it, one finer level has to do.
-  if (finest == 0) {
-    check.levels[0].estimate = "none: no finer level could be solved";  // errors stay NaN
-  } else {
-    const Tail tail = tail_of(finest);
-    for (size_t k = 0; k <= finest; ++k) {
-      std::vector<Eigen::Vector3d> error = estimate(k, finest, tail, check.levels[k]);
-      if (chosen < 0 && k < finest && check.levels[k].error_rms <= check.target)
-        chosen = static_cast<int>(k);
-      if (static_cast<int>(k) == chosen || (chosen < 0 && k == finest))
-        check.marker_error = std::move(error);
-    }
-  }
-  check.done = true;
-  check.within_target = chosen >= 0;
-  check.chosen = chosen >= 0 ? chosen : static_cast<int>(finest);
-  if (chosen < 0 && finest > 0 &&
-      check.levels[finest].error_rms <= check.target) {  // only the extrapolated tail is in target
-    check.within_target = true;
-    check.note += "; the finest level's extrapolated error is in target";
-  }
-  if (check.within_target) check.budget_exhausted = false;  // the budget did not matter
-  // A level between the chosen one and the one before it (DiscretizationOptions::intermediate),
-  // estimated against the finest level like the others; it replaces the chosen level when it is
-  // within the target too.
-  if (check.within_target && check.chosen >= 1 && intermediate) {
-    const int above = check.chosen;
-    std::string description;
-    std::optional<analysis::Problem> between = intermediate(above, &description);
-    const int dofs = between ? analysis::DofMap(*between).num_dofs() : 0;
-    if (between && dofs < check.levels[static_cast<size_t>(above)].dofs &&
-        dofs <= options.max_dofs) {
-      description +=
-          " (between levels " + std::to_string(above - 1) + " and " + std::to_string(above) + ")";
-      check_same_geometry(problem, *between, placements, size, description);
-      check_same_point_conditions(problem, *between, description);
-      say("discretisation check: " + description + ", " + std::to_string(dofs) + " DOFs");
-      solve(std::move(*between), description);
-      const size_t k = check.levels.size() - 1;
-      std::vector<Eigen::Vector3d> error = estimate(k, finest, tail_of(finest), check.levels[k]);
-      if (check.levels[k].error_rms <= check.target) {
-        check.chosen = static_cast<int>(k);
-        check.marker_error = std::move(error);
-      }
-    }
-  }
-  if (check.chosen > 0) check.chosen_problem = std::move(solved_problems[check.chosen]);
-  return check;
+  return LadderRun(problem, markers, placements, youngs_modulus, poisson_ratio, options, progress,
+                   std::move(check))
+      .run();
 }
 
 }  // namespace isospring::fitting

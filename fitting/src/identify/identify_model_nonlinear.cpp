@@ -57,292 +57,300 @@ constexpr int kMaxChordSteps = 12;
 
 }  // namespace
 
-ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
-                                                 bool with_jacobian) const {
-  if (!nonlinear_cache_) throw std::logic_error("ForwardModel: nonlinear cache missing");
-  const std::lock_guard<std::mutex> solver_lock(nonlinear_cache_->solver_mutex);
-  FactorizationCache& shared = *linear_cache_;
-  const std::lock_guard<std::mutex> shared_lock(shared.nonlinear_mutex);
-  const int nf = static_cast<int>(free_dofs_.size());
-  const size_t nt = terms_.stiffness.size();
-  std::vector<double> c(nt);
-  std::vector<Eigen::VectorXd> dc(nt);
-  Eigen::SparseMatrix<double> kff(nf, nf);
+// One evaluation at theta, as its stages: the coefficients at theta and the summed stiffness,
+// the linear solutions (for the blend), the caches' per-load-case slots, then per load case a
+// Newton solve from the best start at hand and the prediction with its Jacobian. The caller
+// holds the nonlinear caches' locks throughout.
+class ForwardModel::NonlinearEvaluation {
+ public:
+  NonlinearEvaluation(const ForwardModel& model, const Eigen::VectorXd& theta, bool with_jacobian)
+      : m_(model),
+        theta_(theta),
+        with_jacobian_(with_jacobian),
+        nf_(static_cast<int>(model.free_dofs_.size())),
+        nls_(static_cast<size_t>(model.num_load_cases_)),
+        cache_(*model.nonlinear_cache_),
+        shared_(*model.linear_cache_),
+        linear_solver_(model.nonlinear_cache_->linear_solver) {}
+
+  ModelEvaluation run() {
+    evaluate_coefficients();
+    factorise_linear_stiffness();
+    solve_linear();
+    prepare_caches();
+    return solve_load_cases();
+  }
+
+ private:
+  using Parts = std::vector<std::vector<Eigen::VectorXd>>;  // per nonlinear term, n_k(u)
+
+  void evaluate_coefficients();
+  void factorise_linear_stiffness();
+  void solve_linear();
+  void prepare_caches();
+  ModelEvaluation solve_load_cases();
+  void solve_load_case(size_t lc, ModelEvaluation& out);
+  Eigen::VectorXd newton_start(size_t lc, bool factorised,
+                               const analysis::TangentSolver*& borrowed);
+  bool solve_equilibrium(size_t lc, Eigen::VectorXd& u, analysis::TangentSolver& solver,
+                         bool& factorised, const analysis::TangentSolver* borrowed, Parts& parts);
+  void remember(size_t lc, const Eigen::VectorXd& u, bool converged, bool factorised);
+  void predict(size_t lc, Eigen::VectorXd u, const Parts& parts,
+               const analysis::TangentSolver& solver, ModelEvaluation& out) const;
+
+  Eigen::VectorXd internal_force(const Eigen::VectorXd& u, Parts& parts,
+                                 Eigen::SparseMatrix<double>* tangent_ff) const;
+  bool free_residual(const Eigen::VectorXd& force, double s, const Eigen::VectorXd& internal,
+                     Eigen::VectorXd& r_free) const;
+  void step(const analysis::TangentSolver& factor, const Eigen::VectorXd& r_free,
+            Eigen::VectorXd& u) const;
+  bool newton(const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
+              analysis::TangentSolver& solver, bool& factorised,
+              const analysis::TangentSolver* borrowed, Parts& parts);
+  Eigen::MatrixXd linear_rhs(const Eigen::MatrixXd& dforce, const Eigen::VectorXd& v) const;
+  Eigen::MatrixXd solve_free(const analysis::TangentSolver& factor,
+                             const Eigen::MatrixXd& rhs) const;
+
+  const ForwardModel& m_;
+  const Eigen::VectorXd& theta_;
+  const bool with_jacobian_;
+  const int nf_;      // free DOFs
+  const size_t nls_;  // load cases
+  NonlinearCache& cache_;
+  FactorizationCache& shared_;
+  analysis::TangentSolver& linear_solver_;  // the linear K_ff at theta (the tangent at u = 0)
+  // The chord steps of the load cases that run at the same time share the linear stiffness's
+  // factor, whose solves share CHOLMOD's workspace: one at a time.
+  std::mutex linear_solver_mutex_;
+
+  // Set by evaluate_coefficients: the linear terms' coefficients c_j and gradients, K_ff and
+  // K = sum_j c_j K_j; the nonlinear terms' coefficients e_k and gradients, per term.
+  std::vector<double> c_;
+  std::vector<Eigen::VectorXd> dc_;
+  Eigen::SparseMatrix<double> kff_;
+  Eigen::SparseMatrix<double> stiffness_;
+  std::vector<std::vector<double>> e_;
+  std::vector<std::vector<Eigen::VectorXd>> de_;
+  int w_index_ = -1;           // the blend weight's index (ModelTerms::nonlinear_weight)
+  double w_ = 1.0;             // the blend weight
+  bool need_tangent_ = false;  // the Jacobian needs the tangent at the converged state
+
+  // Set by solve_linear, per load case: the load and its derivatives, the linear solution and
+  // its derivatives (with the blend only).
+  std::vector<Eigen::VectorXd> forces_, u_linear_;
+  std::vector<Eigen::MatrixXd> dforces_, du_linear_;
+};
+
+void ForwardModel::NonlinearEvaluation::evaluate_coefficients() {
+  const size_t nt = m_.terms_.stiffness.size();
+  c_.resize(nt);
+  dc_.resize(nt);
+  kff_.resize(nf_, nf_);
   for (size_t j = 0; j < nt; ++j) {
-    c[j] = terms_.stiffness[j].coefficient(theta, &dc[j]);
-    kff += c[j] * free_blocks_[j];
+    c_[j] = m_.terms_.stiffness[j].coefficient(theta_, &dc_[j]);
+    kff_ += c_[j] * m_.free_blocks_[j];
   }
   // Values and gradients of the nonlinear coefficients, per nonlinear term.
-  const size_t nn = terms_.nonlinear.size();
-  std::vector<std::vector<double>> e(nn);
-  std::vector<std::vector<Eigen::VectorXd>> de(nn);
+  const size_t nn = m_.terms_.nonlinear.size();
+  e_.resize(nn);
+  de_.resize(nn);
   for (size_t t = 0; t < nn; ++t)
-    for (const Coefficient& coefficient : terms_.nonlinear[t].coefficients) {
+    for (const Coefficient& coefficient : m_.terms_.nonlinear[t].coefficients) {
       Eigen::VectorXd g;
-      e[t].push_back(coefficient(theta, &g));
-      de[t].push_back(g);
+      e_[t].push_back(coefficient(theta_, &g));
+      de_[t].push_back(g);
     }
-
-  // Internal force at u: K u + sum_k e_k n_k(u) with K = sum_j c_j K_j, summed once here: a
-  // Newton solve evaluates the force ~10 times per load case, and a product with each K_j costs
-  // as much as one with their sum (measured on the suite's tube_graded with a stiffness
-  // gradient, 8 terms: a force evaluation 95 -> 52 ms). The nonlinear parts and the free
-  // tangent block come along.
-  Eigen::SparseMatrix<double> stiffness(num_dofs_, num_dofs_);
-  for (size_t j = 0; j < nt; ++j) stiffness += c[j] * terms_.stiffness[j].matrix;
-  using Parts = std::vector<std::vector<Eigen::VectorXd>>;  // per nonlinear term, n_k(u)
-  auto internal_force = [&](const Eigen::VectorXd& u, Parts& parts,
-                            Eigen::SparseMatrix<double>* tangent_ff) {
-    parts.resize(nn);
-    Eigen::VectorXd r = stiffness * u;
-    if (tangent_ff) *tangent_ff = kff;
-    for (size_t t = 0; t < nn; ++t) {
-      Eigen::SparseMatrix<double> tangent;
-      terms_.nonlinear[t].evaluate(u, e[t], parts[t], tangent_ff ? &tangent : nullptr);
-      for (size_t k = 0; k < parts[t].size(); ++k) r += e[t][k] * parts[t][k];
-      if (tangent_ff) *tangent_ff += detail::free_upper_block(tangent, free_index_, nf);
-    }
-    return r;
-  };
-
-  // Linear solution and its derivatives (only needed for the blend).
-  const int w_index = terms_.nonlinear_weight;
-  const double w = w_index >= 0 ? theta[w_index] : 1.0;
-  analysis::TangentSolver& linear_solver = nonlinear_cache_->linear_solver;
-  if (w_index >= 0 && !linear_solver.compute(kff))
-    throw std::runtime_error(
-        "the stiffness at the current parameters is not positive definite (a parameter left "
-        "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
-
+  // K = sum_j c_j K_j, summed once here: a Newton solve evaluates the force ~10 times per load
+  // case, and a product with each K_j costs as much as one with their sum (measured on the
+  // suite's tube_graded with a stiffness gradient, 8 terms: a force evaluation 95 -> 52 ms).
+  stiffness_.resize(m_.num_dofs_, m_.num_dofs_);
+  for (size_t j = 0; j < nt; ++j) stiffness_ += c_[j] * m_.terms_.stiffness[j].matrix;
+  w_index_ = m_.terms_.nonlinear_weight;
+  w_ = w_index_ >= 0 ? theta_[w_index_] : 1.0;
   // The Jacobian needs the tangent at the converged state unless the blend weight is 0: there
   // du/dtheta = du_lin/dtheta and du/dw = u_nl - u_lin, so u_nl itself is all that is needed
   // (the score screening of the candidate evaluates exactly there, at its neutral w = 0).
-  const bool need_tangent = with_jacobian && w != 0.0;
+  need_tangent_ = with_jacobian_ && w_ != 0.0;
+}
 
-  // Newton at load factor s (loads and prescribed values scaled) from u, updated in place,
-  // with chord steps while they converge fast: on `solver` when it holds a factorised tangent
-  // (`factorised`), else on `borrowed` (another model's last tangent at the same free DOFs),
-  // else on the linear stiffness (the tangent at u = 0, factorised for the blend), which is all
-  // a small deformation needs. On success at s = 1 with need_tangent,
-  // `solver` holds the factorised tangent at the converged u (else that factorisation is
-  // skipped: no solve needs it).
-  // The chord steps of the load cases that run at the same time share the linear stiffness's
-  // factor, whose solves share CHOLMOD's workspace: one at a time.
-  std::mutex linear_solver_mutex;
-  auto newton = [&](const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
-                    analysis::TangentSolver& solver, bool& factorised,
-                    const analysis::TangentSolver* borrowed, Parts& parts) {
-    for (int d = 0; d < num_dofs_; ++d)
-      if (free_index_[static_cast<size_t>(d)] < 0) u[d] = s * prescribed_[d];
-    // The residual on the free DOFs, and whether it meets the tolerance.
-    auto residual = [&](const Eigen::VectorXd& internal, Eigen::VectorXd& r_free) {
-      r_free.resize(nf);
-      double load = 0.0, reaction = 0.0;
-      for (int d = 0; d < num_dofs_; ++d) {
-        const int k = free_index_[static_cast<size_t>(d)];
-        if (k >= 0) {
-          r_free[k] = s * force[d] - internal[d];
-          load += s * s * force[d] * force[d];
-        } else {
-          reaction += internal[d] * internal[d];
-        }
-      }
-      const double norm = r_free.norm();
-      return norm <= kTolerance * std::sqrt(std::max(load, reaction)) || norm == 0.0;
-    };
-    auto step = [&](const analysis::TangentSolver& factor, const Eigen::VectorXd& r_free) {
-      const Eigen::VectorXd du = factor.solve(r_free);
-      for (int k = 0; k < nf; ++k) u[free_dofs_[static_cast<size_t>(k)]] += du[k];
-    };
-    Eigen::SparseMatrix<double> tangent_ff;
-    Eigen::VectorXd r_free, before_chord, r_before_chord;
-    double norm_before_chord = 0.0;
-    bool after_chord = false;
-    int chords = 0;
-    for (int it = 0; it <= kMaxIterations; ++it) {
-      bool converged = residual(internal_force(u, parts, nullptr), r_free);
-      const double norm = r_free.norm();
-      if (!std::isfinite(norm)) {
-        if (!after_chord) return false;
-        converged = false;
-      }
-      if (after_chord && !converged && !(norm <= kChordRate * norm_before_chord)) {
-        u = before_chord;  // too slow: a Newton step from where the chord step started
-        r_free = r_before_chord;
-      } else if (converged && !(need_tangent && s == 1.0)) {
-        return true;
-      } else if (!converged && (factorised || borrowed || w_index >= 0) &&
-                 chords < kMaxChordSteps) {
-        before_chord = u;
-        r_before_chord = r_free;
-        norm_before_chord = norm;
-        after_chord = true;
-        ++chords;
-        if (factorised || borrowed) {
-          step(factorised ? solver : *borrowed, r_free);
-        } else {
-          const std::lock_guard<std::mutex> lock(linear_solver_mutex);
-          step(linear_solver, r_free);
-        }
-        continue;
-      }
-      after_chord = false;
-      if (it == kMaxIterations) return false;
-      internal_force(u, parts, &tangent_ff);
-      factorised = solver.compute(tangent_ff);
-      if (!factorised) return false;
-      if (converged) return true;
-      step(solver, r_free);
+// The linear stiffness's factor, for the linear solutions of the blend.
+void ForwardModel::NonlinearEvaluation::factorise_linear_stiffness() {
+  if (w_index_ >= 0 && !linear_solver_.compute(kff_))
+    throw std::runtime_error(
+        "the stiffness at the current parameters is not positive definite (a parameter left "
+        "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
+}
+
+// Internal force at u: K u + sum_k e_k n_k(u); the nonlinear parts and the free tangent block
+// come along.
+Eigen::VectorXd ForwardModel::NonlinearEvaluation::internal_force(
+    const Eigen::VectorXd& u, Parts& parts, Eigen::SparseMatrix<double>* tangent_ff) const {
+  const size_t nn = m_.terms_.nonlinear.size();
+  parts.resize(nn);
+  Eigen::VectorXd r = stiffness_ * u;
+  if (tangent_ff) *tangent_ff = kff_;
+  for (size_t t = 0; t < nn; ++t) {
+    Eigen::SparseMatrix<double> tangent;
+    m_.terms_.nonlinear[t].evaluate(u, e_[t], parts[t], tangent_ff ? &tangent : nullptr);
+    for (size_t k = 0; k < parts[t].size(); ++k) r += e_[t][k] * parts[t][k];
+    if (tangent_ff) *tangent_ff += detail::free_upper_block(tangent, m_.free_index_, nf_);
+  }
+  return r;
+}
+
+// The residual on the free DOFs at load factor s, and whether it meets the tolerance.
+bool ForwardModel::NonlinearEvaluation::free_residual(const Eigen::VectorXd& force, double s,
+                                                      const Eigen::VectorXd& internal,
+                                                      Eigen::VectorXd& r_free) const {
+  r_free.resize(nf_);
+  double load = 0.0, reaction = 0.0;
+  for (int d = 0; d < m_.num_dofs_; ++d) {
+    const int k = m_.free_index_[static_cast<size_t>(d)];
+    if (k >= 0) {
+      r_free[k] = s * force[d] - internal[d];
+      load += s * s * force[d] * force[d];
+    } else {
+      reaction += internal[d] * internal[d];
     }
-    return false;
-  };
+  }
+  const double norm = r_free.norm();
+  return norm <= kTolerance * std::sqrt(std::max(load, reaction)) || norm == 0.0;
+}
 
-  // Right-hand sides df/dtheta - dK/dtheta v for the linear terms at displacement v.
-  auto linear_rhs = [&](const Eigen::MatrixXd& dforce, const Eigen::VectorXd& v) {
-    Eigen::MatrixXd rhs = dforce;
-    for (size_t j = 0; j < nt; ++j)
-      if (dc[j].cwiseAbs().maxCoeff() > 0.0)
-        rhs -= (terms_.stiffness[j].matrix * v) * dc[j].transpose();
-    return rhs;
-  };
-  auto solve_free = [&](const analysis::TangentSolver& factor, const Eigen::MatrixXd& rhs) {
-    Eigen::MatrixXd rhs_free(nf, rhs.cols());
-    for (int k = 0; k < nf; ++k) rhs_free.row(k) = rhs.row(free_dofs_[static_cast<size_t>(k)]);
-    const Eigen::MatrixXd x_free = factor.solve(rhs_free);
-    Eigen::MatrixXd x = Eigen::MatrixXd::Zero(num_dofs_, rhs.cols());
-    for (int k = 0; k < nf; ++k) x.row(free_dofs_[static_cast<size_t>(k)]) = x_free.row(k);
-    return x;
-  };
+void ForwardModel::NonlinearEvaluation::step(const analysis::TangentSolver& factor,
+                                             const Eigen::VectorXd& r_free,
+                                             Eigen::VectorXd& u) const {
+  const Eigen::VectorXd du = factor.solve(r_free);
+  for (int k = 0; k < nf_; ++k) u[m_.free_dofs_[static_cast<size_t>(k)]] += du[k];
+}
 
-  // First, one load case after the other: the loads, the linear solutions and their
-  // derivatives (solves with the one linear factor), and every per-load-case slot of the caches
-  // (so that the load cases below only write their own).
-  const int nl = num_load_cases_;
-  const auto nls = static_cast<size_t>(nl);
-  std::vector<Eigen::VectorXd> forces(nls), u_linear(nls);
-  std::vector<Eigen::MatrixXd> dforces(nls), du_linear(nls);
+// Newton at load factor s (loads and prescribed values scaled) from u, updated in place, with
+// chord steps while they converge fast: on `solver` when it holds a factorised tangent
+// (`factorised`), else on `borrowed` (another model's last tangent at the same free DOFs), else
+// on the linear stiffness (the tangent at u = 0, factorised for the blend), which is all a small
+// deformation needs. On success at s = 1 with need_tangent_, `solver` holds the factorised
+// tangent at the converged u (else that factorisation is skipped: no solve needs it).
+bool ForwardModel::NonlinearEvaluation::newton(const Eigen::VectorXd& force, double s,
+                                               Eigen::VectorXd& u, analysis::TangentSolver& solver,
+                                               bool& factorised,
+                                               const analysis::TangentSolver* borrowed,
+                                               Parts& parts) {
+  for (int d = 0; d < m_.num_dofs_; ++d)
+    if (m_.free_index_[static_cast<size_t>(d)] < 0) u[d] = s * m_.prescribed_[d];
+  Eigen::SparseMatrix<double> tangent_ff;
+  Eigen::VectorXd r_free, before_chord, r_before_chord;
+  double norm_before_chord = 0.0;
+  bool after_chord = false;
+  int chords = 0;
+  for (int it = 0; it <= kMaxIterations; ++it) {
+    bool converged = free_residual(force, s, internal_force(u, parts, nullptr), r_free);
+    const double norm = r_free.norm();
+    if (!std::isfinite(norm)) {
+      if (!after_chord) return false;
+      converged = false;
+    }
+    if (after_chord && !converged && !(norm <= kChordRate * norm_before_chord)) {
+      u = before_chord;  // too slow: a Newton step from where the chord step started
+      r_free = r_before_chord;
+    } else if (converged && !(need_tangent_ && s == 1.0)) {
+      return true;
+    } else if (!converged && (factorised || borrowed || w_index_ >= 0) && chords < kMaxChordSteps) {
+      before_chord = u;
+      r_before_chord = r_free;
+      norm_before_chord = norm;
+      after_chord = true;
+      ++chords;
+      if (factorised || borrowed) {
+        step(factorised ? solver : *borrowed, r_free, u);
+      } else {
+        const std::lock_guard<std::mutex> lock(linear_solver_mutex_);
+        step(linear_solver_, r_free, u);
+      }
+      continue;
+    }
+    after_chord = false;
+    if (it == kMaxIterations) return false;
+    internal_force(u, parts, &tangent_ff);
+    factorised = solver.compute(tangent_ff);
+    if (!factorised) return false;
+    if (converged) return true;
+    step(solver, r_free, u);
+  }
+  return false;
+}
+
+// Right-hand sides df/dtheta - dK/dtheta v for the linear terms at displacement v.
+Eigen::MatrixXd ForwardModel::NonlinearEvaluation::linear_rhs(const Eigen::MatrixXd& dforce,
+                                                              const Eigen::VectorXd& v) const {
+  Eigen::MatrixXd rhs = dforce;
+  for (size_t j = 0; j < c_.size(); ++j)
+    if (dc_[j].cwiseAbs().maxCoeff() > 0.0)
+      rhs -= (m_.terms_.stiffness[j].matrix * v) * dc_[j].transpose();
+  return rhs;
+}
+
+// factor^-1 rhs on the free DOFs, zero on the others.
+Eigen::MatrixXd ForwardModel::NonlinearEvaluation::solve_free(const analysis::TangentSolver& factor,
+                                                              const Eigen::MatrixXd& rhs) const {
+  Eigen::MatrixXd rhs_free(nf_, rhs.cols());
+  for (int k = 0; k < nf_; ++k) rhs_free.row(k) = rhs.row(m_.free_dofs_[static_cast<size_t>(k)]);
+  const Eigen::MatrixXd x_free = factor.solve(rhs_free);
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(m_.num_dofs_, rhs.cols());
+  for (int k = 0; k < nf_; ++k) x.row(m_.free_dofs_[static_cast<size_t>(k)]) = x_free.row(k);
+  return x;
+}
+
+// One load case after the other: the loads, the linear solutions and their derivatives (solves
+// with the one linear factor).
+void ForwardModel::NonlinearEvaluation::solve_linear() {
+  forces_.resize(nls_), u_linear_.resize(nls_);
+  dforces_.resize(nls_), du_linear_.resize(nls_);
   // K u = f - K u_c on the free DOFs, as ForwardModel::evaluate.
-  const Eigen::VectorXd ku_c = stiffness * prescribed_;
-  for (int l = 0; l < nl; ++l) {
+  const Eigen::VectorXd ku_c = stiffness_ * m_.prescribed_;
+  for (int l = 0; l < m_.num_load_cases_; ++l) {
     const auto lc = static_cast<size_t>(l);
-    load_vector(l, theta, with_jacobian, forces[lc], dforces[lc]);
-    if (w_index >= 0) {
-      u_linear[lc] = prescribed_ + solve_free(linear_solver, forces[lc] - ku_c).col(0);
-      if (with_jacobian)
-        du_linear[lc] = solve_free(linear_solver, linear_rhs(dforces[lc], u_linear[lc]));
+    m_.load_vector(l, theta_, with_jacobian_, forces_[lc], dforces_[lc]);
+    if (w_index_ >= 0) {
+      u_linear_[lc] = m_.prescribed_ + solve_free(linear_solver_, forces_[lc] - ku_c).col(0);
+      if (with_jacobian_)
+        du_linear_[lc] = solve_free(linear_solver_, linear_rhs(dforces_[lc], u_linear_[lc]));
     }
   }
-  NonlinearCache& cache = *nonlinear_cache_;
-  if (cache.tangent_solvers.size() < nls) {
-    cache.tangent_solvers.resize(nls);
-    cache.factorised.resize(nls, 0);
-  }
-  for (auto& owned : cache.tangent_solvers)
-    if (!owned) owned = std::make_shared<analysis::TangentSolver>();
-  auto grow = [nls](auto& per_load_case) {
-    if (per_load_case.size() < nls) per_load_case.resize(nls);
-  };
-  grow(shared.nonlinear_starts), grow(shared.linear_starts);
-  grow(shared.tangents), grow(shared.tangent_free_dofs);
-  {
-    const std::lock_guard<std::mutex> lock(cache.mutex);
-    grow(cache.solutions), grow(cache.linear_solutions);
-  }
+}
 
-  // Then the Newton solves, the load cases on the nonlinear terms' threads (each load case on
-  // one: the element loops inside run serially then). A load case reads and writes only its own
-  // slots, so the numbers do not depend on the thread count or the order.
+// Every per-load-case slot of the caches, so that the load cases below only write their own.
+void ForwardModel::NonlinearEvaluation::prepare_caches() {
+  if (cache_.tangent_solvers.size() < nls_) {
+    cache_.tangent_solvers.resize(nls_);
+    cache_.factorised.resize(nls_, 0);
+  }
+  for (auto& owned : cache_.tangent_solvers)
+    if (!owned) owned = std::make_shared<analysis::TangentSolver>();
+  auto grow = [this](auto& per_load_case) {
+    if (per_load_case.size() < nls_) per_load_case.resize(nls_);
+  };
+  grow(shared_.nonlinear_starts), grow(shared_.linear_starts);
+  grow(shared_.tangents), grow(shared_.tangent_free_dofs);
+  const std::lock_guard<std::mutex> lock(cache_.mutex);
+  grow(cache_.solutions), grow(cache_.linear_solutions);
+}
+
+// The Newton solves, the load cases on the nonlinear terms' threads (each load case on one: the
+// element loops inside run serially then). A load case reads and writes only its own slots, so
+// the numbers do not depend on the thread count or the order.
+ModelEvaluation ForwardModel::NonlinearEvaluation::solve_load_cases() {
+  const int nl = m_.num_load_cases_;
   int team = 1;
-  for (const NonlinearTerm& term : terms_.nonlinear) team = std::max(team, term.threads);
+  for (const NonlinearTerm& term : m_.terms_.nonlinear) team = std::max(team, term.threads);
   team = std::min(team, nl);
   ModelEvaluation out;
-  out.predictions.resize(nls), out.jacobians.resize(nls), out.displacements.resize(nls);
-  std::vector<std::exception_ptr> errors(nls);
+  out.predictions.resize(nls_), out.jacobians.resize(nls_), out.displacements.resize(nls_);
+  std::vector<std::exception_ptr> errors(nls_);
 #pragma omp parallel for schedule(dynamic) num_threads(team) if (team > 1)
   for (int l = 0; l < nl; ++l) {
     const auto lc = static_cast<size_t>(l);
     try {
-      // Newton from the last solution, this model's or another's (FactorizationCache), moved by
-      // the change of the linear solution since: u_lin(theta) + (u_nl - u_lin)(theta_last), a
-      // first-order predictor (the linear part follows a new modulus or stiffness gradient
-      // exactly, the nonlinear part is carried over). Else from zero (its first step is the
-      // linear solution), then in 2, 4, ... equal load steps.
-      const std::shared_ptr<analysis::TangentSolver>& owned_solver = cache.tangent_solvers[lc];
-      analysis::TangentSolver& solver = *owned_solver;
-      bool factorised = cache.factorised[lc] != 0;
-      Eigen::VectorXd u, u_linear_then;
-      {
-        const std::lock_guard<std::mutex> lock(cache.mutex);
-        u = cache.solutions[lc];
-        u_linear_then = cache.linear_solutions[lc];
-      }
-      // This model's first evaluation: another model's solution and tangent.
-      if (u.size() != num_dofs_ && shared.nonlinear_starts[lc].size() == num_dofs_) {
-        u = shared.nonlinear_starts[lc];
-        u_linear_then = shared.linear_starts[lc];
-      }
-      if (u.size() == num_dofs_ && u_linear[lc].size() == num_dofs_ &&
-          u_linear_then.size() == num_dofs_)
-        u += u_linear[lc] - u_linear_then;
-      const analysis::TangentSolver* borrowed = nullptr;
-      if (!factorised && shared.tangents[lc] && shared.tangents[lc] != owned_solver &&
-          shared.tangent_free_dofs[lc] == free_dofs_)
-        borrowed = shared.tangents[lc].get();
-      Parts parts;
-      const Eigen::VectorXd& force = forces[lc];
-      bool converged =
-          u.size() == num_dofs_ && newton(force, 1.0, u, solver, factorised, borrowed, parts);
-      for (int steps = 1; steps <= kMaxSteps && !converged; steps *= 2) {
-        u = Eigen::VectorXd::Zero(num_dofs_);
-        converged = true;
-        for (int k = 1; k <= steps && converged; ++k)
-          converged =
-              newton(force, static_cast<double>(k) / steps, u, solver, factorised, nullptr, parts);
-      }
-      cache.factorised[lc] = factorised ? 1 : 0;
-      if (converged) {
-        shared.nonlinear_starts[lc] = u;
-        shared.linear_starts[lc] = u_linear[lc];
-      }
-      if (factorised && shared.tangents[lc] != owned_solver) {
-        shared.tangents[lc] = owned_solver;
-        shared.tangent_free_dofs[lc] = free_dofs_;
-      }
-      if (!converged)
-        throw std::runtime_error("the large-deformation model did not converge for load case " +
-                                 std::to_string(l + 1) +
-                                 " at the current parameters (Newton with up to " +
-                                 std::to_string(kMaxSteps) + " load steps)");
-      {
-        const std::lock_guard<std::mutex> lock(cache.mutex);
-        cache.solutions[lc] = u;
-        cache.linear_solutions[lc] = u_linear[lc];
-      }
-
-      const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = observations_[lc].operator_;
-      Eigen::MatrixXd jac;
-      if (with_jacobian) {
-        Eigen::MatrixXd du;
-        if (need_tangent) {
-          // dR/dtheta at fixed u: the linear terms' dK/dtheta u and the nonlinear parts n_k(u)
-          // de_k (`parts` hold n_k at the converged u: Newton's last evaluation).
-          Eigen::MatrixXd rhs = linear_rhs(dforces[lc], u);
-          for (size_t t = 0; t < nn; ++t)
-            for (size_t k = 0; k < parts[t].size(); ++k) rhs -= parts[t][k] * de[t][k].transpose();
-          du = solve_free(solver, rhs);
-        }
-        if (w_index >= 0) {
-          du = need_tangent ? Eigen::MatrixXd(w * du + (1.0 - w) * du_linear[lc]) : du_linear[lc];
-          du.col(w_index) += u - u_linear[lc];
-        }
-        jac = h * du;
-      }
-      if (w_index >= 0) u = w * u + (1.0 - w) * u_linear[lc];
-      Eigen::VectorXd y = h * u;
-      add_offsets(l, theta, with_jacobian, y, jac);
-      out.predictions[lc] = std::move(y);
-      out.jacobians[lc] = std::move(jac);
-      out.displacements[lc] = std::move(u);
+      solve_load_case(lc, out);
     } catch (...) {
       errors[lc] = std::current_exception();
     }
@@ -350,6 +358,129 @@ ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
   for (const auto& error : errors)
     if (error) std::rethrow_exception(error);
   return out;
+}
+
+void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluation& out) {
+  const std::shared_ptr<analysis::TangentSolver>& owned_solver = cache_.tangent_solvers[lc];
+  analysis::TangentSolver& solver = *owned_solver;
+  bool factorised = cache_.factorised[lc] != 0;
+  const analysis::TangentSolver* borrowed = nullptr;
+  Eigen::VectorXd u = newton_start(lc, factorised, borrowed);
+  Parts parts;
+  const bool converged = solve_equilibrium(lc, u, solver, factorised, borrowed, parts);
+  remember(lc, u, converged, factorised);
+  if (!converged)
+    throw std::runtime_error("the large-deformation model did not converge for load case " +
+                             std::to_string(lc + 1) +
+                             " at the current parameters (Newton with up to " +
+                             std::to_string(kMaxSteps) + " load steps)");
+  {
+    const std::lock_guard<std::mutex> lock(cache_.mutex);
+    cache_.solutions[lc] = u;
+    cache_.linear_solutions[lc] = u_linear_[lc];
+  }
+  predict(lc, std::move(u), parts, solver, out);
+}
+
+// Newton's start: the last solution, this model's or another's (FactorizationCache), moved by
+// the change of the linear solution since: u_lin(theta) + (u_nl - u_lin)(theta_last), a
+// first-order predictor (the linear part follows a new modulus or stiffness gradient exactly,
+// the nonlinear part is carried over); empty when there is none. `borrowed`: another model's
+// last tangent at the same free DOFs, for chord steps while this model has none of its own
+// (`factorised` false).
+Eigen::VectorXd ForwardModel::NonlinearEvaluation::newton_start(
+    size_t lc, bool factorised, const analysis::TangentSolver*& borrowed) {
+  const int n = m_.num_dofs_;
+  Eigen::VectorXd u, u_linear_then;
+  {
+    const std::lock_guard<std::mutex> lock(cache_.mutex);
+    u = cache_.solutions[lc];
+    u_linear_then = cache_.linear_solutions[lc];
+  }
+  // This model's first evaluation: another model's solution and tangent.
+  if (u.size() != n && shared_.nonlinear_starts[lc].size() == n) {
+    u = shared_.nonlinear_starts[lc];
+    u_linear_then = shared_.linear_starts[lc];
+  }
+  if (u.size() == n && u_linear_[lc].size() == n && u_linear_then.size() == n)
+    u += u_linear_[lc] - u_linear_then;
+  if (!factorised && shared_.tangents[lc] && shared_.tangents[lc] != cache_.tangent_solvers[lc] &&
+      shared_.tangent_free_dofs[lc] == m_.free_dofs_)
+    borrowed = shared_.tangents[lc].get();
+  return u;
+}
+
+// Newton from the start at full load, else from zero in 2, 4, ... equal load steps.
+bool ForwardModel::NonlinearEvaluation::solve_equilibrium(size_t lc, Eigen::VectorXd& u,
+                                                          analysis::TangentSolver& solver,
+                                                          bool& factorised,
+                                                          const analysis::TangentSolver* borrowed,
+                                                          Parts& parts) {
+  const Eigen::VectorXd& force = forces_[lc];
+  bool converged =
+      u.size() == m_.num_dofs_ && newton(force, 1.0, u, solver, factorised, borrowed, parts);
+  for (int steps = 1; steps <= kMaxSteps && !converged; steps *= 2) {
+    u = Eigen::VectorXd::Zero(m_.num_dofs_);
+    converged = true;
+    for (int k = 1; k <= steps && converged; ++k)
+      converged =
+          newton(force, static_cast<double>(k) / steps, u, solver, factorised, nullptr, parts);
+  }
+  return converged;
+}
+
+// What the next evaluations start from: this load case's solution and its tangent.
+void ForwardModel::NonlinearEvaluation::remember(size_t lc, const Eigen::VectorXd& u,
+                                                 bool converged, bool factorised) {
+  const std::shared_ptr<analysis::TangentSolver>& owned_solver = cache_.tangent_solvers[lc];
+  cache_.factorised[lc] = factorised ? 1 : 0;
+  if (converged) {
+    shared_.nonlinear_starts[lc] = u;
+    shared_.linear_starts[lc] = u_linear_[lc];
+  }
+  if (factorised && shared_.tangents[lc] != owned_solver) {
+    shared_.tangents[lc] = owned_solver;
+    shared_.tangent_free_dofs[lc] = m_.free_dofs_;
+  }
+}
+
+// The prediction at the converged u (blended with the linear one) and its Jacobian.
+void ForwardModel::NonlinearEvaluation::predict(size_t lc, Eigen::VectorXd u, const Parts& parts,
+                                                const analysis::TangentSolver& solver,
+                                                ModelEvaluation& out) const {
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = m_.observations_[lc].operator_;
+  Eigen::MatrixXd jac;
+  if (with_jacobian_) {
+    Eigen::MatrixXd du;
+    if (need_tangent_) {
+      // dR/dtheta at fixed u: the linear terms' dK/dtheta u and the nonlinear parts n_k(u) de_k
+      // (`parts` hold n_k at the converged u: Newton's last evaluation).
+      Eigen::MatrixXd rhs = linear_rhs(dforces_[lc], u);
+      for (size_t t = 0; t < m_.terms_.nonlinear.size(); ++t)
+        for (size_t k = 0; k < parts[t].size(); ++k) rhs -= parts[t][k] * de_[t][k].transpose();
+      du = solve_free(solver, rhs);
+    }
+    if (w_index_ >= 0) {
+      du = need_tangent_ ? Eigen::MatrixXd(w_ * du + (1.0 - w_) * du_linear_[lc]) : du_linear_[lc];
+      du.col(w_index_) += u - u_linear_[lc];
+    }
+    jac = h * du;
+  }
+  if (w_index_ >= 0) u = w_ * u + (1.0 - w_) * u_linear_[lc];
+  Eigen::VectorXd y = h * u;
+  const int l = static_cast<int>(lc);
+  m_.add_offsets(l, theta_, with_jacobian_, y, jac);
+  out.predictions[lc] = std::move(y);
+  out.jacobians[lc] = std::move(jac);
+  out.displacements[lc] = std::move(u);
+}
+
+ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
+                                                 bool with_jacobian) const {
+  if (!nonlinear_cache_) throw std::logic_error("ForwardModel: nonlinear cache missing");
+  const std::lock_guard<std::mutex> solver_lock(nonlinear_cache_->solver_mutex);
+  const std::lock_guard<std::mutex> shared_lock(linear_cache_->nonlinear_mutex);
+  return NonlinearEvaluation(*this, theta, with_jacobian).run();
 }
 
 }  // namespace isospring::fitting

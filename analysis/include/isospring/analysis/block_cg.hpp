@@ -8,7 +8,7 @@
 // block once and uses every thread: each thread adds the transposed contributions of its block
 // columns into a private vector, summed at the end. Node blocks also store one column index per
 // 9 values instead of one per value. CG is bound by that product: measured on the clamped p = 2
-// cube, README "Performance", bench/bench_analysis.cpp BM_Iterative*.
+// cube, docs/performance.md, bench/bench_analysis.cpp BM_Iterative*.
 //
 // Why (block) Jacobi and not incomplete Cholesky: building the incomplete factor of the 32^3 cube
 // took longer than the whole block-Jacobi solve, and its triangular solves are sequential.

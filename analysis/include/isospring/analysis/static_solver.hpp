@@ -45,7 +45,7 @@ struct SolverChoice {
 };
 
 /// Free DOFs (3D, 2D) above which kAuto takes block-Jacobi CG instead of sparse Cholesky. Why
-/// (bench/bench_analysis.cpp, README "Performance"): on the clamped p = 2 cube CHOLMOD's
+/// (bench/bench_analysis.cpp, docs/performance.md): on the clamped p = 2 cube CHOLMOD's
 /// factorisation costs 1.5-3 s CPU at 16,524 free DOFs and 55 s at 114,444 (nested-dissection
 /// fill grows as N^2 in 3D), CG 0.2 s and 2.8 s; below ~20,000 DOFs the direct solve takes a few
 /// seconds at most and is immune to the conditioning that slows CG (slender or nearly

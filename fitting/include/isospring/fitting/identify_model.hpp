@@ -130,8 +130,10 @@ class ForwardModel {
   // predictions y and, when with_jacobian, their derivatives to jac.
   void add_offsets(int l, const Eigen::VectorXd& theta, bool with_jacobian, Eigen::VectorXd& y,
                    Eigen::MatrixXd& jac) const;
-  // evaluate() with nonlinear terms (identify_model_nonlinear.cpp).
+  // evaluate() with nonlinear terms (identify_model_nonlinear.cpp), whose stages are those of
+  // a NonlinearEvaluation.
   ModelEvaluation evaluate_nonlinear(const Eigen::VectorXd& theta, bool with_jacobian) const;
+  class NonlinearEvaluation;
   // The last converged nonlinear solution per load case: Newton's start at the next theta (a
   // least-squares solver evaluates nearby parameters, often the same ones twice).
   struct NonlinearCache;

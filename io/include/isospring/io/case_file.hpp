@@ -1,6 +1,6 @@
 #pragma once
 // Case files: one JSON document describing a whole analysis (schema version 1; every field is
-// documented field by field in README.md, "Case files").
+// documented field by field in docs/case-files.md).
 //
 //   {"name": "cantilever", "units": "SI",
 //    "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]},

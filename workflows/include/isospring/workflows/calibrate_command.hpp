@@ -5,9 +5,9 @@
 // (JSON and Markdown), model.json, the error tables and the viewer files.
 //
 //   const io::Progress progress("calibrate", true);
-//   const io::CalibrateCommandResult r = io::run_calibrate(io::read_case_file("case.json"),
-//                                                          progress);
-//   io::write_calibrate_outputs("out", r, progress);
+//   const workflows::CalibrateCommandResult r =
+//       workflows::run_calibrate(io::read_case_file("case.json"), progress);
+//   workflows::write_calibrate_outputs("out", r, progress);
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
