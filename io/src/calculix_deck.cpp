@@ -1,12 +1,15 @@
+// make_calculix_deck: the deck's sections in the order ccx reads them (nodes, elements,
+// materials, one step per load case); the mesh and the consistent side loads are in
+// calculix_mesh.cpp and calculix_side_loads.cpp.
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
-#include <functional>
 #include <map>
 
+#include "calculix_mesh.hpp"
 #include "isospring/io/calculix.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/quadrature.hpp"
@@ -15,82 +18,12 @@ namespace isospring::io {
 using Eigen::Vector3d;
 
 namespace {
-
-/// Corner and mid-edge nodes of one patch on its "fine" parametric grid: knot values and span
-/// midpoints, (2 n_d + 1) per direction. A fine-grid point is a node when at most one of its
-/// indices is odd (face and body centres are not nodes of a serendipity element).
-struct PatchNodes {
-  std::array<int, 3> size{};  // fine-grid points per direction
-  std::array<std::vector<double>, 3> params;
-  std::vector<int> node;  // fine-grid index -> global node (0-based), -1 when none
-  bool flip = false;      // left-handed parametrisation: reverse w in the elements
-  int at(int a, int b, int c) const {
-    return node[static_cast<size_t>(a + size[0] * (b + size[1] * c))];
-  }
-};
-
-/// Merges coincident nodes of different patches (conforming interfaces) by position.
-class NodeRegistry {
- public:
-  explicit NodeRegistry(double tolerance) : tolerance_(tolerance) {}
-  int add(const Vector3d& x) {
-    const std::array<long long, 3> cell = key(x);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
-          if (it == cells_.end()) continue;
-          for (int n : it->second)
-            if ((nodes_[static_cast<size_t>(n)] - x).norm() <= tolerance_) return n;
-        }
-    nodes_.push_back(x);
-    const int id = static_cast<int>(nodes_.size()) - 1;
-    cells_[cell].push_back(id);
-    return id;
-  }
-  const std::vector<Vector3d>& nodes() const { return nodes_; }
-
- private:
-  std::array<long long, 3> key(const Vector3d& x) const {
-    return {std::llround(x.x() / tolerance_), std::llround(x.y() / tolerance_),
-            std::llround(x.z() / tolerance_)};
-  }
-  double tolerance_;
-  std::vector<Vector3d> nodes_;
-  std::map<std::array<long long, 3>, std::vector<int>> cells_;
-};
-
-PatchNodes patch_nodes(const nurbs::Patch& patch, NodeRegistry& registry) {
-  PatchNodes pn;
-  for (int d = 0; d < 3; ++d) {
-    if (d >= patch.param_dim()) {  // a 2D patch: one layer of nodes in its plane
-      pn.params[d] = {0.0};
-      pn.size[d] = 1;
-      continue;
-    }
-    const std::vector<double> knots = patch.knots(d).unique();
-    for (size_t i = 0; i + 1 < knots.size(); ++i) {
-      pn.params[d].push_back(knots[i]);
-      pn.params[d].push_back(0.5 * (knots[i] + knots[i + 1]));
-    }
-    pn.params[d].push_back(knots.back());
-    pn.size[d] = static_cast<int>(pn.params[d].size());
-  }
-  pn.node.assign(static_cast<size_t>(pn.size[0] * pn.size[1] * pn.size[2]), -1);
-  for (int c = 0; c < pn.size[2]; ++c)
-    for (int b = 0; b < pn.size[1]; ++b)
-      for (int a = 0; a < pn.size[0]; ++a) {
-        if ((a % 2) + (b % 2) + (c % 2) > 1) continue;
-        const Vector3d x = patch.point({pn.params[0][a], pn.params[1][b], pn.params[2][c]});
-        pn.node[static_cast<size_t>(a + pn.size[0] * (b + pn.size[1] * c))] = registry.add(x);
-      }
-  nurbs::Param centre{};
-  for (int d = 0; d < patch.param_dim(); ++d)
-    centre[d] = 0.5 * (patch.param_min(d) + patch.param_max(d));
-  const Eigen::Matrix3d J = patch.derivatives(centre).first;
-  pn.flip = (patch.param_dim() == 3 ? J.determinant() : J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0)) < 0;
-  return pn;
-}
+using calculix_detail::DeckMesh;
+using calculix_detail::kQuad8;
+using calculix_detail::mesh_patches;
+using calculix_detail::PatchNodes;
+using calculix_detail::side_index;
+using calculix_detail::side_load_forces;
 
 /// Fine-grid offsets of the 20 nodes of a C3D20 element in CalculiX/Abaqus order: corners of the
 /// bottom (w = 0) and top faces counter-clockwise, bottom and top mid-edges, then vertical ones.
@@ -98,40 +31,6 @@ constexpr int kHex20[20][3] = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0
                                {2, 0, 2}, {2, 2, 2}, {0, 2, 2}, {1, 0, 0}, {2, 1, 0},
                                {1, 2, 0}, {0, 1, 0}, {1, 0, 2}, {2, 1, 2}, {1, 2, 2},
                                {0, 1, 2}, {0, 0, 1}, {2, 0, 1}, {2, 2, 1}, {0, 2, 1}};
-
-/// Face nodes in (s, t) fine offsets: corners, then mid-edges (8-node serendipity quad).
-constexpr int kQuad8[8][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}, {1, 0}, {2, 1}, {1, 2}, {0, 1}};
-
-/// Serendipity shape functions of the 8-node quad and their derivatives at (s, t) in [-1, 1]^2.
-void quad8(double s, double t, double N[8], double dNs[8], double dNt[8]) {
-  for (int a = 0; a < 8; ++a) {
-    const double si = kQuad8[a][0] - 1.0, ti = kQuad8[a][1] - 1.0;
-    if (a < 4) {
-      N[a] = 0.25 * (1 + s * si) * (1 + t * ti) * (s * si + t * ti - 1);
-      dNs[a] = 0.25 * si * (1 + t * ti) * (2 * s * si + t * ti);
-      dNt[a] = 0.25 * ti * (1 + s * si) * (s * si + 2 * t * ti);
-    } else if (si == 0) {
-      N[a] = 0.5 * (1 - s * s) * (1 + t * ti);
-      dNs[a] = -s * (1 + t * ti);
-      dNt[a] = 0.5 * (1 - s * s) * ti;
-    } else {
-      N[a] = 0.5 * (1 + s * si) * (1 - t * t);
-      dNs[a] = 0.5 * si * (1 - t * t);
-      dNt[a] = -t * (1 + s * si);
-    }
-  }
-}
-
-/// Fine-grid index of a side point: `dir` fixed at the side, (s, t) along the other two.
-std::array<int, 3> side_index(const PatchNodes& pn, int dir, int end, int s, int t) {
-  std::array<int, 3> idx{};
-  const int a = (dir + 1) % 3, b = (dir + 2) % 3;
-  const int first = std::min(a, b), second = std::max(a, b);
-  idx[dir] = end ? pn.size[dir] - 1 : 0;
-  idx[first] = s;
-  idx[second] = t;
-  return idx;
-}
 
 std::string where_support(size_t i) {
   return "support " + std::to_string(i) + " (boundary[" + std::to_string(i) + "])";
@@ -223,45 +122,28 @@ void append_line(std::string& out, const char* format, ...) {
   out += '\n';
 }
 
-}  // namespace
-
-CalculixDeck make_calculix_deck(const analysis::Problem& problem, const CalculixOptions& options) {
-  const bool solid = problem.formulation == analysis::Formulation::kSolid;
-  const int dim = solid ? 3 : 2;
-  CalculixDeck deck;
-  deck.element_type = element_type_for(problem.formulation, options.element_type);
-  // Tolerance for merging interface nodes: relative to the model size.
-  Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
-  for (const auto& patch : problem.patches) {
-    const auto [plo, phi] = patch.control_bounds();
-    lo = lo.cwiseMin(plo);
-    hi = hi.cwiseMax(phi);
-  }
-  NodeRegistry registry(1e-9 * std::max((hi - lo).norm(), 1e-300));
-  std::vector<PatchNodes> patch_nodes_list;
-  for (const auto& patch : problem.patches) {
-    if (patch.param_dim() != dim)
-      throw nurbs::InputError(std::string("CalculiX export of a ") + (solid ? "3D" : "2D") +
-                              " case needs patches of parametric dimension " + std::to_string(dim));
-    patch_nodes_list.push_back(patch_nodes(patch, registry));
-  }
-
-  deck.nodes = registry.nodes();
+/// Stage: the comment header, *HEADING and every node.
+void write_nodes(const std::string& title, CalculixDeck& deck) {
   std::string& out = deck.text;
-  out += "** CalculiX deck written by isospring export-calculix: " + options.title + "\n";
+  out += "** CalculiX deck written by isospring export-calculix: " + title + "\n";
   out += "** Same geometry (exact NURBS points at corner and mid-edge nodes), material, supports\n";
   out += "** and loads as the isospring case; one *STEP per load case.\n";
-  out += "*HEADING\n" + options.title + "\n";
+  out += "*HEADING\n" + title + "\n";
   out += "*NODE, NSET=Nall\n";
   for (size_t n = 0; n < deck.nodes.size(); ++n)
     append_line(out, "%zu, %s, %s, %s", n + 1, num(deck.nodes[n].x()).c_str(),
                 num(deck.nodes[n].y()).c_str(), num(deck.nodes[n].z()).c_str());
+}
 
-  // Elements: one per knot span. A left-handed patch's elements are mirrored (w flipped in 3D,
-  // v in 2D) so that every element's Jacobian is positive, as ccx requires.
-  std::vector<Vector3d> centroids;  // of each element's corner nodes
+/// Stage: the elements, one per knot span, and the centroid of each one's corner nodes. A
+/// left-handed patch's elements are mirrored (w flipped in 3D, v in 2D) so that every element's
+/// Jacobian is positive, as ccx requires.
+std::vector<Vector3d> write_elements(const std::vector<PatchNodes>& patches, bool solid,
+                                     CalculixDeck& deck) {
+  std::string& out = deck.text;
+  std::vector<Vector3d> centroids;
   out += "*ELEMENT, TYPE=" + deck.element_type + ", ELSET=Eall\n";
-  for (const PatchNodes& pn : patch_nodes_list) {
+  for (const PatchNodes& pn : patches) {
     const int corners = solid ? 8 : 4, count = solid ? 20 : 8;
     for (int k = 0; k + 2 < pn.size[2] || (!solid && k == 0); k += 2)
       for (int j = 0; j + 2 < pn.size[1]; j += 2)
@@ -282,8 +164,14 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
           centroids.push_back(centroid);
         }
   }
+  return centroids;
+}
 
-  // Materials: one, or one per distinct Young's modulus when it varies with position.
+/// Stage: the materials and sections, one, or one per distinct Young's modulus when it varies
+/// with position (options.youngs_modulus_at at the element centroids).
+void write_materials(const analysis::Problem& problem, const CalculixOptions& options,
+                     const std::vector<Vector3d>& centroids, bool solid, CalculixDeck& deck) {
+  std::string& out = deck.text;
   std::map<double, std::vector<int>> elements_by_modulus;
   for (int e = 0; e < deck.elements; ++e) {
     const double E = options.youngs_modulus_at
@@ -312,8 +200,11 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
     out += "*SOLID SECTION, ELSET=" + set + ", MATERIAL=" + name + "\n";
     if (!solid) append_line(out, "%s", num(problem.material.thickness).c_str());  // plane elements
   }
+}
 
-  // Supports: one *BOUNDARY line per node and component (values may vary from node to node).
+/// Stage: the supports as a *BOUNDARY block, one line per node and component (values may vary
+/// from node to node); every step repeats it.
+std::string boundary_block(const analysis::Problem& problem, const DeckMesh& mesh, int dim) {
   std::string boundary = "*BOUNDARY, OP=NEW\n";
   for (size_t s = 0; s < problem.supports.size(); ++s) {
     const analysis::Support& support = problem.supports[s];
@@ -322,7 +213,7 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
                               ": a support on a single control point has no CalculiX node; "
                               "support a side instead");
     const nurbs::Patch& patch = problem.patches[static_cast<size_t>(support.side.patch)];
-    const PatchNodes& pn = patch_nodes_list[static_cast<size_t>(support.side.patch)];
+    const PatchNodes& pn = mesh.patches[static_cast<size_t>(support.side.patch)];
     std::array<bool, 3> fixed = support.fixed;
     if (support.symmetry) {
       fixed = {false, false, false};
@@ -334,7 +225,7 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
         const auto idx = side_index(pn, support.side.dir, support.side.end, sIdx, t);
         const int node = pn.at(idx[0], idx[1], idx[2]);
         if (node < 0) continue;
-        const Vector3d x = deck.nodes[static_cast<size_t>(node)];
+        const Vector3d x = mesh.nodes[static_cast<size_t>(node)];
         const Vector3d value = support.symmetry         ? Vector3d::Zero()
                                : support.value_function ? support.value_function(x)
                                                         : support.value;
@@ -343,7 +234,45 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
             append_line(boundary, "%d, %d, %d, %s", node + 1, c + 1, c + 1, num(value[c]).c_str());
       }
   }
+  return boundary;
+}
 
+/// Stage, per load case: its *STEP with the supports, the consistent nodal forces (*CLOAD), the
+/// body force and gravity (*DLOAD) and the displacement output.
+void write_step(const analysis::LoadCase& lc, const std::map<int, Vector3d>& forces,
+                const std::string& boundary, bool nonlinear, int dim, std::string& out) {
+  out += "**\n** load case " + lc.id + (nonlinear ? "\n*STEP, NLGEOM" : "\n*STEP") + "\n*STATIC\n" +
+         boundary;
+  out += "*CLOAD, OP=NEW\n";
+  for (const auto& [node, f] : forces)
+    for (int c = 0; c < dim; ++c)
+      if (f[c] != 0) append_line(out, "%d, %d, %s", node + 1, c + 1, num(f[c]).c_str());
+  out += "*DLOAD, OP=NEW\n";
+  const char* body[3] = {"BX", "BY", "BZ"};
+  for (int c = 0; c < dim; ++c)
+    if (lc.body_force[c] != 0)
+      append_line(out, "Eall, %s, %s", body[c], num(lc.body_force[c]).c_str());
+  const double g = lc.gravity.norm();
+  if (g > 0)
+    append_line(out, "Eall, GRAV, %s, %s, %s, %s", num(g).c_str(), num(lc.gravity.x() / g).c_str(),
+                num(lc.gravity.y() / g).c_str(), num(lc.gravity.z() / g).c_str());
+  out += "*NODE PRINT, NSET=Nall\nU\n*NODE FILE\nU\n*END STEP\n";
+}
+
+}  // namespace
+
+CalculixDeck make_calculix_deck(const analysis::Problem& problem, const CalculixOptions& options) {
+  const bool solid = problem.formulation == analysis::Formulation::kSolid;
+  const int dim = solid ? 3 : 2;
+  CalculixDeck deck;
+  deck.element_type = element_type_for(problem.formulation, options.element_type);
+  const DeckMesh mesh = mesh_patches(problem, dim);
+  deck.nodes = mesh.nodes;
+
+  write_nodes(options.title, deck);
+  const std::vector<Vector3d> centroids = write_elements(mesh.patches, solid, deck);
+  write_materials(problem, options, centroids, solid, deck);
+  const std::string boundary = boundary_block(problem, mesh, dim);
   const nurbs::GaussRule rule = nurbs::gauss_legendre(options.face_quadrature);
   for (const analysis::LoadCase& lc : problem.load_cases) {
     deck.load_case_ids.push_back(lc.id);
@@ -351,124 +280,8 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
       throw nurbs::InputError("load case '" + lc.id +
                               "': point loads act on control points, which have no CalculiX "
                               "node; use a traction instead");
-    // Consistent nodal forces of the side loads: f_a = integral of N_a t dA over each face.
-    std::map<int, Vector3d> forces;
-    auto add_side_load = [&](const analysis::Side& side, const Vector3d& constant,
-                             const std::function<Vector3d(const Vector3d&, const Vector3d&)>& f,
-                             double pressure, bool is_pressure) {
-      const nurbs::Patch& patch = problem.patches[static_cast<size_t>(side.patch)];
-      const PatchNodes& pn = patch_nodes_list[static_cast<size_t>(side.patch)];
-      if (!solid) {
-        // 3-node edges along the other parametric direction; forces per unit length times the
-        // thickness, as the plane elements carry it.
-        const int along = 1 - side.dir;
-        for (int s0 = 0; s0 + 2 < pn.size[along]; s0 += 2) {
-          int nodes[3];
-          Vector3d x[3];
-          for (int q = 0; q < 3; ++q) {
-            std::array<int, 3> idx{0, 0, 0};
-            idx[side.dir] = side.end ? pn.size[side.dir] - 1 : 0;
-            idx[along] = s0 + q;
-            nodes[q] = pn.at(idx[0], idx[1], idx[2]);
-            x[q] = deck.nodes[static_cast<size_t>(nodes[q])];
-          }
-          nurbs::Param mid{};
-          mid[side.dir] =
-              pn.params[side.dir][static_cast<size_t>(side.end ? pn.size[side.dir] - 1 : 0)];
-          mid[along] = pn.params[along][static_cast<size_t>(s0 + 1)];
-          const Vector3d outward_ref =
-              patch.derivatives(mid).first.col(side.dir) * (side.end ? 1 : -1);
-          for (size_t i = 0; i < rule.points.size(); ++i) {
-            const double r = rule.points[i];
-            const double N[3] = {-0.5 * r * (1 - r), 1 - r * r, 0.5 * r * (1 + r)};
-            const double dN[3] = {r - 0.5, -2 * r, r + 0.5};
-            Vector3d xq = Vector3d::Zero(), xs = Vector3d::Zero();
-            for (int q = 0; q < 3; ++q) {
-              xq += N[q] * x[q];
-              xs += dN[q] * x[q];
-            }
-            const double length = xs.norm();
-            if (length == 0) continue;
-            Vector3d n(xs.y() / length, -xs.x() / length, 0.0);
-            if (n.dot(outward_ref) < 0) n = -n;
-            const Vector3d traction = is_pressure ? Vector3d(-pressure * n)
-                                      : f         ? f(xq, n)
-                                                  : constant;
-            const double w = rule.weights[i] * length * problem.material.thickness;
-            for (int q = 0; q < 3; ++q) {
-              auto [it, inserted] = forces.try_emplace(nodes[q], Vector3d::Zero());
-              it->second += w * N[q] * traction;
-            }
-          }
-        }
-        return;
-      }
-      const int a = std::min((side.dir + 1) % 3, (side.dir + 2) % 3);
-      const int b = std::max((side.dir + 1) % 3, (side.dir + 2) % 3);
-      for (int t0 = 0; t0 + 2 < pn.size[b]; t0 += 2)
-        for (int s0 = 0; s0 + 2 < pn.size[a]; s0 += 2) {
-          int nodes[8];
-          Vector3d x[8];
-          for (int q = 0; q < 8; ++q) {
-            const auto idx =
-                side_index(pn, side.dir, side.end, s0 + kQuad8[q][0], t0 + kQuad8[q][1]);
-            nodes[q] = pn.at(idx[0], idx[1], idx[2]);
-            x[q] = deck.nodes[static_cast<size_t>(nodes[q])];
-          }
-          // Outward: along +dX/du_dir at the last knot, against it at the first.
-          nurbs::Param mid{};
-          mid[side.dir] = pn.params[side.dir][side.end ? pn.size[side.dir] - 1 : 0];
-          mid[a] = pn.params[a][s0 + 1];
-          mid[b] = pn.params[b][t0 + 1];
-          const Vector3d outward_ref =
-              patch.derivatives(mid).first.col(side.dir) * (side.end ? 1 : -1);
-          for (size_t i = 0; i < rule.points.size(); ++i)
-            for (size_t j = 0; j < rule.points.size(); ++j) {
-              double N[8], dNs[8], dNt[8];
-              quad8(rule.points[i], rule.points[j], N, dNs, dNt);
-              Vector3d xq = Vector3d::Zero(), xs = Vector3d::Zero(), xt = Vector3d::Zero();
-              for (int q = 0; q < 8; ++q) {
-                xq += N[q] * x[q];
-                xs += dNs[q] * x[q];
-                xt += dNt[q] * x[q];
-              }
-              Vector3d n = xs.cross(xt);
-              const double area = n.norm();
-              if (area == 0) continue;
-              n /= area;
-              if (n.dot(outward_ref) < 0) n = -n;
-              const Vector3d traction = is_pressure ? Vector3d(-pressure * n)
-                                        : f         ? f(xq, n)
-                                                    : constant;
-              const double w = rule.weights[i] * rule.weights[j] * area;
-              for (int q = 0; q < 8; ++q) {
-                auto [it, inserted] = forces.try_emplace(nodes[q], Vector3d::Zero());
-                it->second += w * N[q] * traction;
-              }
-            }
-        }
-    };
-    for (const auto& tr : lc.tractions) add_side_load(tr.side, tr.value, tr.function, 0.0, false);
-    for (const auto& pr : lc.pressures)
-      add_side_load(pr.side, Vector3d::Zero(), {}, pr.value, true);
-
-    out += "**\n** load case " + lc.id + (options.nonlinear ? "\n*STEP, NLGEOM" : "\n*STEP") +
-           "\n*STATIC\n" + boundary;
-    out += "*CLOAD, OP=NEW\n";
-    for (const auto& [node, f] : forces)
-      for (int c = 0; c < dim; ++c)
-        if (f[c] != 0) append_line(out, "%d, %d, %s", node + 1, c + 1, num(f[c]).c_str());
-    out += "*DLOAD, OP=NEW\n";
-    const char* body[3] = {"BX", "BY", "BZ"};
-    for (int c = 0; c < dim; ++c)
-      if (lc.body_force[c] != 0)
-        append_line(out, "Eall, %s, %s", body[c], num(lc.body_force[c]).c_str());
-    const double g = lc.gravity.norm();
-    if (g > 0)
-      append_line(out, "Eall, GRAV, %s, %s, %s, %s", num(g).c_str(),
-                  num(lc.gravity.x() / g).c_str(), num(lc.gravity.y() / g).c_str(),
-                  num(lc.gravity.z() / g).c_str());
-    out += "*NODE PRINT, NSET=Nall\nU\n*NODE FILE\nU\n*END STEP\n";
+    write_step(lc, side_load_forces(problem, mesh, rule, lc), boundary, options.nonlinear, dim,
+               deck.text);
   }
   return deck;
 }

@@ -65,6 +65,175 @@ void check_keys(const FieldReader& reader, const json& object, const std::string
   case_json::reject_unknown_fields(object, std::vector<std::string>(known.begin(), known.end()),
                                    reader.source() + ": " + path);
 }
+
+// The document's object, known top-level keys, format and version.
+void check_document(const FieldReader& reader, const json& document) {
+  if (!document.is_object()) reader.fail("(document)", "must be a JSON object");
+  check_keys(reader, document, "",
+             {"format", "version", "units", "dimension", "particles", "springs", "volumes",
+              "provenance", "gravity", "load_cases"});
+  const json& format = reader.require(document, "format", "");
+  if (format != kFormat)
+    reader.fail("format", std::string("must be \"") + kFormat +
+                              "\"; this file is not an isospring spring model");
+  if (reader.integer(reader.require(document, "version", ""), "version") != kVersion)
+    reader.fail("version", "unsupported version; this isospring reads version 1");
+}
+
+// Item `index` of the array `list` ("springs") as an object with only `known` keys; `path`
+// gets its field prefix ("springs[3].").
+const json& list_item(const FieldReader& reader, const json& array, const std::string& list,
+                      size_t index, const std::set<std::string>& known, std::string& path) {
+  path = list + "[" + std::to_string(index) + "].";
+  const json& item = array[index];
+  if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
+  check_keys(reader, item, path, known);
+  return item;
+}
+
+void read_particles(const FieldReader& reader, const json& document,
+                    analysis::SpringNetwork& network) {
+  const json& particles = reader.require(document, "particles", "");
+  if (!particles.is_array() || particles.empty())
+    reader.fail("particles", "must be a non-empty array");
+  for (size_t p = 0; p < particles.size(); ++p) {
+    std::string path;
+    const json& item = list_item(reader, particles, "particles", p, {"x", "mass", "fixed"}, path);
+    network.positions.push_back(
+        reader.vector(reader.require(item, "x", path), path + "x", network.dimension));
+    network.masses.push_back(reader.number(reader.require(item, "mass", path), path + "mass"));
+    bool fixed = false;
+    if (item.contains("fixed")) {
+      if (!item["fixed"].is_boolean()) reader.fail(path + "fixed", "must be true or false");
+      fixed = item["fixed"].get<bool>();
+    }
+    network.fixed.push_back(fixed);
+  }
+}
+
+void read_springs(const FieldReader& reader, const json& document,
+                  analysis::SpringNetwork& network) {
+  const json& springs = reader.require(document, "springs", "");
+  if (!springs.is_array()) reader.fail("springs", "must be an array");
+  for (size_t s = 0; s < springs.size(); ++s) {
+    std::string path;
+    const json& item =
+        list_item(reader, springs, "springs", s, {"i", "j", "k", "c", "L0", "group"}, path);
+    analysis::Spring spring;
+    spring.i = reader.integer(reader.require(item, "i", path), path + "i");
+    spring.j = reader.integer(reader.require(item, "j", path), path + "j");
+    spring.stiffness = reader.number(reader.require(item, "k", path), path + "k");
+    spring.damping = item.contains("c") ? reader.number(item["c"], path + "c") : 0.0;
+    spring.rest_length = reader.number(reader.require(item, "L0", path), path + "L0");
+    spring.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
+    network.springs.push_back(spring);
+  }
+}
+
+// A strain point's particles and their basis gradients, one row of `dimension` each.
+void read_strain_point(const FieldReader& reader, const json& item, const std::string& path,
+                       int dimension, analysis::VolumeTerm& term) {
+  const json& points = item["points"];
+  const json& gradients = reader.require(item, "gradients", path);
+  if (!points.is_array() || points.empty() || !gradients.is_array() ||
+      gradients.size() != points.size())
+    reader.fail(path + "points", "must list one particle per row of \"gradients\"");
+  for (size_t a = 0; a < points.size(); ++a) {
+    const std::string at = "[" + std::to_string(a) + "]";
+    term.points.push_back(reader.integer(points[a], path + "points" + at));
+    const json& row = gradients[a];
+    if (!row.is_array() || row.size() != static_cast<size_t>(dimension))
+      reader.fail(path + "gradients" + at,
+                  "must have " + std::to_string(dimension) + " components");
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int c = 0; c < dimension; ++c)
+      g[c] = reader.number(row[static_cast<size_t>(c)],
+                           path + "gradients" + at + "[" + std::to_string(c) + "]");
+    term.gradients.push_back(g);
+  }
+}
+
+// A cell's corners in tensor order.
+void read_cell_corners(const FieldReader& reader, const json& item, const std::string& path,
+                       int dimension, analysis::VolumeTerm& term) {
+  const size_t corners = dimension == 2 ? 4 : 8;
+  const json& particles_of = reader.require(item, "particles", path);
+  if (!particles_of.is_array() || particles_of.size() != corners)
+    reader.fail(path + "particles", "must list the " + std::to_string(corners) +
+                                        " corners of the cell in tensor order");
+  for (size_t a = 0; a < corners; ++a)
+    term.particles[a] =
+        reader.integer(particles_of[a], path + "particles[" + std::to_string(a) + "]");
+}
+
+void read_volumes(const FieldReader& reader, const json& document,
+                  analysis::SpringNetwork& network) {
+  if (!document.contains("volumes")) return;
+  const json& volumes = document["volumes"];
+  if (!volumes.is_array()) reader.fail("volumes", "must be an array");
+  for (size_t v = 0; v < volumes.size(); ++v) {
+    std::string path;
+    const json& item =
+        list_item(reader, volumes, "volumes", v,
+                  {"particles", "points", "gradients", "kappa", "mu", "V0", "group"}, path);
+    // "kappa": a volume term; "mu": a shear term (deviatoric energy of the mean strain).
+    if (item.contains("kappa") == item.contains("mu"))
+      reader.fail(path.substr(0, path.size() - 1),
+                  "give either \"kappa\" (a volume term) or \"mu\" (a shear term)");
+    analysis::VolumeTerm term;
+    if (item.contains("points"))
+      read_strain_point(reader, item, path, network.dimension, term);
+    else
+      read_cell_corners(reader, item, path, network.dimension, term);
+    const char* key = item.contains("mu") ? "mu" : "kappa";
+    if (item.contains("mu")) term.kind = analysis::CellEnergy::kShear;
+    term.modulus = reader.number(item[key], path + key);
+    term.rest_volume = reader.number(reader.require(item, "V0", path), path + "V0");
+    term.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
+    network.volumes.push_back(term);
+  }
+}
+
+// One load case's forces, [particle, fx, fy(, fz)] rows.
+void read_forces(const FieldReader& reader, const json& item, const std::string& path,
+                 const analysis::SpringNetwork& network, ModelLoadCase& load) {
+  const json& forces = reader.require(item, "forces", path);
+  if (!forces.is_array()) reader.fail(path + "forces", "must be an array");
+  for (size_t k = 0; k < forces.size(); ++k) {
+    const std::string where = path + "forces[" + std::to_string(k) + "]";
+    const json& f = forces[k];
+    if (!f.is_array() || f.size() != static_cast<size_t>(network.dimension) + 1)
+      reader.fail(
+          where, "must be [particle, fx, fy" + std::string(network.dimension == 3 ? ", fz]" : "]"));
+    const int particle = reader.integer(f[0], where + "[0]");
+    if (particle < 0 || particle >= static_cast<int>(network.positions.size()))
+      reader.fail(where + "[0]", "particle index " + std::to_string(particle) +
+                                     " out of range [0, " +
+                                     std::to_string(network.positions.size()) + ")");
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();
+    for (int c = 0; c < network.dimension; ++c)
+      force[c] =
+          reader.number(f[static_cast<size_t>(c) + 1], where + "[" + std::to_string(c + 1) + "]");
+    load.forces.emplace_back(particle, force);
+  }
+}
+
+void read_load_cases(const FieldReader& reader, const json& document, SpringModel& model) {
+  if (!document.contains("load_cases")) return;
+  const json& cases = document["load_cases"];
+  if (!cases.is_array()) reader.fail("load_cases", "must be an array");
+  for (size_t l = 0; l < cases.size(); ++l) {
+    std::string path;
+    const json& item = list_item(reader, cases, "load_cases", l, {"id", "forces"}, path);
+    ModelLoadCase load;
+    const json& id = reader.require(item, "id", path);
+    if (!id.is_string()) reader.fail(path + "id", "must be a string");
+    load.id = id.get<std::string>();
+    read_forces(reader, item, path, model.network, load);
+    model.load_cases.push_back(std::move(load));
+  }
+}
+
 }  // namespace
 
 json default_model_units() {
@@ -184,16 +353,7 @@ json model_to_json(const analysis::SpringNetwork& network, const json& provenanc
 
 SpringModel model_from_json(const json& document, const std::string& source) {
   const FieldReader reader(source);
-  if (!document.is_object()) reader.fail("(document)", "must be a JSON object");
-  check_keys(reader, document, "",
-             {"format", "version", "units", "dimension", "particles", "springs", "volumes",
-              "provenance", "gravity", "load_cases"});
-  const json& format = reader.require(document, "format", "");
-  if (format != kFormat)
-    reader.fail("format", std::string("must be \"") + kFormat +
-                              "\"; this file is not an isospring spring model");
-  if (reader.integer(reader.require(document, "version", ""), "version") != kVersion)
-    reader.fail("version", "unsupported version; this isospring reads version 1");
+  check_document(reader, document);
 
   SpringModel model;
   analysis::SpringNetwork& network = model.network;
@@ -205,135 +365,16 @@ SpringModel model_from_json(const json& document, const std::string& source) {
   model.provenance = document.value("provenance", json::object());
   if (!model.provenance.is_object()) reader.fail("provenance", "must be an object");
 
-  const json& particles = reader.require(document, "particles", "");
-  if (!particles.is_array() || particles.empty())
-    reader.fail("particles", "must be a non-empty array");
-  for (size_t p = 0; p < particles.size(); ++p) {
-    const std::string path = "particles[" + std::to_string(p) + "].";
-    const json& item = particles[p];
-    if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
-    check_keys(reader, item, path, {"x", "mass", "fixed"});
-    network.positions.push_back(
-        reader.vector(reader.require(item, "x", path), path + "x", network.dimension));
-    network.masses.push_back(reader.number(reader.require(item, "mass", path), path + "mass"));
-    bool fixed = false;
-    if (item.contains("fixed")) {
-      if (!item["fixed"].is_boolean()) reader.fail(path + "fixed", "must be true or false");
-      fixed = item["fixed"].get<bool>();
-    }
-    network.fixed.push_back(fixed);
-  }
-
-  const json& springs = reader.require(document, "springs", "");
-  if (!springs.is_array()) reader.fail("springs", "must be an array");
-  for (size_t s = 0; s < springs.size(); ++s) {
-    const std::string path = "springs[" + std::to_string(s) + "].";
-    const json& item = springs[s];
-    if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
-    check_keys(reader, item, path, {"i", "j", "k", "c", "L0", "group"});
-    analysis::Spring spring;
-    spring.i = reader.integer(reader.require(item, "i", path), path + "i");
-    spring.j = reader.integer(reader.require(item, "j", path), path + "j");
-    spring.stiffness = reader.number(reader.require(item, "k", path), path + "k");
-    spring.damping = item.contains("c") ? reader.number(item["c"], path + "c") : 0.0;
-    spring.rest_length = reader.number(reader.require(item, "L0", path), path + "L0");
-    spring.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
-    network.springs.push_back(spring);
-  }
-
-  if (document.contains("volumes")) {
-    const json& volumes = document["volumes"];
-    if (!volumes.is_array()) reader.fail("volumes", "must be an array");
-    const size_t corners = network.dimension == 2 ? 4 : 8;
-    for (size_t v = 0; v < volumes.size(); ++v) {
-      const std::string path = "volumes[" + std::to_string(v) + "].";
-      const json& item = volumes[v];
-      if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
-      check_keys(reader, item, path,
-                 {"particles", "points", "gradients", "kappa", "mu", "V0", "group"});
-      // "kappa": a volume term; "mu": a shear term (deviatoric energy of the mean strain).
-      if (item.contains("kappa") == item.contains("mu"))
-        reader.fail(path.substr(0, path.size() - 1),
-                    "give either \"kappa\" (a volume term) or \"mu\" (a shear term)");
-      analysis::VolumeTerm term;
-      if (item.contains("points")) {
-        // A strain point: its particles and their basis gradients, one row of `dimension`.
-        const json& points = item["points"];
-        const json& gradients = reader.require(item, "gradients", path);
-        if (!points.is_array() || points.empty() || !gradients.is_array() ||
-            gradients.size() != points.size())
-          reader.fail(path + "points", "must list one particle per row of \"gradients\"");
-        for (size_t a = 0; a < points.size(); ++a) {
-          const std::string at = "[" + std::to_string(a) + "]";
-          term.points.push_back(reader.integer(points[a], path + "points" + at));
-          const json& row = gradients[a];
-          if (!row.is_array() || row.size() != static_cast<size_t>(network.dimension))
-            reader.fail(path + "gradients" + at,
-                        "must have " + std::to_string(network.dimension) + " components");
-          Eigen::Vector3d g = Eigen::Vector3d::Zero();
-          for (int c = 0; c < network.dimension; ++c)
-            g[c] = reader.number(row[static_cast<size_t>(c)],
-                                 path + "gradients" + at + "[" + std::to_string(c) + "]");
-          term.gradients.push_back(g);
-        }
-      } else {
-        const json& particles_of = reader.require(item, "particles", path);
-        if (!particles_of.is_array() || particles_of.size() != corners)
-          reader.fail(path + "particles", "must list the " + std::to_string(corners) +
-                                              " corners of the cell in tensor order");
-        for (size_t a = 0; a < corners; ++a)
-          term.particles[a] =
-              reader.integer(particles_of[a], path + "particles[" + std::to_string(a) + "]");
-      }
-      const char* key = item.contains("mu") ? "mu" : "kappa";
-      if (item.contains("mu")) term.kind = analysis::CellEnergy::kShear;
-      term.modulus = reader.number(item[key], path + key);
-      term.rest_volume = reader.number(reader.require(item, "V0", path), path + "V0");
-      term.group = item.contains("group") ? reader.integer(item["group"], path + "group") : -1;
-      network.volumes.push_back(term);
-    }
-  }
-
+  read_particles(reader, document, network);
+  read_springs(reader, document, network);
+  read_volumes(reader, document, network);
   // The remaining range checks are shared with the writer.
   if (const std::string problem = check_spring_network(network); !problem.empty())
     throw InputError(source + ": " + problem);
 
   if (document.contains("gravity"))
     model.gravity = reader.vector(document["gravity"], "gravity", network.dimension);
-  if (document.contains("load_cases")) {
-    const json& cases = document["load_cases"];
-    if (!cases.is_array()) reader.fail("load_cases", "must be an array");
-    for (size_t l = 0; l < cases.size(); ++l) {
-      const std::string path = "load_cases[" + std::to_string(l) + "].";
-      const json& item = cases[l];
-      if (!item.is_object()) reader.fail(path.substr(0, path.size() - 1), "must be an object");
-      check_keys(reader, item, path, {"id", "forces"});
-      ModelLoadCase load;
-      const json& id = reader.require(item, "id", path);
-      if (!id.is_string()) reader.fail(path + "id", "must be a string");
-      load.id = id.get<std::string>();
-      const json& forces = reader.require(item, "forces", path);
-      if (!forces.is_array()) reader.fail(path + "forces", "must be an array");
-      for (size_t k = 0; k < forces.size(); ++k) {
-        const std::string where = path + "forces[" + std::to_string(k) + "]";
-        const json& f = forces[k];
-        if (!f.is_array() || f.size() != static_cast<size_t>(network.dimension) + 1)
-          reader.fail(where, "must be [particle, fx, fy" +
-                                 std::string(network.dimension == 3 ? ", fz]" : "]"));
-        const int particle = reader.integer(f[0], where + "[0]");
-        if (particle < 0 || particle >= static_cast<int>(network.positions.size()))
-          reader.fail(where + "[0]", "particle index " + std::to_string(particle) +
-                                         " out of range [0, " +
-                                         std::to_string(network.positions.size()) + ")");
-        Eigen::Vector3d force = Eigen::Vector3d::Zero();
-        for (int c = 0; c < network.dimension; ++c)
-          force[c] = reader.number(f[static_cast<size_t>(c) + 1],
-                                   where + "[" + std::to_string(c + 1) + "]");
-        load.forces.emplace_back(particle, force);
-      }
-      model.load_cases.push_back(std::move(load));
-    }
-  }
+  read_load_cases(reader, document, model);
   return model;
 }
 

@@ -46,26 +46,30 @@ ControlField node_error_field(const std::string& name, const fitting::SpringMesh
   return field;
 }
 
-}  // namespace
-
-std::vector<std::string> demo_output_files() {
-  return {"result.vtm",  "model.json", "model_mujoco.xml",     "model_sofa.scn",
-          "report.json", "report.md",  "errors_histogram.png", "errors_vs_position.png"};
-}
-
-double run_demo(const fs::path& case_path, const fs::path& out, const Progress& progress) {
-  const auto start = std::chrono::steady_clock::now();
-  nlohmann::json report = report_header("demo", isospring_version(), case_path);
+/// The report's "steps": one entry per pipeline step, its details with its name and run time.
+struct StepLog {
   nlohmann::json steps = nlohmann::json::array();
-  auto step_done = [&](const std::string& name, double seconds, nlohmann::json details) {
+  void done(const std::string& name, double seconds, nlohmann::json details) {
     details["step"] = name;
     details["seconds"] = seconds;
     steps.push_back(details);
-  };
+  }
+};
 
-  // 1-2. CAD -> NURBS -> refinement: the case file names the part and the discretisation.
-  auto t = std::chrono::steady_clock::now();
-  const Case c = read_case_file(case_path);
+/// %e_rms and %e_max per load case, as report.json and the model's provenance list them.
+nlohmann::json case_summary(const std::vector<fitting::CaseErrors>& cases) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& e : cases)
+    list.push_back({{"id", e.id},
+                    {"percent_e_rms", e.control.percent_e_rms},
+                    {"percent_e_max", e.control.percent_e_max}});
+  return list;
+}
+
+/// Steps 1-2. CAD -> NURBS -> refinement: the case file names the part and the discretisation.
+Case cad_and_refinement(const fs::path& case_path, const Progress& progress, StepLog& log) {
+  const auto t = std::chrono::steady_clock::now();
+  Case c = read_case_file(case_path);
   const analysis::Problem& problem = c.problem;
   const double exact_volume = geometry::measure(c.geometry);
   int control_points = 0;
@@ -75,15 +79,19 @@ double run_demo(const fs::path& case_path, const fs::path& out, const Progress& 
   progress("2/6 refinement: degree " + std::to_string(c.discretization.degree[0]) + ", " +
            std::to_string(problem.patches.front().num_elements()) + " elements, " +
            std::to_string(control_points) + " control points");
-  step_done("cad_to_nurbs_and_refinement", seconds_since(t),
-            {{"exact_patches", c.geometry.size()},
-             {"volume_m3", exact_volume},
-             {"refined_volume_m3", geometry::measure(problem.patches)},
-             {"control_points", control_points}});
+  log.done("cad_to_nurbs_and_refinement", seconds_since(t),
+           {{"exact_patches", c.geometry.size()},
+            {"volume_m3", exact_volume},
+            {"refined_volume_m3", geometry::measure(problem.patches)},
+            {"control_points", control_points}});
+  return c;
+}
 
-  // 3. IGA reference.
-  t = std::chrono::steady_clock::now();
-  const analysis::StaticResult reference = analysis::solve_static(problem);
+/// Step 3. IGA reference.
+analysis::StaticResult iga_reference(const analysis::Problem& problem, const Progress& progress,
+                                     StepLog& log) {
+  const auto t = std::chrono::steady_clock::now();
+  analysis::StaticResult reference = analysis::solve_static(problem);
   nlohmann::json reference_json = nlohmann::json::array();
   for (const auto& r : reference.load_cases)
     reference_json.push_back({{"id", r.id},
@@ -91,11 +99,17 @@ double run_demo(const fs::path& case_path, const fs::path& out, const Progress& 
                               {"strain_energy_J", r.strain_energy}});
   progress("3/6 IGA reference: " + std::to_string(reference.dofs) + " DOFs, " +
            std::to_string(reference.load_cases.size()) + " load cases solved");
-  step_done("iga_reference", seconds_since(t),
-            {{"dofs", reference.dofs}, {"load_cases", reference_json}});
+  log.done("iga_reference", seconds_since(t),
+           {{"dofs", reference.dofs}, {"load_cases", reference_json}});
+  return reference;
+}
 
-  // 4. NMSM calibration, settings from the case's "calibration" object.
-  t = std::chrono::steady_clock::now();
+/// Step 4. NMSM calibration, settings from the case's "calibration" object, against the
+/// reference of step 3 (the calibration would solve the same problem again).
+fitting::CalibrationResult nmsm_calibration(const Case& c, const fs::path& case_path,
+                                            const analysis::StaticResult& reference,
+                                            const Progress& progress, StepLog& log) {
+  const auto t = std::chrono::steady_clock::now();
   CalibrationRequest request = read_calibration_settings(c.calibration, case_path.string());
   if (!progress.quiet()) {
     request.settings.progress = [&](const std::string& line) { progress("   " + line); };
@@ -103,18 +117,9 @@ double run_demo(const fs::path& case_path, const fs::path& out, const Progress& 
       progress.update("4/6 " + stage, iteration, cost);
     };
   }
-  // The reference of step 3 (the calibration would solve the same problem again).
   for (const auto& r : reference.load_cases)
     request.settings.reference_displacements.push_back(r.displacement);
-  const fitting::CalibrationResult calibration = fitting::calibrate(problem, request.settings);
-  auto summary = [](const std::vector<fitting::CaseErrors>& cases) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& e : cases)
-      list.push_back({{"id", e.id},
-                      {"percent_e_rms", e.control.percent_e_rms},
-                      {"percent_e_max", e.control.percent_e_max}});
-    return list;
-  };
+  fitting::CalibrationResult calibration = fitting::calibrate(c.problem, request.settings);
   progress("4/6 NMSM calibration: " + std::to_string(calibration.mesh.network.springs.size()) +
            " springs, " + std::to_string(calibration.parameters) + " stiffness groups, fitted in " +
            format_number(calibration.fit_seconds, 3) + " s");
@@ -126,16 +131,24 @@ double run_demo(const fs::path& case_path, const fs::path& out, const Progress& 
   for (const auto& e : calibration.holdout)
     progress("   holdout " + e.id + ": %e_rms " + format_number(e.control.percent_e_rms, 3) +
              ", %e_max " + format_number(e.control.percent_e_max, 3));
-  step_done("nmsm_calibration", seconds_since(t),
-            {{"springs", calibration.mesh.network.springs.size()},
-             {"groups", calibration.parameters},
-             {"fit_seconds", calibration.fit_seconds},
-             {"fit", summary(calibration.fit)},
-             {"holdout", summary(calibration.holdout)}});
+  log.done("nmsm_calibration", seconds_since(t),
+           {{"springs", calibration.mesh.network.springs.size()},
+            {"groups", calibration.parameters},
+            {"fit_seconds", calibration.fit_seconds},
+            {"fit", case_summary(calibration.fit)},
+            {"holdout", case_summary(calibration.holdout)}});
+  return calibration;
+}
 
-  // 5. VTK: geometry with displacement and von Mises per load case, NMSM error fields, net,
-  // springs.
-  t = std::chrono::steady_clock::now();
+/// Step 5. VTK: geometry with displacement and von Mises per load case, NMSM error fields, net,
+/// springs; and the calibration's figures (the same as `isospring calibrate` draws), which
+/// report.md links. Returns the figures' names.
+std::vector<std::string> vtk_and_figures(const analysis::Problem& problem,
+                                         const analysis::StaticResult& reference,
+                                         const fitting::CalibrationResult& calibration,
+                                         const fs::path& out, const Progress& progress,
+                                         StepLog& log) {
+  const auto t = std::chrono::steady_clock::now();
   VtkScene scene;
   scene.patches = problem.patches;
   for (const auto& r : reference.load_cases) {
@@ -155,18 +168,22 @@ double run_demo(const fs::path& case_path, const fs::path& out, const Progress& 
   const auto vtk_files = write_vtk_scene(out / "result.vtm", scene);
   progress("5/6 VTK: " + (out / "result.vtm").string() + " (" + std::to_string(vtk_files.size()) +
            " files)");
-  // The calibration's figures (the same as `isospring calibrate` draws), linked from report.md.
-  const std::vector<std::string> figures = write_calibration_figures(out, problem, calibration);
-  step_done("vtk_and_figures", seconds_since(t),
-            {{"files", vtk_files.size()}, {"figures", figures}});
+  std::vector<std::string> figures = write_calibration_figures(out, problem, calibration);
+  log.done("vtk_and_figures", seconds_since(t),
+           {{"files", vtk_files.size()}, {"figures", figures}});
+  return figures;
+}
 
-  // 6. Exports for engines and the report.
-  t = std::chrono::steady_clock::now();
+/// Step 6. Exports for engines: model.json (with the calibration's loads), MuJoCo and SOFA.
+void engine_exports(const Case& c, const fs::path& case_path,
+                    const fitting::CalibrationResult& calibration, const fs::path& out,
+                    const Progress& progress, StepLog& log) {
+  const auto t = std::chrono::steady_clock::now();
   const nlohmann::json provenance = {{"case", case_path.string()},
                                      {"command", "isospring demo"},
                                      {"isospring_version", isospring_version()},
-                                     {"fit", summary(calibration.fit)},
-                                     {"holdout", summary(calibration.holdout)}};
+                                     {"fit", case_summary(calibration.fit)},
+                                     {"holdout", case_summary(calibration.holdout)}};
   SpringModel model;
   model.network = calibration.mesh.network;
   model.provenance = provenance;
@@ -185,23 +202,21 @@ double run_demo(const fs::path& case_path, const fs::path& out, const Progress& 
   sofa.gravity = mjcf.gravity;
   write_sofa_scene(out / "model_sofa.scn", calibration.mesh.network, sofa);
   progress("6/6 exports: model.json, model_mujoco.xml (MuJoCo), model_sofa.scn (SOFA)");
-  step_done("exports", seconds_since(t),
-            {{"files", {"model.json", "model_mujoco.xml", "model_sofa.scn"}}});
+  log.done("exports", seconds_since(t),
+           {{"files", {"model.json", "model_mujoco.xml", "model_sofa.scn"}}});
+}
 
-  const double total = seconds_since(start);
-  report["case"] = c.name;
-  report["steps"] = steps;
-  report["total_seconds"] = total;
-  report["figures"] = figures;
-  report["warnings"] = progress.warnings();
-  write_json_report(out / "report.json", report);
-
+/// report.md: the steps' times, the NMSM's errors, the warnings and the figures.
+void write_demo_markdown(const Case& c, const fs::path& case_path, const StepLog& log, double total,
+                         const fitting::CalibrationResult& calibration,
+                         const std::vector<std::string>& figures, const fs::path& out,
+                         const Progress& progress) {
   MarkdownReport md;
   md.heading(1, "isospring demo: " + c.name);
   md.paragraph("Case `" + case_path.string() + "`. The whole pipeline ran in " +
                format_number(total, 3) + " s.");
   std::vector<std::vector<std::string>> rows;
-  for (const auto& s : steps)
+  for (const auto& s : log.steps)
     rows.push_back({s["step"].get<std::string>(), format_number(s["seconds"].get<double>(), 3)});
   md.table({"step", "seconds"}, rows);
   md.heading(2, "NMSM against the IGA reference");
@@ -224,6 +239,35 @@ double run_demo(const fs::path& case_path, const fs::path& out, const Progress& 
       "Bezier geometry curved). `model.json` is the calibrated spring model; "
       "`model_mujoco.xml` and `model_sofa.scn` load in MuJoCo and SOFA.");
   md.write(out / "report.md");
+}
+
+}  // namespace
+
+std::vector<std::string> demo_output_files() {
+  return {"result.vtm",  "model.json", "model_mujoco.xml",     "model_sofa.scn",
+          "report.json", "report.md",  "errors_histogram.png", "errors_vs_position.png"};
+}
+
+double run_demo(const fs::path& case_path, const fs::path& out, const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json report = report_header("demo", isospring_version(), case_path);
+  StepLog log;
+  const Case c = cad_and_refinement(case_path, progress, log);
+  const analysis::StaticResult reference = iga_reference(c.problem, progress, log);
+  const fitting::CalibrationResult calibration =
+      nmsm_calibration(c, case_path, reference, progress, log);
+  const std::vector<std::string> figures =
+      vtk_and_figures(c.problem, reference, calibration, out, progress, log);
+  engine_exports(c, case_path, calibration, out, progress, log);
+
+  const double total = seconds_since(start);
+  report["case"] = c.name;
+  report["steps"] = log.steps;
+  report["total_seconds"] = total;
+  report["figures"] = figures;
+  report["warnings"] = progress.warnings();
+  write_json_report(out / "report.json", report);
+  write_demo_markdown(c, case_path, log, total, calibration, figures, out, progress);
   return total;
 }
 

@@ -57,12 +57,7 @@ const std::map<std::string, std::array<double, 4>> kPublished56 = {
 const std::map<std::string, std::array<double, 4>> kPublished57 = {
     {"square", {1.19, 2.55, 9.86, 17.73}}, {"cube", {2.34, 11.33, 18.63, 28.65}}};
 
-}  // namespace
-
-ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& progress) {
-  const auto start = std::chrono::steady_clock::now();
-  nlohmann::json report = report_header("thesis", isospring_version(), "");
-  MarkdownReport md;
+void write_protocol(MarkdownReport& md) {
   md.heading(1, "isospring thesis: [S15] chapter 5 regenerated");
   md.paragraph(
       "Protocol: examples/thesis/README.md (supports and loads are ours: [S15] does not state "
@@ -74,14 +69,12 @@ ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& pro
       "brackets. "
       "Acceleration: the [S15 4.1-4.5] objective with the same grouping, solved as "
       "non-negative linear least squares. Every load case is scaled to %eps_G = 10.");
+}
 
-  thesis_generalisation(options.quick, options.objects, report, md, progress);
-  if (options.generalisation_only) {
-    report["seconds"] = seconds_since(start);
-    return {report, md};
-  }
-
-  // Table 5.3: the six objects; square and cube also with the traction protocol.
+// Table 5.3: the six objects; square and cube also with the traction protocol. Returns its rows,
+// which Tables 5.5 and 5.6 reuse.
+std::vector<Row> table_5_3(const ThesisCommandOptions& options, const Progress& progress,
+                           nlohmann::json& report, MarkdownReport& md) {
   std::vector<Row> rows;
   // Per-spring fits on every object's fitted case: the membranes (110 parameters, ~0.01 s a
   // start) from every distinct grouping of the sweep; the solids (1596 to 2000 parameters,
@@ -131,8 +124,12 @@ ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& pro
   md.table({"object", "load", "springs", "groups", "gamma", "grouped", "published", "held-out",
             "per-spring", "per-spring held-out", "acceleration", "fit [s]"},
            rows53);
+  return rows;
+}
 
-  // Table 5.4: net resolution (square and cube).
+// Table 5.4: net resolution (square and cube).
+void table_5_4(const ThesisCommandOptions& options, const Progress& progress,
+               nlohmann::json& report, MarkdownReport& md) {
   std::vector<std::vector<std::string>> rows54;
   for (const std::string name : {"square", "cube"})
     for (int n : {3, 4, 6, 9}) {
@@ -148,8 +145,10 @@ ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& pro
     }
   md.heading(2, "Table 5.4 (net resolution, degree 2, forces on u1 points)");
   md.table({"object", "net", "groups", "ours", "published"}, rows54);
+}
 
-  // Table 5.5: the gamma sweeps of the Table 5.3 fits beside S15's.
+// Table 5.5: the gamma sweeps of the Table 5.3 fits beside S15's.
+void table_5_5(const std::vector<Row>& rows, MarkdownReport& md) {
   std::vector<std::vector<std::string>> rows55;
   for (const Row& r : rows) {
     const auto published_it = kPublished55.find(r.object.name);
@@ -169,9 +168,12 @@ ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& pro
   md.heading(2, "Table 5.5 (gamma sweep, forces on u1 points)");
   md.paragraph("failed: the fit left a singular network (groups driven to the lower bound).");
   md.table({"object", "gamma", "groups", "ours", "published (groups: errors)"}, rows55);
+}
 
-  // Tables 5.6 (quadratic) and 5.7 (linear): displacement objective vs matrix approach and the
-  // acceleration objective.
+// Tables 5.6 (quadratic: the Table 5.3 fits) and 5.7 (linear: square and cube fitted here):
+// displacement objective vs matrix approach and the acceleration objective.
+void tables_5_6_and_5_7(const std::vector<Row>& rows, const Progress& progress,
+                        nlohmann::json& report, MarkdownReport& md) {
   std::vector<std::vector<std::string>> rows56;
   auto add56 = [&](const Row& r, const std::array<double, 4>* p) {
     const auto& g = r.grouped;
@@ -204,6 +206,26 @@ ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& pro
   md.table({"object", "degree", "NMSM (ours)", "baseline", "baseline (ours)", "published NMSM",
             "published baseline"},
            rows56);
+}
+
+}  // namespace
+
+ThesisReport run_thesis(const ThesisCommandOptions& options, const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json report = report_header("thesis", isospring_version(), "");
+  MarkdownReport md;
+  write_protocol(md);
+
+  thesis_generalisation(options.quick, options.objects, report, md, progress);
+  if (options.generalisation_only) {
+    report["seconds"] = seconds_since(start);
+    return {report, md};
+  }
+
+  const std::vector<Row> rows = table_5_3(options, progress, report, md);
+  table_5_4(options, progress, report, md);
+  table_5_5(rows, md);
+  tables_5_6_and_5_7(rows, progress, report, md);
 
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

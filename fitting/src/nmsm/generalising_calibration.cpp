@@ -1,7 +1,7 @@
 // Cross-validated choice of the spring model's freedom (header: procedure and why).
+// calibrate_for_generalisation() lists the stages: the training cases, one shared IGA reference,
+// every model kind's candidates scored over the folds, the best candidate refitted.
 #include "isospring/fitting/generalising_calibration.hpp"
-
-#include "isospring/fitting/step_cost.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "isospring/analysis/static_solver.hpp"
+#include "isospring/fitting/step_cost.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
@@ -27,11 +28,11 @@ double worst_of(const std::vector<CaseErrors>& cases) {
   return worst;
 }
 
-}  // namespace
-
-GeneralisationResult calibrate_for_generalisation(const analysis::Problem& problem,
-                                                  const CalibrationSettings& settings,
-                                                  const GeneralisationOptions& options) {
+// Stage: the training cases (settings.fit_cases, or every case not held out), after checking
+// the options that do not need the problem solved.
+std::vector<std::string> training_cases(const analysis::Problem& problem,
+                                        const CalibrationSettings& settings,
+                                        const GeneralisationOptions& options) {
   if (options.gammas.empty())
     throw nurbs::InputError("generalisation: give at least one gamma candidate");
   for (double w : options.prior_weights)
@@ -47,8 +48,13 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
         "generalisation: folds must be between 2 and the number of training "
         "cases (" +
         std::to_string(training.size()) + ")");
+  return training;
+}
 
-  // One IGA reference for every fit below.
+// Stage: the settings every fit below starts from: the caller's, with one IGA reference for all
+// of them and a plain grouped fit (the candidates set the grouping).
+CalibrationSettings shared_settings(const analysis::Problem& problem,
+                                    const CalibrationSettings& settings) {
   CalibrationSettings base = settings;
   if (base.reference_displacements.empty()) {
     if (settings.progress) settings.progress("IGA reference: solving the load cases");
@@ -66,10 +72,28 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
   // infinite stiffness, and the network's K turns numerically singular (pivots below 1e-13 of
   // the largest).
   base.upper_bounds = true;
+  return base;
+}
+
+void check_model_kinds(const GeneralisationOptions& options) {
+  if (options.volume_terms.empty() || options.shear_terms.empty() || options.strain_points.empty())
+    throw nurbs::InputError(
+        "generalisation: give at least one model kind (volume_terms, shear_terms, "
+        "strain_points)");
+  for (int n : options.strain_points)
+    if (n < 0 || n > 4)
+      throw nurbs::InputError("generalisation: strain_points entries must be 0 .. 4");
+}
+
+// The training cases dealt into folds, and the score of a candidate over them.
+struct CrossValidation {
+  const analysis::Problem& problem;
+  const CalibrationSettings& settings;  // the caller's (its progress)
+  const std::vector<std::string>& training;
+  int folds;
 
   // Fold f: fit on the training cases outside it, measure the ones inside it.
-  const int folds = options.folds;
-  auto fold_settings = [&](int f) {
+  CalibrationSettings fold_settings(const CalibrationSettings& base, int f) const {
     CalibrationSettings s = base;
     s.fit_cases.clear();
     s.holdout_cases.clear();
@@ -82,11 +106,16 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
       ((c + c / folds) % folds == f ? s.holdout_cases : s.fit_cases)
           .push_back(training[static_cast<size_t>(c)]);
     return s;
-  };
-  auto score = [&](CandidateScore& candidate, auto&& configure) {
+  }
+
+  // Every fold's held-out error of the candidate (`configure` sets its fit on a fold's
+  // settings); the first failing fold puts it out.
+  template <class Configure>
+  void score(const CalibrationSettings& base, CandidateScore& candidate,
+             Configure&& configure) const {
     candidate.percent_e_rms.assign(training.size(), NAN);
     for (int f = 0; f < folds && candidate.failure.empty(); ++f) {
-      CalibrationSettings s = fold_settings(f);
+      CalibrationSettings s = fold_settings(base, f);
       configure(s, f);
       try {
         const CalibrationResult r = calibrate(problem, s);
@@ -103,101 +132,96 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
     candidate.worst = candidate.failure.empty() ? *std::max_element(candidate.percent_e_rms.begin(),
                                                                     candidate.percent_e_rms.end())
                                                 : INFINITY;
-    if (settings.progress)
-      settings.progress(
-          "cross-validation: reach " + std::to_string(candidate.reach) +
-          (candidate.volume_terms ? " with volume terms" : "") +
-          (candidate.shear_terms ? " with shear terms" : "") +
-          (candidate.strain_points > 0
-               ? " with strain points (" + std::to_string(candidate.strain_points) + "/direction)"
-               : "") +
-          format(", gamma %g, prior weight %g", candidate.gamma, candidate.prior_weight) +
-          (candidate.failure.empty() ? format(": worst held-out %%e_rms %.3g over %g cases",
-                                              candidate.worst, static_cast<double>(training.size()))
-                                     : ": failed"));
-  };
+    report(candidate);
+  }
 
-  if (options.volume_terms.empty() || options.shear_terms.empty() || options.strain_points.empty())
-    throw nurbs::InputError(
-        "generalisation: give at least one model kind (volume_terms, shear_terms, "
-        "strain_points)");
-  for (int n : options.strain_points)
-    if (n < 0 || n > 4)
-      throw nurbs::InputError("generalisation: strain_points entries must be 0 .. 4");
-  GeneralisationResult result;
-  for (int reach : options.reaches)
-    for (bool volume_terms : options.volume_terms)
-      for (bool shear_terms : options.shear_terms)
-        for (int strain_points : options.strain_points) {
-          base.mesh.reach = reach;
-          base.mesh.volume_terms = volume_terms;
-          base.mesh.shear_terms = shear_terms;
-          base.mesh.strain_points = strain_points;
-          // A kind over the step budget is recorded, not fitted (its terms fix its cost).
-          const double step_us = estimated_step_us(build_spring_mesh(problem, base.mesh).network);
-          std::string over_budget;
-          if (base.max_step_us > 0.0 && step_us > base.max_step_us)
-            over_budget = format("estimated engine step %.4g us over the budget max_step_us = %.4g",
-                                 step_us, base.max_step_us);
-          // Grouped candidates; the per-spring ones start from the best grouping's fold optima.
-          int best_grouped = -1;
-          for (double gamma : options.gammas) {
-            CandidateScore candidate;
-            candidate.reach = reach;
-            candidate.volume_terms = volume_terms;
-            candidate.shear_terms = shear_terms;
-            candidate.strain_points = strain_points;
-            candidate.gamma = gamma;
-            candidate.estimated_step_us = step_us;
-            candidate.failure = over_budget;
-            score(candidate, [gamma](CalibrationSettings& s, int) { s.gamma = gamma; });
-            result.candidates.push_back(candidate);
-            if (candidate.failure.empty() &&
-                (best_grouped < 0 || candidate.worst < result.candidates[best_grouped].worst))
-              best_grouped = static_cast<int>(result.candidates.size()) - 1;
-          }
-          if (best_grouped < 0 || options.prior_weights.empty()) continue;
-          const double gamma = result.candidates[static_cast<size_t>(best_grouped)].gamma;
-          std::vector<std::vector<double>> prior(static_cast<size_t>(folds));
-          std::string failure;
-          for (int f = 0; f < folds && failure.empty(); ++f) {
-            CalibrationSettings s = fold_settings(f);
-            s.gamma = gamma;
-            try {
-              prior[static_cast<size_t>(f)] = per_element_values(calibrate(problem, s).fit_result);
-            } catch (const std::runtime_error& e) {
-              failure = e.what();
-            }
-          }
-          for (double w : options.prior_weights) {
-            CandidateScore candidate;
-            candidate.reach = reach;
-            candidate.volume_terms = volume_terms;
-            candidate.shear_terms = shear_terms;
-            candidate.strain_points = strain_points;
-            candidate.gamma = gamma;
-            candidate.prior_weight = w;
-            candidate.estimated_step_us = step_us;
-            candidate.failure = failure;
-            score(candidate, [&](CalibrationSettings& s, int f) {
-              s.gamma = gamma;
-              s.per_spring = true;
-              s.prior_weight = w;
-              s.per_spring_start = prior[static_cast<size_t>(f)];
-            });
-            result.candidates.push_back(candidate);
-          }
-        }
+  void report(const CandidateScore& candidate) const {
+    if (!settings.progress) return;
+    settings.progress(
+        "cross-validation: reach " + std::to_string(candidate.reach) +
+        (candidate.volume_terms ? " with volume terms" : "") +
+        (candidate.shear_terms ? " with shear terms" : "") +
+        (candidate.strain_points > 0
+             ? " with strain points (" + std::to_string(candidate.strain_points) + "/direction)"
+             : "") +
+        format(", gamma %g, prior weight %g", candidate.gamma, candidate.prior_weight) +
+        (candidate.failure.empty() ? format(": worst held-out %%e_rms %.3g over %g cases",
+                                            candidate.worst, static_cast<double>(training.size()))
+                                   : ": failed"));
+  }
+};
 
-  // The best candidate on every training case, measured on the validation cases; should its
-  // refit fail (a singular network), the next best.
+// A candidate of the model kind of `mesh` with rest-length window `gamma`.
+CandidateScore candidate_of(const SpringMeshOptions& mesh, double gamma) {
+  CandidateScore candidate;
+  candidate.reach = mesh.reach;
+  candidate.volume_terms = mesh.volume_terms;
+  candidate.shear_terms = mesh.shear_terms;
+  candidate.strain_points = mesh.strain_points;
+  candidate.gamma = gamma;
+  return candidate;
+}
+
+// Stage, per model kind (base.mesh): the grouped candidates, one per gamma, then the per-spring
+// ones, one per prior weight, each fold starting from the best grouping's optimum of that fold.
+void score_model_kind(const CrossValidation& cv, const CalibrationSettings& base,
+                      const GeneralisationOptions& options,
+                      std::vector<CandidateScore>& candidates) {
+  // A kind over the step budget is recorded, not fitted (its terms fix its cost).
+  const double step_us = estimated_step_us(build_spring_mesh(cv.problem, base.mesh).network);
+  std::string over_budget;
+  if (base.max_step_us > 0.0 && step_us > base.max_step_us)
+    over_budget = format("estimated engine step %.4g us over the budget max_step_us = %.4g",
+                         step_us, base.max_step_us);
+  int best_grouped = -1;
+  for (double gamma : options.gammas) {
+    CandidateScore candidate = candidate_of(base.mesh, gamma);
+    candidate.estimated_step_us = step_us;
+    candidate.failure = over_budget;
+    cv.score(base, candidate, [gamma](CalibrationSettings& s, int) { s.gamma = gamma; });
+    candidates.push_back(candidate);
+    if (candidate.failure.empty() &&
+        (best_grouped < 0 || candidate.worst < candidates[best_grouped].worst))
+      best_grouped = static_cast<int>(candidates.size()) - 1;
+  }
+  if (best_grouped < 0 || options.prior_weights.empty()) return;
+  const double gamma = candidates[static_cast<size_t>(best_grouped)].gamma;
+  std::vector<std::vector<double>> prior(static_cast<size_t>(cv.folds));
+  std::string failure;
+  for (int f = 0; f < cv.folds && failure.empty(); ++f) {
+    CalibrationSettings s = cv.fold_settings(base, f);
+    s.gamma = gamma;
+    try {
+      prior[static_cast<size_t>(f)] = per_element_values(calibrate(cv.problem, s).fit_result);
+    } catch (const std::runtime_error& e) {
+      failure = e.what();
+    }
+  }
+  for (double w : options.prior_weights) {
+    CandidateScore candidate = candidate_of(base.mesh, gamma);
+    candidate.prior_weight = w;
+    candidate.estimated_step_us = step_us;
+    candidate.failure = failure;
+    cv.score(base, candidate, [&](CalibrationSettings& s, int f) {
+      s.gamma = gamma;
+      s.per_spring = true;
+      s.prior_weight = w;
+      s.per_spring_start = prior[static_cast<size_t>(f)];
+    });
+    candidates.push_back(candidate);
+  }
+}
+
+// Stage: the best candidate refitted on every training case and measured on the validation
+// cases; should its refit fail (a singular network), the next best.
+void refit_best(const analysis::Problem& problem, const CalibrationSettings& base,
+                const std::vector<std::string>& training, GeneralisationResult& result) {
   std::vector<int> order(result.candidates.size());
   for (size_t c = 0; c < order.size(); ++c) order[c] = static_cast<int>(c);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return result.candidates[static_cast<size_t>(a)].worst <
            result.candidates[static_cast<size_t>(b)].worst;
   });
-  bool done = false;
   std::string failure;
   for (int c : order) {
     const CandidateScore& chosen = result.candidates[static_cast<size_t>(c)];
@@ -223,8 +247,7 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
       }
       result.calibration = calibrate(problem, final_settings);
       result.chosen = c;
-      done = true;
-      break;
+      return;
     } catch (const std::runtime_error& e) {
       failure = e.what();
       result.warnings.push_back(format("the refit of candidate gamma %g, prior weight %g failed",
@@ -232,11 +255,14 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
                                 " (" + failure + "); the next best candidate is used");
     }
   }
-  if (!done)
-    throw std::runtime_error(
-        "generalisation: no candidate could be refitted (" +
-        (failure.empty() && !result.candidates.empty() ? result.candidates[0].failure : failure) +
-        ")");
+  // No refit was tried when every candidate failed its scoring (e.g. all over the step budget).
+  if (failure.empty() && !result.candidates.empty()) failure = result.candidates[0].failure;
+  throw std::runtime_error("generalisation: no candidate could be refitted (" + failure + ")");
+}
+
+// Stage: the chosen model's worst errors, a warning when they miss the target, and the warnings
+// copied into the calibration's.
+void summarise(const GeneralisationOptions& options, GeneralisationResult& result) {
   result.worst_fitted = worst_of(result.calibration.fit);
   result.worst_validation = worst_of(result.calibration.holdout);
   result.worst = std::max(result.worst_fitted, result.worst_validation);
@@ -246,6 +272,32 @@ GeneralisationResult calibrate_for_generalisation(const analysis::Problem& probl
                "target %.3g: the spring model does not reach the reference on every load",
                result.worst, options.target_percent_e_rms));
   for (const auto& w : result.warnings) result.calibration.warnings.push_back(w);
+}
+
+}  // namespace
+
+GeneralisationResult calibrate_for_generalisation(const analysis::Problem& problem,
+                                                  const CalibrationSettings& settings,
+                                                  const GeneralisationOptions& options) {
+  const std::vector<std::string> training = training_cases(problem, settings, options);
+  CalibrationSettings base = shared_settings(problem, settings);
+  check_model_kinds(options);
+
+  const CrossValidation cv{problem, settings, training, options.folds};
+  GeneralisationResult result;
+  for (int reach : options.reaches)
+    for (bool volume_terms : options.volume_terms)
+      for (bool shear_terms : options.shear_terms)
+        for (int strain_points : options.strain_points) {
+          base.mesh.reach = reach;
+          base.mesh.volume_terms = volume_terms;
+          base.mesh.shear_terms = shear_terms;
+          base.mesh.strain_points = strain_points;
+          score_model_kind(cv, base, options, result.candidates);
+        }
+
+  refit_best(problem, base, training, result);
+  summarise(options, result);
   return result;
 }
 
