@@ -1,7 +1,5 @@
 // kAuto's rule (static_solver.hpp): which solver a problem gets, from its traits and a cost model
-// of each solver. The constants are measurements on the 2-core reference machine
-// (bench/bench_solvers.cpp, README "Performance", docs/performance.md); only their ratios
-// matter for the choice.
+// of each solver (docs/performance.md has the measurements behind it).
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -13,24 +11,37 @@
 namespace isospring::analysis {
 namespace {
 
-// The reference problem of the constants: the clamped p = 2 unit cube, 32^3 elements, nu 0.3.
+// The constants are CPU seconds (all threads) of bench/bench_solvers.cpp on the 2-core machine
+// while it was shared (load average 15-20, so every figure is inflated alike; only their ratios
+// decide). The reference problem: the clamped p = 2 unit cube, 32^3 elements, nu 0.3, own weight,
+// 114,444 free DOFs.
 constexpr double kReferenceDofs = 114444;
-// CHOLMOD supernodal with OpenBLAS: factorisation seconds at the reference size; in 3D the
-// nested-dissection factor costs N^2 (48.9-55.5 s CPU measured), in 2D N^1.5.
+// CHOLMOD supernodal (OpenBLAS): the factorisation at the reference, ~50 s (README "Performance":
+// 48.9-55.5 s CPU). In 3D the nested-dissection factor costs N^2; a slender part factorises like
+// a band, much cheaper: the 50:1 cantilever (96,300 DOFs, aspect ratio 42.7) took 7.6 s where
+// N^2 alone says 35.4 s, hence aspect^-0.41. In 2D the factor costs N^1.5. Each load case adds
+// a forward and back substitution.
 constexpr double kCholeskySeconds = 50.0;
-// Block-Jacobi CG at the reference: seconds per iteration and iterations to 1e-10; iterations
-// grow as N^(1/3) (mesh size), as the aspect ratio (the bending mode's stiffness falls as the
-// square of slenderness) and as sqrt(1 / (1 - 2 nu)) (the volumetric stiffness).
-constexpr double kCgSecondsPerIteration = 0.0127;
-constexpr double kCgIterations = 189;
-// PETSc GAMG-preconditioned CG on one process at the reference: setup (its own assembly
-// included) and seconds per iteration; its iteration count grows slowly with the mesh and the
-// conditioning (exponents below).
-constexpr double kAmgSetupSeconds = 8.0;
-constexpr double kAmgSecondsPerIteration = 0.25;
-constexpr double kAmgIterations = 40;
-constexpr double kAmgAspectExponent = 0.5;
-constexpr double kAmgPoissonExponent = 0.5;
+constexpr double kCholeskyAspectExponent = 0.41;
+constexpr double kCholeskySolveSeconds = 0.5;
+// Block-Jacobi CG: 260 iterations at the reference to 1e-10, 0.0305 s each; iterations grow as
+// N^(1/3) (mesh size), as aspect^0.85 (the cantilever: 5770 iterations) and as
+// (1 / (1 - 2 nu))^0.42 (nu 0.49: 909).
+constexpr double kCgSecondsPerIteration = 0.0305;
+constexpr double kCgIterations = 260;
+constexpr double kCgAspectExponent = 0.85;
+constexpr double kCgPoissonExponent = 0.42;
+// PETSc GAMG-preconditioned CG on one process: 32 iterations at the reference, but 0.59 s each
+// (the V-cycle of the p = 2 stiffness, whose coarse operators are dense, costs ~20 CG
+// iterations) and 5.7 s of setup beyond CG's; iterations grow as aspect^0.33 (the cantilever:
+// 106) and as
+// (1 / (1 - 2 nu))^0.50 (nu 0.49: 144): the rigid-body near-null space does not help with
+// near-incompressibility.
+constexpr double kAmgSetupSeconds = 5.7;
+constexpr double kAmgSecondsPerIteration = 0.59;
+constexpr double kAmgIterations = 32;
+constexpr double kAmgAspectExponent = 0.33;
+constexpr double kAmgPoissonExponent = 0.50;
 
 // 1 / (1 - 2 nu) relative to nu = 0.3.
 double volumetric_factor(double poisson) {
@@ -90,12 +101,17 @@ SolverChoice choose_solver(const SolverTraits& traits) {
   const double volumetric = volumetric_factor(traits.poisson);
   const double aspect = std::max(1.0, traits.aspect);
   choice.cholesky_seconds =
-      kCholeskySeconds * (traits.dimension == 3 ? size * size : std::pow(size, 1.5));
-  const double cg_iterations = kCgIterations * std::cbrt(size) * aspect * std::sqrt(volumetric);
+      kCholeskySeconds * (traits.dimension == 3
+                              ? size * size * std::pow(aspect, -kCholeskyAspectExponent)
+                              : std::pow(size, 1.5)) +
+      cases * kCholeskySolveSeconds * std::pow(size, 4.0 / 3.0);
+  const double cg_iterations = kCgIterations * std::cbrt(size) *
+                               std::pow(aspect, kCgAspectExponent) *
+                               std::pow(volumetric, kCgPoissonExponent);
   choice.cg_seconds = cases * cg_iterations * kCgSecondsPerIteration * size;
   const double amg_iterations = kAmgIterations * std::pow(size, 1.0 / 6.0) *
                                 std::pow(aspect, kAmgAspectExponent) *
-                                std::pow(volumetric, kAmgPoissonExponent / 2);
+                                std::pow(volumetric, kAmgPoissonExponent);
   choice.amg_seconds =
       traits.amg_available
           ? (kAmgSetupSeconds + cases * amg_iterations * kAmgSecondsPerIteration) * size

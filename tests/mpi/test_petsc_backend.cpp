@@ -72,9 +72,9 @@ Comparison compare_with_serial(const std::string& case_file, int ranks,
   const auto s = run_isospring("analyze " + case_file + " -o " + serial.path().string() + " -q");
   EXPECT_EQ(s.exit_code, 0) << s.output;
   const std::string launcher = ranks > 0 ? mpirun(ranks) : std::string(ISOSPRING_EXECUTABLE);
-  const auto p = run_program(launcher + " analyze " + case_file + " -o " + petsc.path().string() +
-                             (solver.empty() ? " --backend petsc" : " --solver " + solver) +
-                             " -q " + extra);
+  const auto p =
+      run_program(launcher + " analyze " + case_file + " -o " + petsc.path().string() +
+                  (solver.empty() ? " --backend petsc" : " --solver " + solver) + " -q " + extra);
   EXPECT_EQ(p.exit_code, 0) << p.output;
   Comparison comparison;
   if (s.exit_code != 0 || p.exit_code != 0) {
@@ -145,11 +145,12 @@ TEST(PetscBackend, CantileverBoxOnTwoRanksMatchesTheDirectSolver) {
 
 // `--solver amg`: GAMG-preconditioned CG on this one process, started without mpirun (MPI as a
 // singleton). It stops at the serial solvers' ||b - K u|| <= 1e-10 ||b||, so the displacements
-// agree to that times the condition number of the small box (below 1e4): 1e-6.
+// agree to that times the condition number of the box's preconditioned system: 1e-9 allows
+// 1e1 of it (measured: 6e-13, the true residuals 7e-11..9e-11).
 TEST(PetscBackend, SerialAmgSolverWithoutMpirunMatchesTheDirectSolver) {
-  EXPECT_LE(compare_with_serial(example("cantilever_box.json"), 0, "", "amg", 1e-6)
+  EXPECT_LE(compare_with_serial(example("cantilever_box.json"), 0, "", "amg", 1e-9)
                 .max_relative_difference,
-            1e-6);
+            1e-9);
 }
 
 TEST(PetscBackend, TimoshenkoBeamOnTwoRanksMatchesTheDirectSolver) {
