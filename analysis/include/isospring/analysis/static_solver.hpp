@@ -77,12 +77,9 @@ SolverTraits solver_problem_traits(const Problem& problem, const DofMap& dofs,
                                    const Constraints& constraints);
 
 /// kAuto's rule. Sparse Cholesky up to kAutoIterativeDofs2d / 3d free DOFs. Above, the cheapest
-/// of three estimated costs (static_solver_choice.cpp has the model and the measurements behind
-/// its constants): the factorisation (grows as N^2 in 3D) plus a solve per load case; block-Jacobi
-/// CG, whose iterations grow as N^(1/3) and as the square root of the condition number (the
-/// aspect ratio squared, 1 / (1 - 2 nu)) for every load case; AMG-preconditioned CG (when
-/// available), whose setup and iterations grow about linearly with N and little with the
-/// conditioning. `reason` gives the deciding numbers.
+/// of three estimated costs from the traits (static_solver_choice.cpp has the model and the
+/// measurements behind its constants): the factorisation plus a solve per load case, block-Jacobi
+/// CG per load case, and AMG-preconditioned CG (when available). `reason` gives the estimates.
 SolverChoice choose_solver(const SolverTraits& traits);
 
 /// The rule for a well-conditioned problem (nu 0.3, aspect 1, one load case, no AMG).
