@@ -10,12 +10,14 @@
 // (isospring/workflows/analyze_command.hpp).
 #include <chrono>
 #include <functional>
+#include <iostream>
 #include <memory>
 
 #include "cli_checks.hpp"
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/analysis/petsc_solver.hpp"
+#include "isospring/io/analyze_timings.hpp"
 #include "isospring/io/output_guard.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/analyze_command.hpp"
@@ -27,6 +29,7 @@ struct AnalyzeOptions {
   std::string output;
   double max_memory_gb = 0;  // 0: the available memory
   bool quiet = false;
+  bool timings = false;
   workflows::AnalyzeCommandOptions run;
 };
 
@@ -70,7 +73,10 @@ void run_analyze(const AnalyzeOptions& options) {
                                          in_folder(out_dir, workflows::analyze_csv_names(c)));
         });
       });
-  if (root) workflows::write_analyze_outputs(r, run, out_dir, progress, start);
+  if (!root) return;
+  const nlohmann::json report = workflows::write_analyze_outputs(r, run, out_dir, progress, start);
+  if (options.timings)
+    std::cout << io::timings_table(report.at("timings"), report.at("total_seconds").get<double>());
 }
 
 void setup_analyze(CLI::App& app) {
@@ -82,18 +88,22 @@ void setup_analyze(CLI::App& app) {
       "Writes OUTDIR/report.json (per load case: max displacement, strain energy, reaction sum,\n"
       "timings; DOFs; the BLAS/LAPACK library loaded; inputs summary), OUTDIR/report.md and\n"
       "OUTDIR/<load-case-id>_control_displacements.csv (i,x,y,z,ux,uy,uz per control point) and\n"
-      "OUTDIR/result.vtm + OUTDIR/result/ (ParaView: sampled and Bezier geometry with\n"
-      "displacement_<id>, stress_<id>, von_mises_<id>, strain_energy_density_<id>; control net).\n"
+      "OUTDIR/result.vtm + OUTDIR/result/ (ParaView: the exact Bezier geometry with\n"
+      "displacement_<id>; the sampled outer surface (3D) or surface (2D) with displacement_<id>,\n"
+      "stress_<id>, von_mises_<id>, strain_energy_density_<id>; control net). report.json\n"
+      "\"timings\": seconds per stage and per output file (--timings prints them).\n"
       "Case-file format: docs/case-files.md.");
   cmd->add_option("CASE", options->run.case_file, "Case file (.json)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", options->output, "Output folder (created if missing)")->required();
   cmd->add_option("--solver", options->run.solver,
-                  "auto (default: cholesky up to 20,000 free DOFs in 3D, 500,000 in 2D, cg "
-                  "above; report.json solver_reason says why), cholesky (sparse direct) or cg "
-                  "(block-Jacobi conjugate gradients)")
-      ->check(CLI::IsMember({"auto", "cholesky", "cg"}));
+                  "auto (default: sparse Cholesky up to 20,000 free DOFs in 3D, 500,000 in 2D; "
+                  "above, the cheapest by an estimate from the size, the load cases, nu and the "
+                  "aspect ratio; report.json solver_reason gives the numbers), cholesky (sparse "
+                  "direct), cg (block-Jacobi conjugate gradients) or amg (CG with PETSc's "
+                  "algebraic multigrid on this process, no mpirun)")
+      ->check(CLI::IsMember({"auto", "cholesky", "cg", "amg"}));
   cmd->add_option("--backend", options->run.backend,
                   "serial (default) or petsc: PETSc with MPI, distributed over the ranks of "
                   "`mpirun -np N isospring analyze ...` (docs/cluster.md)")
@@ -107,8 +117,10 @@ void setup_analyze(CLI::App& app) {
                   "(default 1e-12)")
       ->check(kPositive);
   cmd->add_option("--vtk-samples", options->run.vtk_samples,
-                  "Sample points per element and direction of result.vtm's geometry (default 4; "
-                  "0: no result.vtm, for very large models)")
+                  "Also write the volume sampled N x N x N per element with the stresses "
+                  "(3D; 2D: the surface, default 4). Default: the case file's output.vtk_samples, "
+                  "else none in 3D (the exact Bezier volume and the sampled outer surface show "
+                  "the result at a size in proportion to the model). 0: no result.vtm")
       ->check(kNonNegative);
   cmd->add_option("--threads", options->run.threads,
                   "Threads for assembly (0 = all; --backend petsc: per rank, default 1)")
@@ -117,6 +129,9 @@ void setup_analyze(CLI::App& app) {
                   "Refuse (exit 1) a case whose solve needs more than this many GB (default: the "
                   "available memory)")
       ->check(kPositive);
+  cmd->add_flag("--timings", options->timings,
+                "Print the seconds of every stage (reading, refinement, assembly, factorisation "
+                "or preconditioner setup, solves, post-processing, each output file) on stdout");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_analyze(*options); });
 }

@@ -6,7 +6,6 @@
 #include <Eigen/CholmodSupport>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,6 +13,7 @@
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/block_cg.hpp"
 #include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/petsc_solver.hpp"
 #include "isospring/analysis/thread_scope.hpp"
 #include "reduced_system.hpp"
 #include "static_result.hpp"
@@ -43,9 +43,11 @@ void solve_direct(const Problem& problem, const DofMap& dofs, const Constraints&
     const Eigen::VectorXd force = assemble_load(problem, dofs, load);
     detail::check_load_finite(load, force);
     Eigen::VectorXd displacement = reduced.expand(cholesky.solve(reduced.free_rhs(force)));
+    const auto post_start = std::chrono::steady_clock::now();
     const Eigen::VectorXd internal = stiffness.selfadjointView<Eigen::Upper>() * displacement;
     LoadCaseResult out = detail::load_case_result(problem, dofs, constraints, load, force,
                                                   std::move(displacement), internal);
+    out.post_seconds = seconds_since(post_start);
     out.solve_seconds = seconds_since(start);
     result.load_cases.push_back(std::move(out));
   }
@@ -86,9 +88,11 @@ void solve_iterative(const Problem& problem, const DofMap& dofs, const Constrain
           std::to_string(cg_result.iterations) + " iterations (residual " +
           std::to_string(cg_result.relative_residual) + "); use the Cholesky solver");
     Eigen::VectorXd displacement = solution + prescribed;
+    const auto post_start = std::chrono::steady_clock::now();
     const Eigen::VectorXd internal = stiffness.selfadjointView<Eigen::Upper>() * displacement;
     LoadCaseResult out = detail::load_case_result(problem, dofs, constraints, load, force,
                                                   std::move(displacement), internal);
+    out.post_seconds = seconds_since(post_start);
     out.iterations = cg_result.iterations;
     // The true residual of the system solved, as the PETSc backend reports it.
     const double rhs_norm = rhs.norm();
@@ -102,40 +106,39 @@ void solve_iterative(const Problem& problem, const DofMap& dofs, const Constrain
 
 }  // namespace
 
-SolverChoice choose_solver(int dimension, double free_dofs) {
-  const double threshold = dimension == 3 ? kAutoIterativeDofs3d : kAutoIterativeDofs2d;
-  std::ostringstream reason;
-  reason << static_cast<long long>(free_dofs) << " free DOFs in " << dimension << "D "
-         << (free_dofs > threshold ? "above" : "at or below") << " "
-         << static_cast<long long>(threshold) << ": "
-         << (free_dofs > threshold ? "block-Jacobi conjugate gradients (the direct factor grows "
-                                     "too fast)"
-                                   : "sparse Cholesky (fast at this size, and robust)");
-  return {free_dofs > threshold ? SolverOptions::Method::kConjugateGradient
-                                : SolverOptions::Method::kCholesky,
-          reason.str()};
-}
-
 StaticResult solve_static(const Problem& problem, const SolverOptions& options) {
   const ThreadScope threads(options.threads);
   const SupportedProblem supported = number_and_support(problem);
   const DofMap& dofs = supported.dofs;
   const Constraints& constraints = supported.constraints;
 
+  SolverOptions::Method method = options.method;
+  std::string reason;
+  if (method == SolverOptions::Method::kAuto) {
+    const SolverChoice choice = choose_solver(solver_problem_traits(problem, dofs, constraints));
+    method = choice.method;
+    reason = choice.reason;
+  }
+  if (method == SolverOptions::Method::kAmg) {
+    // PETSc's smoothed aggregation on this process (petsc_solver.hpp), which assembles its own
+    // matrix; the same results and the same stopping rule as CG.
+    PetscSolverOptions amg;
+    amg.preconditioner = "gamg";
+    amg.relative_tolerance = options.cg_tolerance;
+    amg.threads = options.threads;
+    StaticResult result = solve_static_amg(problem, amg);
+    result.method = method;
+    result.method_reason = reason;
+    return result;
+  }
+
   StaticResult result;
   result.dofs = dofs.num_dofs();
+  result.method = method;
+  result.method_reason = reason;
   auto start = std::chrono::steady_clock::now();
   const Eigen::SparseMatrix<double> stiffness = assemble_stiffness(problem, dofs);
   result.assembly_seconds = seconds_since(start);
-
-  result.method = options.method;
-  if (options.method == SolverOptions::Method::kAuto) {
-    const SolverChoice choice = choose_solver(
-        spatial_dimension(problem.formulation),
-        static_cast<double>(dofs.num_dofs()) - static_cast<double>(constraints.dofs.size()));
-    result.method = choice.method;
-    result.method_reason = choice.reason;
-  }
   if (result.method == SolverOptions::Method::kConjugateGradient)
     solve_iterative(problem, dofs, constraints, stiffness, options, result);
   else

@@ -1,6 +1,7 @@
 #include "isospring/io/case_file.hpp"
 
 #include <algorithm>
+#include <chrono>
 
 #include <numeric>
 #include "case_file_conditions.hpp"
@@ -197,7 +198,7 @@ Field root_field(const json& document, const fs::path& case_file) {
     throw nurbs::InputError(file_label(case_file) + ": a case file is a JSON object {...}");
   root.expect_object({"schema_version", "name", "description", "units", "geometry",
                       "discretization", "analysis", "material", "boundary", "load_cases",
-                      "analytic", "measurements", "calibration"});
+                      "analytic", "measurements", "calibration", "output"});
   return root;
 }
 
@@ -362,6 +363,12 @@ Case build_case_from_json(const json& document, const fs::path& case_file,
       root.at("calibration").fail(" must be an object {...}");
     c.calibration = root.at("calibration").json();
   }
+  if (root.has("output")) {
+    // What `analyze` writes; the command-line flag wins over it.
+    const Field output = root.at("output");
+    output.expect_object({"vtk_samples"});
+    if (output.has("vtk_samples")) c.vtk_samples = output.at("vtk_samples").integer_within(0, 64);
+  }
   // Checked here although used in add_conditions, so a missing section is reported before the
   // (possibly slow) refinement.
   root.at("boundary");
@@ -369,6 +376,7 @@ Case build_case_from_json(const json& document, const fs::path& case_file,
 
   c.discretization = read_discretization(root, c.geometry);
   check_solve_fits(c, c.discretization, limits);
+  const auto refinement_start = std::chrono::steady_clock::now();
   c.problem.patches = discretize_patches(c.geometry, c.discretization, file_label(case_file));
   if (!root.has("discretization") && c.geometry.size() > 1 &&
       !analysis::DofMap(c.problem).unglued_interfaces().empty()) {
@@ -379,6 +387,8 @@ Case build_case_from_json(const json& document, const fs::path& case_file,
     check_solve_fits(c, c.discretization, limits);
     c.problem.patches = discretize_patches(c.geometry, c.discretization, file_label(case_file));
   }
+  c.refinement_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - refinement_start).count();
   add_conditions(c, c.problem.patches, c.problem);
   return c;
 }

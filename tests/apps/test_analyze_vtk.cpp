@@ -1,5 +1,6 @@
 // End-to-end: the ParaView output of `isospring analyze` (OUT/result.vtm), read back with VTK's
-// XML readers. Independent checks: a constant-stress patch test (uniaxial tension of a
+// XML readers (and ParaView's pvpython where installed), its size against the model's, and the
+// timings of report.json. Independent checks: a constant-stress patch test (uniaxial tension of a
 // rectangle / box: sigma_xx = T everywhere, von Mises = |T|, energy density T^2 / (2E), the
 // linear exact displacement), the library's own post-processing at the written parameters, the
 // CSV control displacements, and the Bezier cells' corners against the sampled grid.
@@ -7,8 +8,11 @@
 #include <vtkCellData.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "isospring/analysis/post_processing.hpp"
@@ -46,16 +50,8 @@ json patch_test_case(bool three_d, double E, double nu, double T) {
   return c;
 }
 
-void check_patch_test(bool three_d) {
-  TemporaryFolder out;
-  const double E = 1000, nu = 0.3, T = 10;
-  std::ofstream(out / "case.json") << patch_test_case(three_d, E, nu, T).dump();
-  const auto run =
-      run_isospring("analyze " + (out / "case.json") + " -o " + (out / "res") + " --quiet");
-  ASSERT_EQ(run.exit_code, 0) << run.output;
-  auto blocks = its::read_vtm(out.path() / "res" / "result.vtm");
-  ASSERT_EQ(blocks.size(), 3u);  // geometry, geometry_bezier, control_net
-  auto* grid = vtkUnstructuredGrid::SafeDownCast(blocks["geometry"]);
+// The constant stress and the linear displacement at every point of a sampled block.
+void check_sampled_block(vtkUnstructuredGrid* grid, bool three_d, double E, double nu, double T) {
   ASSERT_NE(grid, nullptr);
   vtkPointData* pd = grid->GetPointData();
   vtkDataArray* u = pd->GetArray("displacement_pull");
@@ -83,6 +79,24 @@ void check_patch_test(bool three_d) {
   }
   EXPECT_LT(worst_stress, tol);
   EXPECT_LT(worst_u, tol);
+}
+
+// `flags` are added to the analyze command; `sampled` are the blocks with evaluated fields.
+void check_patch_test(bool three_d, const std::string& flags, size_t block_count,
+                      const std::vector<std::string>& sampled) {
+  TemporaryFolder out;
+  const double E = 1000, nu = 0.3, T = 10;
+  std::ofstream(out / "case.json") << patch_test_case(three_d, E, nu, T).dump();
+  const auto run = run_isospring("analyze " + (out / "case.json") + " -o " + (out / "res") +
+                                 " --quiet " + flags);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  auto blocks = its::read_vtm(out.path() / "res" / "result.vtm");
+  ASSERT_EQ(blocks.size(), block_count);
+  for (const std::string& name : sampled) {
+    SCOPED_TRACE(name);
+    check_sampled_block(vtkUnstructuredGrid::SafeDownCast(blocks[name]), three_d, E, nu, T);
+  }
+  const double tol = 1e-10;
   // The control net carries the control-point displacements, which reproduce the linear field
   // exactly (affine invariance): u_i = exact(P_i).
   auto* net = vtkPolyData::SafeDownCast(blocks["control_net"]);
@@ -103,11 +117,17 @@ void check_patch_test(bool three_d) {
 }  // namespace
 
 TEST(AnalyzeVtk, PlaneStressPatchTestHasTheConstantStressEverywhere) {
-  check_patch_test(false);
+  // 2D: the sampled surface, the Bezier cells and the control net.
+  check_patch_test(false, "", 3, {"geometry"});
 }
 
-TEST(AnalyzeVtk, SolidPatchTestHasTheConstantStressEverywhere) {
-  check_patch_test(true);
+TEST(AnalyzeVtk, SolidPatchTestHasTheConstantStressOnItsSurface) {
+  // 3D default: the sampled outer surface, no sampled volume.
+  check_patch_test(true, "", 3, {"boundary"});
+}
+
+TEST(AnalyzeVtk, SolidPatchTestHasTheConstantStressInTheSampledVolumeOnRequest) {
+  check_patch_test(true, "--vtk-samples 2", 4, {"geometry", "boundary"});
 }
 
 TEST(AnalyzeVtk, KirschFieldsAreTheLibraryPostProcessingAtTheWrittenParameters) {
@@ -222,4 +242,133 @@ TEST(AnalyzeVtk, KirschFieldsAreTheLibraryPostProcessingAtTheWrittenParameters) 
     ++rows;
   }
   EXPECT_EQ(rows, net->GetNumberOfPoints());
+}
+
+namespace {
+// A clamped box of n^3 elements of degree 2 under its own weight.
+json cube_case(int n) {
+  return {{"name", "cube"},
+          {"geometry", {{"type", "box"}, {"size", {1.0, 1.0, 1.0}}}},
+          {"discretization", {{"degree", 2}, {"elements", n}}},
+          {"material", {{"E", 210e9}, {"nu", 0.3}, {"density", 7800.0}}},
+          {"boundary", {{{"side", "u0"}, {"fix", {"x", "y", "z"}}}}},
+          {"load_cases", {{{"id", "gravity"}, {"gravity", {0, 0, -9.81}}}}}};
+}
+
+json read_report(const TemporaryFolder& out, const std::string& folder) {
+  std::ifstream in(out.path() / folder / "report.json");
+  return json::parse(in);
+}
+}  // namespace
+
+TEST(AnalyzeVtk, TimingsListEveryStageAndEveryFileWithItsSize) {
+  TemporaryFolder out;
+  std::ofstream(out / "case.json") << cube_case(3).dump();
+  const auto run = run_isospring("analyze " + (out / "case.json") + " -o " + (out / "res") +
+                                 " --quiet --timings");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const json report = read_report(out, "res");
+  const json& t = report.at("timings");
+  double stages = 0;
+  for (const char* key : {"read_seconds", "refinement_seconds", "assembly_seconds", "setup_seconds",
+                          "solve_seconds", "post_processing_seconds"}) {
+    ASSERT_TRUE(t.contains(key)) << key;
+    EXPECT_GE(t[key].get<double>(), 0.0) << key;
+    stages += t[key].get<double>();
+  }
+  // Every file of the output folder but report.json, once, with its size on disk.
+  std::set<std::string> listed;
+  double output_seconds = 0;
+  for (const json& o : t.at("outputs")) {
+    const std::string file = o.at("file");
+    EXPECT_TRUE(listed.insert(file).second) << file;
+    EXPECT_EQ(o.at("bytes").get<std::uintmax_t>(),
+              std::filesystem::file_size(out.path() / "res" / file))
+        << file;
+    output_seconds += o.at("seconds").get<double>();
+  }
+  std::set<std::string> on_disk;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(out.path() / "res"))
+    if (entry.is_regular_file())
+      on_disk.insert(std::filesystem::relative(entry.path(), out.path() / "res").generic_string());
+  on_disk.erase("report.json");
+  EXPECT_EQ(listed, on_disk);
+  EXPECT_TRUE(on_disk.count("result/boundary_sampled.vtu"));
+  EXPECT_FALSE(on_disk.count("result/geometry_sampled.vtu"));  // the volume only on request
+  // The stages and the files before report.md happened within total_seconds, one after another.
+  EXPECT_LE(stages, report.at("total_seconds").get<double>() + 1e-6);
+  EXPECT_NEAR(t.at("output_seconds").get<double>(), output_seconds, 1e-9);
+  // --timings printed a line per stage and per file.
+  for (const std::string line : {"reading", "refinement", "assembly", "solves", "post-processing",
+                                 "result/geometry_bezier.vtu", "report.md", "total"})
+    EXPECT_NE(run.output.find(line), std::string::npos) << line << "\n" << run.output;
+}
+
+TEST(AnalyzeVtk, TheCaseFileAsksForTheSampledVolumeAndTheFlagWins) {
+  TemporaryFolder out;
+  json c = cube_case(2);
+  c["output"] = {{"vtk_samples", 2}};
+  std::ofstream(out / "case.json") << c.dump();
+  ASSERT_EQ(
+      run_isospring("analyze " + (out / "case.json") + " -o " + (out / "a") + " -q").exit_code, 0);
+  EXPECT_TRUE(std::filesystem::exists(out.path() / "a" / "result" / "geometry_sampled.vtu"));
+  ASSERT_EQ(
+      run_isospring("analyze " + (out / "case.json") + " -o " + (out / "b") + " -q --vtk-samples 0")
+          .exit_code,
+      0);
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "b" / "result.vtm"));
+  c["output"] = {{"vtk_sample", 2}};
+  std::ofstream(out / "bad.json") << c.dump();
+  const auto bad = run_isospring("analyze " + (out / "bad.json") + " -o " + (out / "c") + " -q");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("output.vtk_sample"), std::string::npos) << bad.output;
+}
+
+// The default output grows with the model, not with samples^3 per element: from 4^3 to 8^3
+// elements the DOFs grow 4.6 x (216 -> 1000 control points) and the files by no more than 1.5 x
+// that; every file reads back through VTK's readers with points and cells.
+TEST(AnalyzeVtk, DefaultOutputIsInProportionToTheModel) {
+  TemporaryFolder out;
+  std::map<int, double> bytes, dofs;
+  for (int n : {4, 8}) {
+    const std::string name = "cube" + std::to_string(n);
+    std::ofstream(out / (name + ".json")) << cube_case(n).dump();
+    ASSERT_EQ(run_isospring("analyze " + (out / (name + ".json")) + " -o " + (out / name) + " -q")
+                  .exit_code,
+              0);
+    const json report = read_report(out, name);
+    dofs[n] = report.at("dofs").get<double>();
+    bytes[n] = report.at("timings").at("output_bytes").get<double>();
+    const auto blocks = its::read_vtm(out.path() / name / "result.vtm");
+    ASSERT_EQ(blocks.size(), 3u);
+    for (const auto& [block, data] : blocks) {
+      auto* set = vtkDataSet::SafeDownCast(data);
+      ASSERT_NE(set, nullptr) << block;
+      EXPECT_GT(set->GetNumberOfPoints(), 0) << block;
+      EXPECT_GT(set->GetNumberOfCells(), 0) << block;
+    }
+  }
+  EXPECT_LT(bytes[8] / bytes[4], 1.5 * dofs[8] / dofs[4]) << bytes[4] << " " << bytes[8];
+}
+
+// ParaView itself loads the output, where it is installed (pvpython on PATH).
+TEST(AnalyzeVtk, ParaViewLoadsTheOutput) {
+  if (isospring::testing::run_program("command -v pvpython").exit_code != 0)
+    GTEST_SKIP() << "ParaView's pvpython is not installed: VTK's readers check the files above";
+  TemporaryFolder out;
+  std::ofstream(out / "case.json") << cube_case(2).dump();
+  ASSERT_EQ(
+      run_isospring("analyze " + (out / "case.json") + " -o " + (out / "res") + " -q").exit_code,
+      0);
+  std::ofstream(out / "load.py")
+      << "from paraview.simple import *\n"
+         "import sys\n"
+         "r = OpenDataFile(sys.argv[1])\n"
+         "r.UpdatePipeline()\n"
+         "info = r.GetDataInformation()\n"
+         "print('points', info.GetNumberOfPoints(), 'cells', info.GetNumberOfCells())\n"
+         "sys.exit(0 if info.GetNumberOfPoints() > 0 and info.GetNumberOfCells() > 0 else 1)\n";
+  const auto run = isospring::testing::run_program("pvpython " + (out / "load.py") + " " +
+                                                   (out / "res/result.vtm"));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
 }

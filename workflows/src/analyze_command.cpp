@@ -1,10 +1,10 @@
 // run_analyze and its outputs (see analyze_command.hpp).
 #include "isospring/workflows/analyze_command.hpp"
 
+#include "analyze_vtk.hpp"
 #include "isospring/analysis/petsc_solver.hpp"
+#include "isospring/io/analyze_timings.hpp"
 #include "isospring/io/report_case.hpp"
-#include "isospring/io/vtk_multiblock.hpp"
-#include "isospring/io/vtk_solution.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::workflows {
@@ -23,7 +23,8 @@ analysis::SolverOptions::Method solver_method(const std::string& name) {
   if (name == "auto") return Method::kAuto;
   if (name == "cholesky") return Method::kCholesky;
   if (name == "cg") return Method::kConjugateGradient;
-  throw nurbs::InputError("analyze: unknown solver \"" + name + "\" (auto, cholesky or cg)");
+  if (name == "amg") return Method::kAmg;
+  throw nurbs::InputError("analyze: unknown solver \"" + name + "\" (auto, cholesky, cg or amg)");
 }
 
 }  // namespace
@@ -32,6 +33,7 @@ std::string solver_name(analysis::SolverOptions::Method method) {
   using Method = analysis::SolverOptions::Method;
   return method == Method::kConjugateGradient ? "cg"
          : method == Method::kAuto            ? "auto"
+         : method == Method::kAmg             ? "amg"
                                               : "cholesky";
 }
 
@@ -40,7 +42,10 @@ AnalyzeCommandResult run_analyze(const AnalyzeCommandOptions& options, const Pro
   const bool petsc = options.backend == "petsc";
   progress("reading " + options.case_file);
   AnalyzeCommandResult r;
+  const auto read_start = std::chrono::steady_clock::now();
   r.c = read_case_file(options.case_file, options.limits);
+  r.read_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
   if (before_solve) before_solve(r.c);
   progress("solving " + std::to_string(r.c.problem.load_cases.size()) + " load case(s)" +
            (petsc ? " with PETSc" : ""));
@@ -59,7 +64,9 @@ AnalyzeCommandResult run_analyze(const AnalyzeCommandOptions& options, const Pro
   r.blas = analysis::loaded_blas();
   progress(std::to_string(r.result.dofs) + " DOFs: assembly " +
            format_number(r.result.assembly_seconds, 3) + " s, " +
-           (petsc ? "preconditioner setup " : "factorisation ") +
+           (petsc || r.result.method != analysis::SolverOptions::Method::kCholesky
+                ? "preconditioner setup "
+                : "factorisation ") +
            format_number(r.result.factorization_seconds, 3) + " s");
   return r;
 }
@@ -102,6 +109,11 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
   report["blas"] = {{"name", blas.name},     {"library", blas.library}, {"lapack", blas.lapack},
                     {"config", blas.config}, {"threads", blas.threads}, {"loaded", blas.loaded}};
 
+  AnalyzeTimings timings;
+  timings.refinement_seconds = c.refinement_seconds;
+  timings.read_seconds = r.read_seconds - c.refinement_seconds;
+  add_solver_timings(result, timings);
+
   MarkdownReport md;
   md.heading(1, "isospring analyze: " + c.name);
   add_case_summary(md, report["case"]);
@@ -112,14 +124,17 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
              std::to_string(result.load_cases.size()) +
              "): max |u| = " + format_number(lc.max_displacement) + " m");
     const std::string csv = lc.id + "_control_displacements.csv";
-    write_control_displacements_csv(out_dir / csv, c.problem.patches, lc.control_displacements);
+    timed_output(out_dir, csv, timings, [&] {
+      write_control_displacements_csv(out_dir / csv, c.problem.patches, lc.control_displacements);
+    });
     nlohmann::json entry = {{"id", lc.id},
                             {"max_displacement", lc.max_displacement},
                             {"strain_energy", lc.strain_energy},
                             {"reaction_sum", vector_json(lc.reaction_sum, c.dimension)},
                             {"solve_seconds", lc.solve_seconds},
                             {"control_displacements_file", csv}};
-    if (petsc || result.method == analysis::SolverOptions::Method::kConjugateGradient) {
+    if (petsc || result.method == analysis::SolverOptions::Method::kConjugateGradient ||
+        result.method == analysis::SolverOptions::Method::kAmg) {
       entry["iterations"] = lc.iterations;
       entry["relative_residual"] = lc.relative_residual;
     }
@@ -131,20 +146,17 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
                     "(" + reaction + ")", format_number(lc.solve_seconds, 3), "`" + csv + "`"});
   }
 
-  // One ParaView file for the whole run; the evaluated fields are the library's own
-  // post-processing (analysis::evaluate_field) at the sampled parameters. vtk_samples 0 skips
-  // it: at 10^6 DOFs the sampled geometry alone is ~2 x 10^7 points, more memory and time than
-  // the distributed solve.
-  if (options.vtk_samples > 0) {
-    const auto vtk_start = std::chrono::steady_clock::now();
-    VtkScene scene;
-    scene.patches = c.problem.patches;
-    scene.fields = solution_fields(c.problem, result.load_cases);
-    scene.samples_per_element = options.vtk_samples;
-    write_vtk_scene(out_dir / "result.vtm", scene);
+  // One ParaView file for the whole run (analyze_vtk.hpp); the evaluated fields are the
+  // library's own post-processing (analysis::evaluate_field) at the sampled parameters.
+  const bool vtk = detail::analyze_writes_vtk(options, c);
+  std::string vtk_text;
+  if (vtk) {
+    const size_t first = timings.outputs.size();
+    vtk_text = detail::write_analyze_vtk(r, options, out_dir, timings);
+    double seconds = 0;
+    for (size_t i = first; i < timings.outputs.size(); ++i) seconds += timings.outputs[i].seconds;
     report["vtk_file"] = "result.vtm";
-    report["vtk_seconds"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - vtk_start).count();
+    report["vtk_seconds"] = seconds;
   }
   const double total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -163,23 +175,22 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
   md.paragraph(
       std::to_string(result.dofs) + " DOFs (" + method + "); assembly " +
       format_number(result.assembly_seconds, 3) + " s, " +
-      (petsc ? "preconditioner setup " : "factorisation ") +
+      (petsc || r.result.method != analysis::SolverOptions::Method::kCholesky
+           ? "preconditioner setup "
+           : "factorisation ") +
       format_number(result.factorization_seconds, 3) + " s, total " + format_number(total, 3) +
       " s; BLAS/LAPACK: " +
       (blas.name.empty() ? std::string("none loaded") : blas.name + " (`" + blas.library + "`)") +
       ". Reaction sums are the forces the supports " +
       "exert (K u - f summed over supported DOFs); they balance the applied loads.");
-  if (options.vtk_samples > 0)
-    md.paragraph(
-        "ParaView: open `result.vtm` (geometry sampled " + std::to_string(options.vtk_samples) +
-        " x per element and as exact " +
-        std::string("Bezier cells, control net) with `displacement_<id>`, `stress_<id>`, ") +
-        "`von_mises_<id>` and `strain_energy_density_<id>` per load case.");
+  if (vtk) md.paragraph(vtk_text);
+  timed_output(out_dir, "report.md", timings, [&] { md.write(out_dir / "report.md"); });
+  // Every file but report.json itself, which holds them.
+  report["timings"] = timings_json(timings);
   write_json_report(out_dir / "report.json", report);
-  md.write(out_dir / "report.md");
   progress("wrote " + (out_dir / "report.json").string() + ", report.md and " +
            std::to_string(result.load_cases.size()) + " displacement table(s)" +
-           (options.vtk_samples > 0 ? " and result.vtm" : ""));
+           (vtk ? " and result.vtm" : ""));
   return report;
 }
 

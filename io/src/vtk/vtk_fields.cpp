@@ -47,13 +47,15 @@ Eigen::VectorXd evaluate_control_field(const nurbs::Patch& patch, const Eigen::M
 PatchField magnitude_field(const std::string& name, const std::vector<nurbs::Patch>& patches,
                            const ControlField& field) {
   // Copies: the returned callback may outlive the caller's vectors.
-  return PatchField{
-      name, 1, [patches, coefficients = field.coefficients](int p, const nurbs::Param& u) {
-        const auto index = static_cast<size_t>(p);
-        Eigen::VectorXd out(1);
-        out(0) = evaluate_control_field(patches[index], coefficients[index], u).norm();
-        return out;
-      }};
+  return PatchField{name, 1,
+                    [patches, coefficients = field.coefficients](int p, const nurbs::Param& u) {
+                      const auto index = static_cast<size_t>(p);
+                      Eigen::VectorXd out(1);
+                      out(0) =
+                          evaluate_control_field(patches[index], coefficients[index], u).norm();
+                      return out;
+                    },
+                    true};
 }
 
 PatchField stress_tensor_field(const std::string& name,

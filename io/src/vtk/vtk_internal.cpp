@@ -1,10 +1,13 @@
 #include "vtk_internal.hpp"
 
+#include <vtkDataSet.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 #include "isospring/io/atomic_file.hpp"
@@ -42,6 +45,19 @@ vtkSmartPointer<vtkDoubleArray> make_vector_array(const std::string& name,
   return array;
 }
 
+void check_control_fields(const std::vector<nurbs::Patch>& patches,
+                          const std::vector<ControlField>& fields) {
+  for (const ControlField& field : fields) {
+    bool ok = field.coefficients.size() == patches.size();
+    for (size_t p = 0; ok && p < patches.size(); ++p)
+      ok = field.coefficients[p].rows() == field.components &&
+           field.coefficients[p].cols() == patches[p].num_points();
+    if (!ok)
+      throw std::invalid_argument("VTK output: control field '" + field.name +
+                                  "' does not match the patches' control nets");
+  }
+}
+
 namespace {
 template <typename Writer>
 void write_with(const std::filesystem::path& path, vtkDataObject* data) {
@@ -50,8 +66,16 @@ void write_with(const std::filesystem::path& path, vtkDataObject* data) {
     writer->SetFileName(temporary.c_str());
     writer->SetInputData(data);
     writer->SetDataModeToAppended();
+    // 32-bit point ids and block headers where they suffice: half the connectivity's bytes.
+    auto* set = vtkDataSet::SafeDownCast(data);
+    if (set != nullptr && set->GetNumberOfPoints() < std::numeric_limits<int32_t>::max()) {
+      writer->SetIdTypeToInt32();
+      writer->SetHeaderTypeToUInt32();
+    }
     writer->EncodeAppendedDataOff();
-    writer->SetCompressorTypeToZLib();
+    // LZ4: about as small as zlib on these arrays of doubles (which compress little either
+    // way) and several times faster to write and to read.
+    writer->SetCompressorTypeToLZ4();
     if (writer->Write() != 1)
       throw nurbs::InputError("cannot write '" + path.string() +
                               "': VTK's writer failed (disk full or folder not writable?)");

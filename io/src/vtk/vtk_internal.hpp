@@ -11,6 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "isospring/io/vtk_fields.hpp"
+#include "isospring/nurbs/patch.hpp"
+
 namespace isospring::io::detail {
 
 vtkSmartPointer<vtkDoubleArray> make_double_array(const std::string& name, int components,
@@ -23,8 +26,13 @@ vtkSmartPointer<vtkDoubleArray> make_vector_array(const std::string& name,
                                                   const std::vector<Eigen::Vector3d>& values,
                                                   size_t expected);
 
+/// Throws std::invalid_argument when a control field does not have one components x
+/// num_points matrix per patch (a caller bug).
+void check_control_fields(const std::vector<nurbs::Patch>& patches,
+                          const std::vector<ControlField>& fields);
+
 /// Writes a vtkUnstructuredGrid (.vtu) or vtkPolyData (.vtp) with VTK's XML writers (appended,
-/// zlib-compressed binary) atomically. Throws nurbs::InputError naming the path on failure.
+/// LZ4-compressed binary) atomically. Throws nurbs::InputError naming the path on failure.
 void write_xml_dataset(const std::filesystem::path& path, vtkDataObject* data);
 
 }  // namespace isospring::io::detail

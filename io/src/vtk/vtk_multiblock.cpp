@@ -1,5 +1,7 @@
 #include "isospring/io/vtk_multiblock.hpp"
 
+#include <chrono>
+#include <functional>
 #include <ostream>
 
 #include "export_xml.hpp"
@@ -24,31 +26,56 @@ void write_multiblock_vtm(const fs::path& path, const std::vector<VtkBlock>& blo
   });
 }
 
-std::vector<fs::path> write_vtk_scene(const fs::path& vtm, const VtkScene& scene) {
+std::vector<fs::path> write_vtk_scene(const fs::path& vtm, const VtkScene& scene,
+                                      std::vector<WrittenFile>* timings) {
   const fs::path folder = vtm.parent_path();
   const fs::path pieces = vtm.stem();  // relative to folder
   std::vector<VtkBlock> blocks;
   std::vector<fs::path> written;
-  auto add = [&](const std::string& name, const std::string& file) {
+  // Writes one piece through `write` and records it (block, path, seconds).
+  auto add = [&](const std::string& name, const std::string& file,
+                 const std::function<void(const fs::path&)>& write) {
+    const auto start = std::chrono::steady_clock::now();
+    write(folder / pieces / file);
     blocks.push_back({name, pieces / file});
     written.push_back(folder / pieces / file);
-    return folder / pieces / file;
+    if (timings)
+      timings->push_back(
+          {written.back(),
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
   };
   if (!scene.patches.empty()) {
-    write_patches_sampled_vtu(add("geometry", "geometry_sampled.vtu"), scene.patches, scene.fields,
-                              scene.samples_per_element);
+    if (scene.samples_per_element > 0)
+      add("geometry", "geometry_sampled.vtu", [&](const fs::path& path) {
+        write_patches_sampled_vtu(path, scene.patches, scene.fields, scene.samples_per_element);
+      });
+    if (!scene.boundary.empty())
+      add("boundary", "boundary_sampled.vtu", [&](const fs::path& path) {
+        write_boundary_sampled_vtu(path, scene.patches, scene.boundary, scene.fields,
+                                   scene.boundary_samples_per_element);
+      });
     if (scene.bezier)
-      write_patches_bezier_vtu(add("geometry_bezier", "geometry_bezier.vtu"), scene.patches,
-                               scene.fields.control);
+      add("geometry_bezier", "geometry_bezier.vtu", [&](const fs::path& path) {
+        write_patches_bezier_vtu(path, scene.patches, scene.fields.control);
+      });
     if (scene.control_net)
-      write_control_net_vtp(add("control_net", "control_net.vtp"), scene.patches,
-                            scene.fields.control);
+      add("control_net", "control_net.vtp", [&](const fs::path& path) {
+        write_control_net_vtp(path, scene.patches, scene.fields.control);
+      });
   }
   if (scene.network)
-    write_spring_network_vtp(add("springs", "springs.vtp"), *scene.network, scene.network_vectors);
-  if (scene.markers) write_markers_vtp(add("markers", "markers.vtp"), *scene.markers);
+    add("springs", "springs.vtp", [&](const fs::path& path) {
+      write_spring_network_vtp(path, *scene.network, scene.network_vectors);
+    });
+  if (scene.markers)
+    add("markers", "markers.vtp",
+        [&](const fs::path& path) { write_markers_vtp(path, *scene.markers); });
+  const auto start = std::chrono::steady_clock::now();
   write_multiblock_vtm(vtm, blocks);
   written.push_back(vtm);
+  if (timings)
+    timings->push_back(
+        {vtm, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
   return written;
 }
 

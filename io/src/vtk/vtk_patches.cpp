@@ -23,56 +23,6 @@ int flat(const Dims& n, int i, int j, int k) {
   return i + n[0] * (j + n[1] * k);
 }
 
-void check_control_fields(const std::vector<nurbs::Patch>& patches,
-                          const std::vector<ControlField>& fields) {
-  for (const ControlField& field : fields) {
-    bool ok = field.coefficients.size() == patches.size();
-    for (size_t p = 0; ok && p < patches.size(); ++p)
-      ok = field.coefficients[p].rows() == field.components &&
-           field.coefficients[p].cols() == patches[p].num_points();
-    if (!ok)
-      throw std::invalid_argument("VTK output: control field '" + field.name +
-                                  "' does not match the patches' control nets");
-  }
-}
-
-/// Parameters of a direction: every element split into `samples` equal steps, breaks included.
-std::vector<double> sample_parameters(const nurbs::KnotVector& knots, int samples) {
-  const std::vector<double> breaks = knots.unique();
-  std::vector<double> u;
-  for (size_t e = 0; e + 1 < breaks.size(); ++e)
-    for (int s = 0; s < samples; ++s)
-      u.push_back(breaks[e] + (breaks[e + 1] - breaks[e]) * s / samples);
-  u.push_back(breaks.back());
-  return u;
-}
-
-/// Linear cells of a structured grid of n[0] x n[1] x n[2] points starting at point `offset`.
-void add_linear_cells(vtkUnstructuredGrid* grid, int param_dim, const Dims& n, vtkIdType offset) {
-  auto id = [&](int i, int j, int k) { return offset + flat(n, i, j, k); };
-  if (param_dim == 1) {
-    for (int i = 0; i + 1 < n[0]; ++i) {
-      vtkIdType line[2] = {id(i, 0, 0), id(i + 1, 0, 0)};
-      grid->InsertNextCell(VTK_LINE, 2, line);
-    }
-  } else if (param_dim == 2) {
-    for (int j = 0; j + 1 < n[1]; ++j)
-      for (int i = 0; i + 1 < n[0]; ++i) {
-        vtkIdType quad[4] = {id(i, j, 0), id(i + 1, j, 0), id(i + 1, j + 1, 0), id(i, j + 1, 0)};
-        grid->InsertNextCell(VTK_QUAD, 4, quad);
-      }
-  } else {
-    for (int k = 0; k + 1 < n[2]; ++k)
-      for (int j = 0; j + 1 < n[1]; ++j)
-        for (int i = 0; i + 1 < n[0]; ++i) {
-          vtkIdType hex[8] = {
-              id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
-              id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
-          grid->InsertNextCell(VTK_HEXAHEDRON, 8, hex);
-        }
-  }
-}
-
 /// The extraction operators of a direction assembled into one (elements*p + 1) x n matrix: row
 /// e*p + k holds the coefficients of Bezier point k of element e. Rows shared by neighbouring
 /// elements agree because the extracted curve is continuous there.
@@ -120,86 +70,10 @@ int vtk_local_index(int param_dim, int i, int j, int k, const int* order) {
 }
 }  // namespace
 
-void write_patches_sampled_vtu(const std::filesystem::path& path,
-                               const std::vector<nurbs::Patch>& patches, const PatchFields& fields,
-                               int samples_per_element) {
-  if (samples_per_element < 1)
-    throw std::invalid_argument("write_patches_sampled_vtu: samples_per_element must be >= 1");
-  check_control_fields(patches, fields.control);
-
-  struct Sample {
-    int patch;
-    nurbs::Param u;
-  };
-  std::vector<Sample> samples;
-  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  grid->Allocate();
-  std::vector<int> cell_patch;
-  for (size_t p = 0; p < patches.size(); ++p) {
-    const nurbs::Patch& patch = patches[p];
-    std::array<std::vector<double>, 3> u{std::vector<double>{0.0}, std::vector<double>{0.0},
-                                         std::vector<double>{0.0}};
-    Dims n{1, 1, 1};
-    for (int d = 0; d < patch.param_dim(); ++d) {
-      u[static_cast<size_t>(d)] = sample_parameters(patch.knots(d), samples_per_element);
-      n[static_cast<size_t>(d)] = static_cast<int>(u[static_cast<size_t>(d)].size());
-    }
-    const auto offset = static_cast<vtkIdType>(samples.size());
-    for (int k = 0; k < n[2]; ++k)
-      for (int j = 0; j < n[1]; ++j)
-        for (int i = 0; i < n[0]; ++i)
-          samples.push_back({static_cast<int>(p),
-                             {u[0][static_cast<size_t>(i)], u[1][static_cast<size_t>(j)],
-                              u[2][static_cast<size_t>(k)]}});
-    add_linear_cells(grid, patch.param_dim(), n, offset);
-    cell_patch.resize(static_cast<size_t>(grid->GetNumberOfCells()), static_cast<int>(p));
-  }
-
-  const auto count = static_cast<vtkIdType>(samples.size());
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(count);
-  auto parameter = detail::make_double_array("parameter", 3, count);
-  std::vector<vtkSmartPointer<vtkDoubleArray>> control_arrays, evaluated_arrays;
-  for (const ControlField& f : fields.control)
-    control_arrays.push_back(detail::make_double_array(f.name, f.components, count));
-  for (const PatchField& f : fields.evaluated)
-    evaluated_arrays.push_back(detail::make_double_array(f.name, f.components, count));
-
-  for (vtkIdType s = 0; s < count; ++s) {
-    const Sample& sample = samples[static_cast<size_t>(s)];
-    const nurbs::Patch& patch = patches[static_cast<size_t>(sample.patch)];
-    const Eigen::Vector3d x = patch.point(sample.u);
-    points->SetPoint(s, x.data());
-    parameter->SetTuple(s, sample.u.data());
-    for (size_t f = 0; f < fields.control.size(); ++f) {
-      const Eigen::VectorXd value = evaluate_control_field(
-          patch, fields.control[f].coefficients[static_cast<size_t>(sample.patch)], sample.u);
-      control_arrays[f]->SetTuple(s, value.data());
-    }
-    for (size_t f = 0; f < fields.evaluated.size(); ++f) {
-      const Eigen::VectorXd value = fields.evaluated[f].evaluate(sample.patch, sample.u);
-      if (value.size() != fields.evaluated[f].components)
-        throw std::invalid_argument("VTK output: field '" + fields.evaluated[f].name +
-                                    "' returned the wrong number of components");
-      evaluated_arrays[f]->SetTuple(s, value.data());
-    }
-  }
-  grid->SetPoints(points);
-  grid->GetPointData()->AddArray(parameter);
-  for (auto& a : control_arrays) grid->GetPointData()->AddArray(a);
-  for (auto& a : evaluated_arrays) grid->GetPointData()->AddArray(a);
-  auto patch_ids = detail::make_int_array("patch", grid->GetNumberOfCells());
-  for (size_t c = 0; c < cell_patch.size(); ++c)
-    patch_ids->SetValue(static_cast<vtkIdType>(c), cell_patch[c]);
-  grid->GetCellData()->AddArray(patch_ids);
-  detail::write_xml_dataset(path, grid);
-}
-
 void write_patches_bezier_vtu(const std::filesystem::path& path,
                               const std::vector<nurbs::Patch>& patches,
                               const std::vector<ControlField>& fields) {
-  check_control_fields(patches, fields);
+  detail::check_control_fields(patches, fields);
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   grid->Allocate();
   auto points = vtkSmartPointer<vtkPoints>::New();

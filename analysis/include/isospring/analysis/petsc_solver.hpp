@@ -66,4 +66,10 @@ struct PetscSolverOptions {
 /// the Krylov solve does not converge.
 StaticResult solve_static_petsc(const Problem& problem, const PetscSolverOptions& options = {});
 
+/// The same solve on this process alone (PETSC_COMM_SELF; not collective, no mpirun): the serial
+/// algebraic-multigrid solver of solve_static (SolverOptions::Method::kAmg). Starts PETSc (and MPI
+/// as a singleton) at its first call and keeps it until the program ends. Throws
+/// nurbs::InputError when the build has no PETSc.
+StaticResult solve_static_amg(const Problem& problem, const PetscSolverOptions& options = {});
+
 }  // namespace isospring::analysis

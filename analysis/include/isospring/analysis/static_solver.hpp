@@ -4,13 +4,17 @@
 #include <string>
 #include <vector>
 
+#include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/problem.hpp"
 
 namespace isospring::analysis {
 
 struct SolverOptions {
-  // kAuto: choose_solver on the problem's size (`analyze --solver auto`, its default).
-  enum class Method { kCholesky, kConjugateGradient, kAuto } method = Method::kCholesky;
+  // kAuto: choose_solver on the problem's traits (`analyze --solver auto`, its default). kAmg:
+  // CG with PETSc's smoothed-aggregation AMG and the rigid-body near-null space, on this process
+  // (solve_static_amg; needs a build with PETSc).
+  enum class Method { kCholesky, kConjugateGradient, kAuto, kAmg } method = Method::kCholesky;
   double cg_tolerance = 1e-10;  // ||f - K u|| / ||f|| of CG (free DOFs)
   int threads = 0;              // 0 = all
 };
@@ -22,8 +26,9 @@ struct LoadCaseResult {
   double strain_energy = 0;                                         // 1/2 u^T K u
   Eigen::Vector3d reaction_sum = Eigen::Vector3d::Zero();  // sum of K u - f over supported DOFs
   double max_displacement = 0;                             // max |u| over control points
-  double solve_seconds = 0;
-  // Iterative solves (kConjugateGradient, the PETSc backend): Krylov iterations and the true
+  double solve_seconds = 0;  // load vector, solve and the results below
+  double post_seconds = 0;   // of solve_seconds: K u, reactions, energy, control displacements
+  // Iterative solves (kConjugateGradient, kAmg, the PETSc backend): Krylov iterations and the true
   // relative residual ||b - K u|| / ||b|| of the system solved; 0 for the direct solver.
   int iterations = 0;
   double relative_residual = 0;
@@ -39,23 +44,45 @@ struct StaticResult {
   std::string preconditioner;  // the PETSc backend's Krylov method and preconditioner
 };
 
-struct SolverChoice {
-  SolverOptions::Method method = SolverOptions::Method::kCholesky;
-  std::string reason;
-};
-
-/// Free DOFs (3D, 2D) above which kAuto takes block-Jacobi CG instead of sparse Cholesky. Why
+/// Free DOFs (3D, 2D) up to which kAuto always takes sparse Cholesky. Why
 /// (bench/bench_analysis.cpp, docs/performance.md): on the clamped p = 2 cube CHOLMOD's
-/// factorisation costs 1.5-3 s CPU at 16,524 free DOFs and 55 s at 114,444 (nested-dissection
-/// fill grows as N^2 in 3D), CG 0.2 s and 2.8 s; below ~20,000 DOFs the direct solve takes a few
-/// seconds at most and is immune to the conditioning that slows CG (slender or nearly
-/// incompressible parts), so it is kept there. In 2D the factor grows as N log N (133,128 DOFs
-/// factorise in 4.8 s), so the direct solver stays up to 500,000 DOFs.
+/// factorisation costs 1.5-3 s CPU at 16,524 free DOFs; below ~20,000 DOFs the direct solve takes a
+/// few seconds at most and is immune to the conditioning that slows CG (slender or nearly
+/// incompressible parts). In 2D the factor grows as N log N (133,128 DOFs factorise in 4.8 s), so
+/// the direct solver stays up to 500,000 DOFs.
 inline constexpr double kAutoIterativeDofs3d = 20000;
 inline constexpr double kAutoIterativeDofs2d = 500000;
 
-/// kAuto's rule: sparse Cholesky up to the threshold of the spatial dimension (2 or 3), CG
-/// above; `reason` says which threshold decided.
+/// What kAuto's rule looks at (solver_problem_traits computes it from a problem).
+struct SolverTraits {
+  int dimension = 3;     // spatial dimension, 2 or 3
+  double free_dofs = 0;  // DOFs without the supported ones
+  int load_cases = 1;    // one factorisation serves them all; an iterative solve runs per case
+  double poisson = 0.3;  // nu: CG's condition number grows as 1 / (1 - 2 nu)
+  double aspect = 1.0;   // slenderness: the control net's longest / shortest principal extent
+  bool amg_available = false;  // this build has PETSc (petsc_available())
+};
+
+struct SolverChoice {
+  SolverOptions::Method method = SolverOptions::Method::kCholesky;
+  std::string reason;
+  // The rule's estimates (seconds on the 2-core reference machine; 0 when not estimated).
+  double cholesky_seconds = 0, cg_seconds = 0, amg_seconds = 0;
+};
+
+/// The traits of `problem`: its dimension, free DOFs, load cases, Poisson ratio and the aspect
+/// ratio sqrt(lambda_max / lambda_min) of the covariance of its control points (in 2D, of the
+/// in-plane extents), which is the length / thickness of a beam or plate in any orientation.
+SolverTraits solver_problem_traits(const Problem& problem, const DofMap& dofs,
+                                   const Constraints& constraints);
+
+/// kAuto's rule. Sparse Cholesky up to kAutoIterativeDofs2d / 3d free DOFs. Above, the cheapest
+/// of three estimated costs from the traits (static_solver_choice.cpp has the model and the
+/// measurements behind its constants): the factorisation plus a solve per load case, block-Jacobi
+/// CG per load case, and AMG-preconditioned CG (when available). `reason` gives the estimates.
+SolverChoice choose_solver(const SolverTraits& traits);
+
+/// The rule for a well-conditioned problem (nu 0.3, aspect 1, one load case, no AMG).
 SolverChoice choose_solver(int dimension, double free_dofs);
 
 /// Validates the problem, assembles K, applies the supports by elimination and solves every load

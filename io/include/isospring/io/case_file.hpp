@@ -63,6 +63,10 @@ struct Case {
   std::optional<AnalyticSolution> analytic;
   std::optional<CaseMeasurements> measurements;
   nlohmann::json calibration;  // `"calibration"` as written (null when absent); its users validate
+  /// `"output": {"vtk_samples": N}`: sample points per element and direction of analyze's
+  /// sampled volume (0: no ParaView output); -1 when the case does not say.
+  int vtk_samples = -1;
+  double refinement_seconds = 0;  // of reading it: elevating and splitting the geometry
 };
 
 /// Limits checked while reading, before the discretisation is built. The refined control nets

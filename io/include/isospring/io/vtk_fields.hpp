@@ -27,6 +27,9 @@ struct PatchField {
   std::string name;
   int components = 1;
   std::function<Eigen::VectorXd(int patch, const nurbs::Param& u)> evaluate;
+  /// True when `evaluate` may run on several threads at once; the sampled writers evaluate in
+  /// parallel only when every field says so.
+  bool thread_safe = false;
 };
 
 struct PatchFields {

@@ -1,10 +1,11 @@
 #pragma once
 // One ParaView file per run: a .vtm multiblock that references the pieces (sampled geometry,
-// Bezier geometry, control net, spring network, markers), written into a folder beside it:
+// sampled outer surface, Bezier geometry, control net, spring network, markers), written into a
+// folder beside it:
 //
 //   OUT/result.vtm
-//   OUT/result/geometry_sampled.vtu  geometry_bezier.vtu  control_net.vtp  springs.vtp
-//              markers.vtp
+//   OUT/result/geometry_sampled.vtu  boundary_sampled.vtu  geometry_bezier.vtu  control_net.vtp
+//              springs.vtp  markers.vtp
 //
 // Opening result.vtm in ParaView loads everything as one object with named blocks.
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "isospring/analysis/spring_network.hpp"
+#include "isospring/io/vtk_boundary.hpp"
 #include "isospring/io/vtk_fields.hpp"
 #include "isospring/io/vtk_markers.hpp"
 #include "isospring/io/vtk_spring_network.hpp"
@@ -32,7 +34,9 @@ void write_multiblock_vtm(const std::filesystem::path& path, const std::vector<V
 struct VtkScene {
   std::vector<nurbs::Patch> patches;
   PatchFields fields;  // on the patches (control fields also go on the net and Bezier cells)
-  int samples_per_element = 4;
+  int samples_per_element = 4;      // of the sampled geometry; 0: not written
+  std::vector<PatchSide> boundary;  // sides sampled into boundary_sampled.vtu (none: not written)
+  int boundary_samples_per_element = 4;
   bool bezier = true;       // also write the exact Bezier-cell geometry
   bool control_net = true;  // also write the control net
   std::optional<analysis::SpringNetwork> network;
@@ -40,9 +44,17 @@ struct VtkScene {
   std::optional<MarkerData> markers;
 };
 
+/// A file written and the wall time it took (its fields' evaluation included).
+struct WrittenFile {
+  std::filesystem::path path;
+  double seconds = 0;
+};
+
 /// Writes the scene's pieces into `<vtm folder>/<vtm stem>/` and then the .vtm itself (last, so
-/// it never references a missing piece). Returns every file written, the .vtm last.
+/// it never references a missing piece). Returns every file written, the .vtm last; with
+/// `timings`, also how long each took, in the same order.
 std::vector<std::filesystem::path> write_vtk_scene(const std::filesystem::path& vtm,
-                                                   const VtkScene& scene);
+                                                   const VtkScene& scene,
+                                                   std::vector<WrittenFile>* timings = nullptr);
 
 }  // namespace isospring::io
