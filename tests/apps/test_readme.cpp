@@ -62,6 +62,11 @@ const std::vector<NotRun> kNotRun{
     {"docs/calibration.md", "isospring thesis --generalisation-only",
      "a fragment naming the run that measured the numbers quoted (minutes per object); the "
      "README's quick example runs its square"},
+    {"docs/runtime.md", "isospring export model.json -o scene.xml",
+     "needs a calibrated model with volume or strain-point terms (minutes to calibrate); "
+     "tests/mujoco exports such models and steps them in MuJoCo"},
+    {"docs/outputs.md", "isospring export MODEL.json -o SCENE.xml",
+     "a synopsis with placeholders; tests/mujoco runs the export it describes"},
 };
 
 // Warnings the examples print on purpose (their page shows or explains them); any other warning
