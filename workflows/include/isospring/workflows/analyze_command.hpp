@@ -3,10 +3,13 @@
 // case of a case file (serial CHOLMOD/CG, or PETSc on the MPI ranks of an active
 // analysis::PetscSession), then write OUTDIR/report.json, report.md,
 // <id>_control_displacements.csv and result.vtm (ParaView: geometry with displacement, stress,
-// von Mises and strain energy density per load case; control net).
+// von Mises and strain energy density per load case; control net). A case whose geometry is
+// {"type": "immersed"} takes the immersed path instead (analyze_immersed.hpp: report.json,
+// report.md and result.vtp on the part's surface).
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -17,6 +20,8 @@
 #include "isospring/io/report.hpp"
 
 namespace isospring::workflows {
+
+struct ImmersedAnalysis;  // analyze_immersed.hpp
 
 struct AnalyzeCommandOptions {
   std::string case_file;
@@ -33,6 +38,9 @@ struct AnalyzeCommandResult {
   io::Case c;
   analysis::StaticResult result;
   analysis::BlasRuntime blas;  // the BLAS/LAPACK loaded (decides the factorisation time)
+  /// Set for a case with an immersed geometry (analyze_immersed.hpp); `c` then holds only the
+  /// case file's name, path and document, and `result` is empty.
+  std::shared_ptr<const ImmersedAnalysis> immersed;
 };
 
 /// Reads the case and solves it (every MPI rank calls it with --backend petsc); `before_solve`
