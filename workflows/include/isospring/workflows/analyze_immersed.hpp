@@ -23,10 +23,13 @@ namespace isospring::workflows {
 struct ImmersedLoadCaseResult {
   std::string id;
   analysis::ImmersedResult result;
-  /// Force the supports exert on the part: the integral of the traction P sigma(u) n over the
-  /// supported faces (P: the held components), on the faces' exact quadrature. In equilibrium it
-  /// balances applied_load up to the discretisation error of the stress at the support.
+  /// Force the supports exert on the part, the consistent reaction (analysis::immersed_reaction);
+  /// it balances applied_load up to the ghost penalty's share.
   Eigen::Vector3d reaction = Eigen::Vector3d::Zero();
+  /// The integral of the traction P sigma(u) n over the supported faces (P: the held
+  /// components): the same force from the computed stress on the face, which converges slowly
+  /// (about like h) because the stress is least accurate where a support meets a free surface.
+  Eigen::Vector3d support_traction = Eigen::Vector3d::Zero();
   /// Body force, gravity and tractions integrated on the domain's quadrature.
   Eigen::Vector3d applied_load = Eigen::Vector3d::Zero();
   double max_displacement = 0;  // largest |u| at the surface triangulation's points
