@@ -65,7 +65,10 @@ void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c
   try {
     c.cad = std::make_shared<const geometry::CadSolid>(geometry::read_cad_solid(c.part, c.solid));
   } catch (const nurbs::InputError& e) {
-    file.fail(": " + std::string(e.what()));
+    // A missing or wrong solid choice is the "solid" field's fix; anything else the file's.
+    const std::string what = e.what();
+    if (what.find("solid") == std::string::npos) file.fail(": " + what);
+    (g.has("solid") ? g.at("solid") : g).fail(": " + what);
   }
 }
 
