@@ -167,7 +167,7 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
                         {"density", c.material.density}};
   MarkdownReport md;
   md.heading(1, "isospring analyze (immersed): " + c.name);
-  md.paragraph(report["path_reason"].get<std::string>() + ". Part volume " +
+  md.paragraph("Immersed path: " + report["path_reason"].get<std::string>() + ". Part volume " +
                format_number(a.quadrature.volume) + " m^3 from the quadrature, " +
                format_number(a.occ.volume) + " m^3 from OpenCascade; " +
                std::to_string(a.stats.inside_cells) + " inside and " +
