@@ -57,7 +57,7 @@ void run_analyze(const AnalyzeOptions& options) {
   std::filesystem::path out_dir;
   on_root([&] {
     out_dir = output_folder(options.output, {options.run.case_file},
-                            {"report.json", "report.md", "result.vtm"});
+                            {"report.json", "report.md", "result.vtm", "result.vtp"});
   });
   workflows::AnalyzeCommandOptions run = options.run;
   // The memory estimate of read_case_file is the direct solver's (K and its Cholesky factor on
@@ -75,7 +75,7 @@ void run_analyze(const AnalyzeOptions& options) {
       });
   if (!root) return;
   const nlohmann::json report = workflows::write_analyze_outputs(r, run, out_dir, progress, start);
-  if (options.timings)
+  if (options.timings && report.contains("timings"))
     std::cout << io::timings_table(report.at("timings"), report.at("total_seconds").get<double>());
 }
 

@@ -283,6 +283,12 @@ Patches build(const nlohmann::json& geometry, const std::filesystem::path& case_
       return names;
     }());
   const std::string type = geometry.at("type").get<std::string>();
+  if (type == "immersed")
+    throw InputError(prefix +
+                     "type 'immersed' is run by `isospring analyze` only (the immersed path, "
+                     "docs/immersed.md); other commands take body-fitted geometry: import the "
+                     "part with `isospring import` or use a geometry type listed in "
+                     "docs/case-files.md");
   const auto it = builders().find(type);
   if (it == builders().end()) {
     std::string names;

@@ -4,8 +4,12 @@
 #include "analyze_vtk.hpp"
 #include "isospring/analysis/petsc_solver.hpp"
 #include "isospring/io/analyze_timings.hpp"
+#include "isospring/io/atomic_file.hpp"
+#include "isospring/io/immersed_case.hpp"
+#include "isospring/io/json_text.hpp"
 #include "isospring/io/report_case.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "isospring/workflows/analyze_immersed.hpp"
 
 namespace isospring::workflows {
 // The use cases read and write io's formats; io's names are used unqualified here.
@@ -27,6 +31,26 @@ analysis::SolverOptions::Method solver_method(const std::string& name) {
   throw nurbs::InputError("analyze: unknown solver \"" + name + "\" (auto, cholesky, cg or amg)");
 }
 
+/// The immersed path (analyze_immersed.hpp) when the case's geometry is {"type": "immersed"}.
+bool run_immersed_if_asked(const AnalyzeCommandOptions& options, const Progress& progress,
+                           const std::function<void(const Case&)>& before_solve,
+                           AnalyzeCommandResult& r) {
+  const nlohmann::json document = parse_json_text(read_text_file(options.case_file, "case file"),
+                                                  options.case_file, "case file");
+  if (!is_immersed_case(document)) return false;
+  if (options.backend != "serial")
+    throw nurbs::InputError("analyze: --backend " + options.backend +
+                            ": an immersed case is solved serially; drop --backend");
+  const ImmersedCase ic = read_immersed_case(options.case_file);
+  r.c.name = ic.name;
+  r.c.file = ic.file;
+  r.c.raw = ic.raw;
+  if (before_solve) before_solve(r.c);
+  r.immersed = std::make_shared<const ImmersedAnalysis>(
+      run_analyze_immersed(ic, solver_method(options.solver), progress));
+  return true;
+}
+
 }  // namespace
 
 std::string solver_name(analysis::SolverOptions::Method method) {
@@ -43,6 +67,7 @@ AnalyzeCommandResult run_analyze(const AnalyzeCommandOptions& options, const Pro
   progress("reading " + options.case_file);
   AnalyzeCommandResult r;
   const auto read_start = std::chrono::steady_clock::now();
+  if (run_immersed_if_asked(options, progress, before_solve, r)) return r;
   r.c = read_case_file(options.case_file, options.limits);
   r.read_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
@@ -82,6 +107,7 @@ nlohmann::json write_analyze_outputs(const AnalyzeCommandResult& r,
                                      const AnalyzeCommandOptions& options,
                                      const std::filesystem::path& out_dir, const Progress& progress,
                                      std::chrono::steady_clock::time_point start) {
+  if (r.immersed) return write_immersed_outputs(*r.immersed, out_dir, progress, start);
   const Case& c = r.c;
   const analysis::StaticResult& result = r.result;
   const bool petsc = options.backend == "petsc";

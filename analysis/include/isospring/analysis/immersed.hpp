@@ -134,3 +134,19 @@ Eigen::Matrix3d immersed_stress(const geometry::ImmersedDomain& domain,
                                 const Eigen::Vector3d& x);
 
 }  // namespace isospring::analysis
+
+namespace isospring::analysis {
+
+/// The force the supports exert on the part, the consistent ("weak") reaction, as the body-fitted
+/// solver's K u - f summed over the supported DOFs: a(u, psi e_c) - l(psi e_c) for each component
+/// c, with psi the sum of the background basis functions that do not vanish in the cells holding
+/// support points (so psi = 1 on those cells) and l the loads (body force, gravity, tractions,
+/// pressures). For the exact solution it is the integral of sigma n over the supports. For the
+/// discrete one, psi's gradient vanishes on the supports, so it equals minus the total load up
+/// to the ghost penalty's share a_g(u, psi e_c): it checks the load's quadrature and the solve,
+/// not the stress at the support (integrating the computed traction there converges only about
+/// like h, because the stress is least accurate where a support meets a free surface).
+Eigen::Vector3d immersed_reaction(const geometry::ImmersedDomain& domain,
+                                  const ImmersedResult& result, const ImmersedOptions& options);
+
+}  // namespace isospring::analysis

@@ -6,9 +6,12 @@
 // displacement; the sampled outer surface (3D) or surface (2D) with displacement, stress, von
 // Mises and strain energy density per load case; control net). report.json's "timings" says
 // where the time went (analyze_timings.hpp).
+// A case whose geometry is {"type": "immersed"} takes the immersed path instead
+// (analyze_immersed.hpp: report.json, report.md and result.vtp on the part's surface).
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -19,6 +22,8 @@
 #include "isospring/io/report.hpp"
 
 namespace isospring::workflows {
+
+struct ImmersedAnalysis;  // analyze_immersed.hpp
 
 struct AnalyzeCommandOptions {
   std::string case_file;
@@ -40,6 +45,9 @@ struct AnalyzeCommandResult {
   analysis::StaticResult result;
   analysis::BlasRuntime blas;  // the BLAS/LAPACK loaded (decides the factorisation time)
   double read_seconds = 0;     // reading the case file, its refinement included
+  /// Set for a case with an immersed geometry (analyze_immersed.hpp); `c` then holds only the
+  /// case file's name, path and document, and `result` is empty.
+  std::shared_ptr<const ImmersedAnalysis> immersed;
 };
 
 /// Reads the case and solves it (every MPI rank calls it with --backend petsc); `before_solve`

@@ -1,0 +1,72 @@
+// immersed_reaction (see immersed.hpp).
+#include <set>
+
+#include "immersed_basis.hpp"
+#include "isospring/analysis/immersed.hpp"
+
+namespace isospring::analysis {
+
+namespace {
+
+bool supported(const ImmersedOptions& options, int face) {
+  for (const ImmersedSupport& s : options.supports)
+    if (s.face == face) return true;
+  return false;
+}
+
+/// psi and its gradient at x: the sum over the basis functions in `layer`.
+bool layer_function(const detail::BackgroundBasis& basis, const std::set<int>& layer,
+                    const Eigen::Vector3d& x, detail::BasisAt& at, double& psi,
+                    Eigen::Vector3d& gradient) {
+  basis.evaluate(basis.element_of(x), x, at);
+  psi = 0;
+  gradient.setZero();
+  bool any = false;
+  for (size_t i = 0; i < at.control_points.size(); ++i) {
+    if (!layer.count(at.control_points[i])) continue;
+    any = true;
+    const auto k = static_cast<Eigen::Index>(i);
+    psi += at.values(k);
+    for (int d = 0; d < basis.dim(); ++d) gradient[d] += at.gradients(k, d);
+  }
+  return any;
+}
+
+}  // namespace
+
+Eigen::Vector3d immersed_reaction(const geometry::ImmersedDomain& domain,
+                                  const ImmersedResult& result, const ImmersedOptions& options) {
+  const detail::BackgroundBasis basis(domain, false);
+  // The layer: every basis function that does not vanish at a support point.
+  std::set<int> layer;
+  std::vector<int> points;
+  for (const geometry::BoundaryPoint& b : domain.boundary)
+    if (supported(options, b.face)) {
+      basis.control_points(basis.element_of(b.point), points);
+      layer.insert(points.begin(), points.end());
+    }
+  const Eigen::Vector3d body = options.body_force + options.material.density * options.gravity;
+  Eigen::Vector3d reaction = Eigen::Vector3d::Zero();
+  detail::BasisAt at;
+  double psi = 0;
+  Eigen::Vector3d grad;
+  for (const geometry::ImmersedCell& cell : domain.cells)
+    for (size_t q = 0; q < cell.points.size(); ++q) {
+      if (!layer_function(basis, layer, cell.points[q], at, psi, grad)) continue;
+      const Eigen::Matrix3d sigma = immersed_stress(domain, result, options, cell.points[q]);
+      reaction += cell.weights[q] * (sigma * grad - psi * body);
+    }
+  // Loads on the other faces within the layer's reach.
+  for (const geometry::BoundaryPoint& b : domain.boundary) {
+    Eigen::Vector3d load = Eigen::Vector3d::Zero();
+    for (const ImmersedTraction& t : options.tractions)
+      if (t.face == b.face) load += t.function ? t.function(b.point, b.normal) : t.value;
+    for (const ImmersedPressure& p : options.pressures)
+      if (p.face == b.face) load -= p.value * b.normal;
+    if (load.squaredNorm() == 0 || !layer_function(basis, layer, b.point, at, psi, grad)) continue;
+    reaction -= b.weight * psi * load;
+  }
+  return reaction;
+}
+
+}  // namespace isospring::analysis

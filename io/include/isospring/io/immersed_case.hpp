@@ -1,0 +1,62 @@
+#pragma once
+// Case files whose geometry is an immersed CAD solid ("geometry": {"type": "immersed", ...}):
+// the part's exact B-rep embedded in a B-spline background grid (geometry/immersed_cad.hpp),
+// supports and loads on the part's faces by index (as `isospring info` lists them). The schema
+// is in docs/case-files.md ("Immersed geometry"); `isospring analyze` runs such a case.
+//
+//   {"name": "cylinder", "geometry": {"type": "immersed", "file": "part.step", "solid": 1,
+//                                      "cells": [6, 6, 6], "degree": 2},
+//    "material": {"E": 2.1e11, "nu": 0.3, "density": 7850},
+//    "boundary": [{"face": 0, "fix": ["x", "y", "z"]}],
+//    "load_cases": [{"id": "gravity", "gravity": [0, 0, -9.81]}]}
+//
+// Every problem is a nurbs::InputError naming the case file, the field and the fix, found before
+// any computation (the solid is read and validated, face indices checked against it).
+#include <Eigen/Core>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "isospring/analysis/immersed.hpp"
+#include "isospring/geometry/immersed_cad.hpp"
+
+namespace isospring::io {
+
+/// One load case: tractions and pressures on faces, body force and gravity over the part.
+struct ImmersedLoadCase {
+  std::string id;
+  std::vector<analysis::ImmersedTraction> tractions;
+  std::vector<analysis::ImmersedPressure> pressures;
+  Eigen::Vector3d body_force = Eigen::Vector3d::Zero();  // N/m^3
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();     // m/s^2
+};
+
+struct ImmersedCase {
+  std::string name;
+  std::filesystem::path file;  // the case file (as given)
+  nlohmann::json raw;          // the document as read
+  std::filesystem::path part;  // the CAD file, resolved against the case file's folder
+  int solid = -1;              // as read_cad_solid takes it
+  std::shared_ptr<const geometry::CadSolid> cad;  // read and validated
+  geometry::ImmersionOptions immersion;
+  analysis::Material material;
+  std::vector<analysis::ImmersedSupport> supports;
+  std::vector<ImmersedLoadCase> load_cases;
+};
+
+/// True when the document's "geometry" is {"type": "immersed", ...}.
+bool is_immersed_case(const nlohmann::json& document);
+
+/// Reads and validates an immersed case file (and reads its CAD solid).
+ImmersedCase read_immersed_case(const std::filesystem::path& path);
+
+/// The same from a parsed document; `case_file` names it in messages and anchors relative paths.
+ImmersedCase build_immersed_case(const nlohmann::json& document,
+                                 const std::filesystem::path& case_file);
+
+/// The solver options of one load case (supports, material and that case's loads).
+analysis::ImmersedOptions immersed_options(const ImmersedCase& c, const ImmersedLoadCase& load);
+
+}  // namespace isospring::io

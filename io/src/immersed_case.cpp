@@ -1,0 +1,193 @@
+// Reader of immersed case files (see immersed_case.hpp).
+#include "isospring/io/immersed_case.hpp"
+
+#include <set>
+
+#include "case_file_json.hpp"
+#include "isospring/io/atomic_file.hpp"
+#include "isospring/io/json_text.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::io {
+using case_json::Field;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::array<bool, 3> read_components(const Field& field) {
+  std::array<bool, 3> fixed{false, false, false};
+  for (const Field& entry : field.elements(false)) {
+    const std::string name = entry.string();
+    const int c = name == "x" ? 0 : name == "y" ? 1 : name == "z" ? 2 : -1;
+    if (c < 0)
+      entry.fail(": '" + name + "' is not a displacement component; use \"x\", \"y\", \"z\"");
+    if (fixed[c]) entry.fail(": '" + name + "' is listed twice");
+    fixed[c] = true;
+  }
+  return fixed;
+}
+
+/// A face index of the solid (as `isospring info` lists them).
+int read_face(const Field& item, const geometry::CadSolid& solid) {
+  const Field field = item.at("face");
+  const int face = field.integer();
+  if (face < 0 || face >= solid.face_count())
+    field.fail(": face " + std::to_string(face) + " does not exist; the file has " +
+               std::to_string(solid.face_count()) +
+               " faces (0-based; `isospring info` lists them)");
+  return face;
+}
+
+void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c) {
+  const Field g = root.at("geometry");
+  g.expect_object(
+      {"type", "file", "solid", "cells", "cell_size", "degree", "margin", "gauss", "max_depth"});
+  const Field file = g.at("file");
+  c.part = case_file.parent_path() / file.string();
+  if (!fs::is_regular_file(c.part))
+    file.fail(": '" + file.string() + "' does not exist (looked for " + c.part.string() +
+              "; paths are relative to the case file's folder)");
+  if (g.has("solid")) c.solid = g.at("solid").integer_at_least(0);
+  geometry::ImmersionOptions& o = c.immersion;
+  if (g.has("degree")) o.degree = g.at("degree").integer_within(1, 6);
+  if (g.has("cells") && g.has("cell_size"))
+    g.fail(": give either \"cells\" or \"cell_size\", not both");
+  if (g.has("cells")) {
+    const std::vector<Field> n = g.at("cells").elements(false);
+    if (n.size() != 3) g.at("cells").fail(" must be 3 integers [nx, ny, nz]");
+    for (int d = 0; d < 3; ++d) o.cells[d] = n[static_cast<size_t>(d)].integer_within(1, 1000);
+  }
+  if (g.has("cell_size")) o.cell_size = g.at("cell_size").at_least(0, true);
+  if (g.has("margin")) o.margin = g.at("margin").non_negative();
+  if (g.has("gauss")) o.gauss = g.at("gauss").integer_within(o.degree + 1, 20);
+  if (g.has("max_depth")) o.max_depth = g.at("max_depth").integer_within(0, 8);
+  try {
+    c.cad = std::make_shared<const geometry::CadSolid>(geometry::read_cad_solid(c.part, c.solid));
+  } catch (const nurbs::InputError& e) {
+    // A missing or wrong solid choice is the "solid" field's fix; anything else the file's.
+    const std::string what = e.what();
+    if (what.find("solid") == std::string::npos) file.fail(": " + what);
+    (g.has("solid") ? g.at("solid") : g).fail(": " + what);
+  }
+}
+
+analysis::Material read_material(const Field& root) {
+  const Field field = root.at("material");
+  field.expect_object({"E", "nu", "density"});
+  analysis::Material m;
+  m.youngs_modulus = field.at("E").at_least(0, true);
+  m.poisson_ratio = field.at("nu").within(-1, 0.5, true, true);
+  if (field.has("density")) m.density = field.at("density").non_negative();
+  return m;
+}
+
+std::vector<analysis::ImmersedSupport> read_supports(const Field& boundary,
+                                                     const geometry::CadSolid& solid) {
+  std::vector<analysis::ImmersedSupport> supports;
+  for (const Field& item : boundary.elements(false)) {
+    item.expect_object({"face", "fix", "value", "symmetry"});
+    analysis::ImmersedSupport s;
+    s.face = read_face(item, solid);
+    s.symmetry = item.has("symmetry") && item.at("symmetry").boolean();
+    if (s.symmetry && (item.has("fix") || item.has("value")))
+      item.fail(": a symmetry support holds the normal component; drop \"fix\" and \"value\"");
+    if (!s.symmetry) {
+      if (!item.has("fix"))
+        item.fail(
+            ": give \"fix\": [\"x\", \"y\", \"z\"] (the held components) or "
+            "\"symmetry\": true");
+      s.fixed = read_components(item.at("fix"));
+      if (item.has("value")) s.value = item.at("value").vector(3);
+    }
+    supports.push_back(s);
+  }
+  return supports;
+}
+
+ImmersedLoadCase read_load_case(const Field& item, const ImmersedCase& c,
+                                std::set<std::string>& ids) {
+  item.expect_object({"id", "description", "tractions", "pressures", "body_force", "gravity"});
+  ImmersedLoadCase load;
+  load.id = item.at("id").string();
+  if (load.id.empty() || !ids.insert(load.id).second)
+    item.at("id").fail(": '" + load.id +
+                       "' is empty or used twice; give each load case its own id");
+  bool loaded = false;
+  if (item.has("tractions"))
+    for (const Field& entry : item.at("tractions").elements()) {
+      entry.expect_object({"face", "value"});
+      analysis::ImmersedTraction t;
+      t.face = read_face(entry, *c.cad);
+      t.value = entry.at("value").vector(3);
+      loaded = loaded || t.value.norm() > 0;
+      load.tractions.push_back(t);
+    }
+  if (item.has("pressures"))
+    for (const Field& entry : item.at("pressures").elements()) {
+      entry.expect_object({"face", "value"});
+      analysis::ImmersedPressure p;
+      p.face = read_face(entry, *c.cad);
+      p.value = entry.at("value").number();
+      loaded = loaded || p.value != 0;
+      load.pressures.push_back(p);
+    }
+  if (item.has("body_force")) load.body_force = item.at("body_force").vector(3);
+  if (item.has("gravity")) {
+    load.gravity = item.at("gravity").vector(3);
+    if (c.material.density <= 0 && load.gravity.norm() > 0)
+      item.at("gravity").fail(": gravity needs material.density > 0 (it loads density * g)");
+  }
+  loaded = loaded || load.body_force.norm() > 0 || load.gravity.norm() > 0;
+  if (!loaded)
+    item.fail(": every traction, pressure, body force and gravity is zero; give a non-zero load");
+  return load;
+}
+
+}  // namespace
+
+bool is_immersed_case(const json& document) {
+  if (!document.is_object() || !document.contains("geometry")) return false;
+  const json& g = document.at("geometry");
+  return g.is_object() && g.contains("type") && g.at("type") == "immersed";
+}
+
+ImmersedCase build_immersed_case(const json& document, const fs::path& case_file) {
+  const std::string label = case_file.filename().string();
+  if (!document.is_object())
+    throw nurbs::InputError(label + ": a case file is a JSON object {...}");
+  const Field root(document, label, "");
+  root.expect_object({"schema_version", "name", "description", "units", "geometry", "material",
+                      "boundary", "load_cases"});
+  ImmersedCase c;
+  c.file = case_file;
+  c.raw = document;
+  c.name = root.has("name") ? root.at("name").string() : case_file.stem().string();
+  c.material = read_material(root);
+  read_geometry(root, case_file, c);
+  c.supports = read_supports(root.at("boundary"), *c.cad);
+  std::set<std::string> ids;
+  for (const Field& item : root.at("load_cases").elements(false))
+    c.load_cases.push_back(read_load_case(item, c, ids));
+  return c;
+}
+
+ImmersedCase read_immersed_case(const fs::path& path) {
+  const json document =
+      parse_json_text(read_text_file(path, "case file"), path.string(), "case file");
+  return build_immersed_case(document, path);
+}
+
+analysis::ImmersedOptions immersed_options(const ImmersedCase& c, const ImmersedLoadCase& load) {
+  analysis::ImmersedOptions o;
+  o.formulation = analysis::Formulation::kSolid;
+  o.material = c.material;
+  o.supports = c.supports;
+  o.tractions = load.tractions;
+  o.pressures = load.pressures;
+  o.body_force = load.body_force;
+  o.gravity = load.gravity;
+  return o;
+}
+
+}  // namespace isospring::io
