@@ -83,9 +83,12 @@ TEST(CalibrateStrainPoints, ModelCarriesThemAndItsHeldOutErrorIsTheWrittenModels
                         integrator + " -q");
     EXPECT_EQ(run.exit_code, 0) << integrator << ": " << run.output;
   }
-  for (const char* target : {"model.xml", "model.scn"}) {
-    run = run_isospring("export " + (out / "cal/model.json") + " -o " + (out / target) + " -q");
-    EXPECT_NE(run.exit_code, 0) << target;
-    EXPECT_NE(run.output.find("strain points"), std::string::npos) << run.output;
-  }
+  // MuJoCo runs the strain points through the engine runtime (the terms beside the scene);
+  // SOFA has no element for them and refuses the model, naming them.
+  run = run_isospring("export " + (out / "cal/model.json") + " -o " + (out / "model.xml") + " -q");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(std::filesystem::exists(out / "model.isospring.json"));
+  run = run_isospring("export " + (out / "cal/model.json") + " -o " + (out / "model.scn") + " -q");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.output.find("strain points"), std::string::npos) << run.output;
 }

@@ -53,6 +53,7 @@ fs::path temp_dir() {
 
 fs::path write_step(const TopoDS_Shape& shape, const std::string& name) {
   STEPControl_Controller::Init();
+  Interface_Static::SetCVal("xstep.cascade.unit", "M");
   Interface_Static::SetCVal("write.step.unit", "M");
   STEPControl_Writer writer;
   EXPECT_EQ(writer.Transfer(shape, STEPControl_AsIs), IFSelect_RetDone);
