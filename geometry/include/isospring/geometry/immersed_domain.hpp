@@ -37,10 +37,10 @@ struct ImmersedDomain {
   nurbs::Patch background;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   Eigen::Vector3d extent = Eigen::Vector3d::Ones();
-  std::vector<ImmersedCell> cells;        // inside and cut cells only
-  std::vector<BoundaryPoint> boundary;    // the part's whole boundary
-  int face_count = 0;                     // number of boundary faces / curves
-  std::vector<std::string> warnings;      // e.g. cells whose quadrature could not be refined further
+  std::vector<ImmersedCell> cells;      // inside and cut cells only
+  std::vector<BoundaryPoint> boundary;  // the part's whole boundary
+  int face_count = 0;                   // number of boundary faces / curves
+  std::vector<std::string> warnings;    // e.g. cells whose quadrature could not be refined further
 };
 
 }  // namespace isospring::geometry

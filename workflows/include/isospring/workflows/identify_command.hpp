@@ -5,8 +5,9 @@
 // model against the corrected reference; then the report (JSON and Markdown) and the files.
 //
 //   const io::Case c = io::read_case_file("case.json");
-//   const workflows::IdentifyCommandResult r = workflows::run_identify(c, {}, io::Progress("identify", true));
-//   workflows::write_identify_outputs("out", r, progress);  // report.json, report.md, model.json, ...
+//   const workflows::IdentifyCommandResult r = workflows::run_identify(c, {},
+//   io::Progress("identify", true)); workflows::write_identify_outputs("out", r, progress);  //
+//   report.json, report.md, model.json, ...
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
