@@ -5,9 +5,9 @@
 // model against the corrected reference; then the report (JSON and Markdown) and the files.
 //
 //   const io::Case c = io::read_case_file("case.json");
-//   const workflows::IdentifyCommandResult r = workflows::run_identify(c, {},
-//   io::Progress("identify", true)); workflows::write_identify_outputs("out", r, progress);  //
-//   report.json, report.md, model.json, ...
+//   const io::Progress progress("identify", true);
+//   const workflows::IdentifyCommandResult r = workflows::run_identify(c, {}, progress);
+//   workflows::write_identify_outputs("out", r, progress);  // report.json, report.md, ...
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
