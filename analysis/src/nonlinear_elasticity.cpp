@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,6 +18,7 @@
 #include "dense_products.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/neo_hookean.hpp"
 #include "isospring/analysis/tangent_solver.hpp"
 #include "isospring/analysis/thread_scope.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -211,10 +213,14 @@ struct StepOutcome {
   double residual = 0.0;
 };
 
+// The material's internal force r(u) and, when the pointer is set, its tangent (upper triangle).
+using InternalForce =
+    std::function<Eigen::VectorXd(const Eigen::VectorXd& u, Eigen::SparseMatrix<double>* tangent)>;
+
 // Newton at load factor t from `u` (updated in place; prescribed DOFs set to t * values).
-StepOutcome newton(const SvkAssembler& assembler, const LameParameters& lame,
-                   const Constraints& constraints, const Eigen::VectorXd& force, double t,
-                   const NonlinearOptions& options, Eigen::VectorXd& u) {
+StepOutcome newton(const InternalForce& internal_force, const Constraints& constraints,
+                   const Eigen::VectorXd& force, double t, const NonlinearOptions& options,
+                   Eigen::VectorXd& u) {
   for (size_t k = 0; k < constraints.dofs.size(); ++k)
     u[constraints.dofs[k]] = t * constraints.values[k];
   StepOutcome out;
@@ -222,7 +228,7 @@ StepOutcome newton(const SvkAssembler& assembler, const LameParameters& lame,
   std::vector<bool> fixed(static_cast<size_t>(u.size()), false);
   for (int d : constraints.dofs) fixed[static_cast<size_t>(d)] = true;
   for (int it = 0; it <= options.max_iterations; ++it) {
-    const Eigen::VectorXd internal = assembler.internal_force(u, lame, &tangent);
+    const Eigen::VectorXd internal = internal_force(u, &tangent);
     const Eigen::VectorXd r = t * force - internal;
     double free_norm = 0.0, load_norm = 0.0, reaction_norm = 0.0;
     for (Eigen::Index d = 0; d < r.size(); ++d) {
@@ -261,9 +267,27 @@ std::vector<NonlinearLoadCaseResult> solve_static_nonlinear(const Problem& probl
   const SupportedProblem supported = number_and_support(problem);
   const DofMap& dofs = supported.dofs;
   const Constraints& constraints = supported.constraints;
-  const SvkAssembler assembler(problem, dofs);
-  const LameParameters lame = lame_parameters(problem.material, problem.formulation);
   const int dim = dofs.dofs_per_node();
+
+  const bool neo_hookean = options.material == HyperelasticMaterial::kNeoHookean;
+  std::unique_ptr<SvkAssembler> svk;
+  std::unique_ptr<NeoHookeanAssembler> neo;
+  InternalForce internal_force;
+  if (neo_hookean) {
+    const NeoHookeanParameters moduli =
+        neo_hookean_parameters(problem.material, problem.formulation);
+    neo = std::make_unique<NeoHookeanAssembler>(problem, dofs);
+    internal_force = [&neo, moduli](const Eigen::VectorXd& u, Eigen::SparseMatrix<double>* k) {
+      return neo->internal_force(u, moduli, k);
+    };
+  } else {
+    const LameParameters lame = lame_parameters(problem.material, problem.formulation);
+    svk = std::make_unique<SvkAssembler>(problem, dofs);
+    internal_force = [&svk, lame](const Eigen::VectorXd& u, Eigen::SparseMatrix<double>* k) {
+      return svk->internal_force(u, lame, k);
+    };
+  }
+  const char* law = neo_hookean ? "neo-Hookean" : "St. Venant-Kirchhoff";
 
   std::vector<NonlinearLoadCaseResult> results;
   for (const LoadCase& load : problem.load_cases) {
@@ -278,7 +302,7 @@ std::vector<NonlinearLoadCaseResult> solve_static_nonlinear(const Problem& probl
       const double target = std::min(1.0, t + step);
       Eigen::VectorXd trial = u;
       const StepOutcome outcome =
-          newton(assembler, lame, constraints, force, target, options, trial);
+          newton(internal_force, constraints, force, target, options, trial);
       out.iterations += outcome.iterations;
       if (outcome.converged) {
         u = std::move(trial);
@@ -290,10 +314,9 @@ std::vector<NonlinearLoadCaseResult> solve_static_nonlinear(const Problem& probl
       }
       if (++halvings > options.max_step_halvings) {
         std::ostringstream message;
-        message << "load case \"" << load.id
-                << "\": Newton's method for the large-deformation (St. Venant-Kirchhoff) solve "
-                   "did not converge beyond load factor "
-                << t << " (last relative residual " << outcome.residual << " after "
+        message << "load case \"" << load.id << "\": Newton's method for the large-deformation ("
+                << law << ") solve did not converge beyond load factor " << t
+                << " (last relative residual " << outcome.residual << " after "
                 << options.max_step_halvings
                 << " step halvings); the load may exceed a limit point (buckling or snap-through) "
                    "or the deformation is too large for the mesh";

@@ -167,6 +167,24 @@ std::vector<Vector3d> write_elements(const std::vector<PatchNodes>& patches, boo
   return centroids;
 }
 
+/// The elastic law of one material: Hooke's (*ELASTIC E, nu) or the neo-Hookean one with the
+/// same small-strain moduli (C10 = mu / 2, D1 = 2 / K).
+void write_elastic_law(double E, double nu, bool neo_hookean, std::string& out) {
+  if (!neo_hookean) {
+    out += "*ELASTIC\n";
+    append_line(out, "%s, %s", num(E).c_str(), num(nu).c_str());
+    return;
+  }
+  if (!(nu > -1.0 && nu < 0.5))
+    throw nurbs::InputError(
+        "CalculiX export: a neo-Hookean material needs Poisson's ratio in "
+        "(-1, 0.5), got " +
+        num(nu));
+  const double mu = E / (2.0 * (1.0 + nu)), bulk = E / (3.0 * (1.0 - 2.0 * nu));
+  out += "*HYPERELASTIC, NEO HOOKE\n";
+  append_line(out, "%s, %s", num(mu / 2.0).c_str(), num(2.0 / bulk).c_str());
+}
+
 /// Stage: the materials and sections, one, or one per distinct Young's modulus when it varies
 /// with position (options.youngs_modulus_at at the element centroids).
 void write_materials(const analysis::Problem& problem, const CalculixOptions& options,
@@ -191,8 +209,8 @@ void write_materials(const analysis::Problem& problem, const CalculixOptions& op
       out += "*ELSET, ELSET=" + set + "\n";
       append_numbers(out, elements);
     }
-    out += "*MATERIAL, NAME=" + name + "\n*ELASTIC\n";
-    append_line(out, "%s, %s", num(E).c_str(), num(problem.material.poisson_ratio).c_str());
+    out += "*MATERIAL, NAME=" + name + "\n";
+    write_elastic_law(E, problem.material.poisson_ratio, options.neo_hookean, out);
     if (problem.material.density > 0) {
       out += "*DENSITY\n";
       append_line(out, "%s", num(problem.material.density).c_str());
@@ -240,7 +258,8 @@ std::string boundary_block(const analysis::Problem& problem, const DeckMesh& mes
 /// Stage, per load case: its *STEP with the supports, the consistent nodal forces (*CLOAD), the
 /// body force and gravity (*DLOAD) and the displacement output.
 void write_step(const analysis::LoadCase& lc, const std::map<int, Vector3d>& forces,
-                const std::string& boundary, bool nonlinear, int dim, std::string& out) {
+                const std::string& boundary, bool nonlinear, bool reactions, int dim,
+                std::string& out) {
   out += "**\n** load case " + lc.id + (nonlinear ? "\n*STEP, NLGEOM" : "\n*STEP") + "\n*STATIC\n" +
          boundary;
   out += "*CLOAD, OP=NEW\n";
@@ -256,7 +275,9 @@ void write_step(const analysis::LoadCase& lc, const std::map<int, Vector3d>& for
   if (g > 0)
     append_line(out, "Eall, GRAV, %s, %s, %s, %s", num(g).c_str(), num(lc.gravity.x() / g).c_str(),
                 num(lc.gravity.y() / g).c_str(), num(lc.gravity.z() / g).c_str());
-  out += "*NODE PRINT, NSET=Nall\nU\n*NODE FILE\nU\n*END STEP\n";
+  out += "*NODE PRINT, NSET=Nall\nU\n";
+  if (reactions) out += "*NODE PRINT, NSET=Nall\nRF\n";
+  out += "*NODE FILE\nU\n*END STEP\n";
 }
 
 }  // namespace
@@ -264,6 +285,10 @@ void write_step(const analysis::LoadCase& lc, const std::map<int, Vector3d>& for
 CalculixDeck make_calculix_deck(const analysis::Problem& problem, const CalculixOptions& options) {
   const bool solid = problem.formulation == analysis::Formulation::kSolid;
   const int dim = solid ? 3 : 2;
+  if (options.neo_hookean && problem.formulation == analysis::Formulation::kPlaneStress)
+    throw nurbs::InputError(
+        "CalculiX export: a neo-Hookean material in plane stress is not supported (as in the "
+        "analysis); use plane strain or a 3D solid");
   CalculixDeck deck;
   deck.element_type = element_type_for(problem.formulation, options.element_type);
   const DeckMesh mesh = mesh_patches(problem, dim);
@@ -280,8 +305,8 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
       throw nurbs::InputError("load case '" + lc.id +
                               "': point loads act on control points, which have no CalculiX "
                               "node; use a traction instead");
-    write_step(lc, side_load_forces(problem, mesh, rule, lc), boundary, options.nonlinear, dim,
-               deck.text);
+    write_step(lc, side_load_forces(problem, mesh, rule, lc), boundary, options.nonlinear,
+               options.print_reactions, dim, deck.text);
   }
   return deck;
 }

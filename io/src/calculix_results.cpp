@@ -12,14 +12,19 @@ namespace isospring::io {
 //   <blank line>
 //          1  1.234567E-03 -2.345678E-04  0.000000E+00
 // and ends the block at the next blank line.
-std::vector<CalculixDisplacements> read_calculix_dat(const std::filesystem::path& path) {
+namespace {
+
+// The blocks whose header line contains `header` (vectors per node, same layout for every
+// quantity).
+std::vector<CalculixDisplacements> read_blocks(const std::filesystem::path& path,
+                                               const std::string& header) {
   const std::string text = read_text_file(path, "CalculiX results (.dat)");
   std::istringstream in(text);
   std::vector<CalculixDisplacements> blocks;
   std::string line;
   bool in_block = false;
   while (std::getline(in, line)) {
-    if (line.find("displacements (vx,vy,vz)") != std::string::npos) {
+    if (line.find(header) != std::string::npos) {
       CalculixDisplacements block;
       const size_t at = line.find("time");
       if (at != std::string::npos) block.time = std::strtod(line.c_str() + at + 4, nullptr);
@@ -37,10 +42,26 @@ std::vector<CalculixDisplacements> read_calculix_dat(const std::filesystem::path
       in_block = false;  // the blank line after the data
     }
   }
+  return blocks;
+}
+
+}  // namespace
+
+std::vector<CalculixDisplacements> read_calculix_dat(const std::filesystem::path& path) {
+  auto blocks = read_blocks(path, "displacements (vx,vy,vz)");
   if (blocks.empty())
     throw nurbs::InputError(path.string() +
                             ": no displacement block; the deck must request *NODE PRINT U and "
                             "ccx must have finished (see the .sta and console output)");
+  return blocks;
+}
+
+std::vector<CalculixDisplacements> read_calculix_reactions(const std::filesystem::path& path) {
+  auto blocks = read_blocks(path, "forces (fx,fy,fz)");
+  if (blocks.empty())
+    throw nurbs::InputError(path.string() +
+                            ": no force block; the deck must request *NODE PRINT RF "
+                            "(CalculixOptions::print_reactions) and ccx must have finished");
   return blocks;
 }
 

@@ -60,7 +60,12 @@ class SvkAssembler {
   int threads_ = 0;
 };
 
+/// The hyperelastic law of solve_static_nonlinear. Both reduce to the linear law (E, nu) at small
+/// strain; neo-Hookean (neo_hookean.hpp) stays stable in large compression, where SVK softens.
+enum class HyperelasticMaterial { kSaintVenantKirchhoff, kNeoHookean };
+
 struct NonlinearOptions {
+  HyperelasticMaterial material = HyperelasticMaterial::kSaintVenantKirchhoff;
   /// Converged when |r_free| <= tolerance * max(|f_free|, |r_constrained|) (r = f - internal force
   /// on the free DOFs; the reactions measure the load in displacement-driven problems).
   double tolerance = 1e-10;
@@ -80,7 +85,8 @@ struct NonlinearLoadCaseResult {
   double residual = 0;  // final |r_free| / load measure
 };
 
-/// Validates the problem (as solve_static) and solves every load case with Newton: full load
+/// Validates the problem (as solve_static) and solves every load case with Newton (options.material
+/// picks the law; neo-Hookean refuses plane stress with nurbs::InputError): full load
 /// first, halving the load step after a failed step (no convergence in max_iterations, a
 /// non-finite residual, or a singular tangent). The tangent is factorised with CHOLMOD's LLT and,
 /// when it is indefinite (compression), with a simplicial LDLT. Throws std::runtime_error naming

@@ -31,6 +31,12 @@ struct CalculixOptions {
   std::function<double(const Eigen::Vector3d&)> youngs_modulus_at;
   /// Geometrically nonlinear steps (*STEP, NLGEOM): large displacements and rotations.
   bool nonlinear = false;
+  /// The material as *HYPERELASTIC, NEO HOOKE (W = C10 (I1bar - 3) + (J - 1)^2 / D1 with
+  /// C10 = mu / 2, D1 = 2 / K of E and nu: analysis/neo_hookean.hpp's law) instead of *ELASTIC.
+  /// Needs `nonlinear` for large strains; plane stress is refused (as in the analysis).
+  bool neo_hookean = false;
+  /// Also print the reaction forces (*NODE PRINT RF) of every node in each step.
+  bool print_reactions = false;
   /// Gauss points per direction for the consistent face loads (4 integrates curved faces and
   /// smooth traction functions well; flat faces with constant tractions are exact from 2).
   int face_quadrature = 4;
@@ -60,5 +66,9 @@ struct CalculixDisplacements {
 /// Every "displacements (vx,vy,vz)" block of a ccx .dat file, in file order. Throws InputError
 /// naming the file when it is missing or has no displacement block.
 std::vector<CalculixDisplacements> read_calculix_dat(const std::filesystem::path& path);
+
+/// Every "forces (fx,fy,fz)" block (the reactions of CalculixOptions::print_reactions), in file
+/// order, in the same form. Throws InputError naming the file when there is none.
+std::vector<CalculixDisplacements> read_calculix_reactions(const std::filesystem::path& path);
 
 }  // namespace isospring::io
