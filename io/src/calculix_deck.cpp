@@ -255,13 +255,18 @@ std::string boundary_block(const analysis::Problem& problem, const DeckMesh& mes
   return boundary;
 }
 
-/// Stage, per load case: its *STEP with the supports, the consistent nodal forces (*CLOAD), the
-/// body force and gravity (*DLOAD) and the displacement output.
+/// Stage, per load case: its *STEP (NLGEOM and Newton criteria as `options` say) with the supports,
+/// the consistent nodal forces (*CLOAD), the body force and gravity (*DLOAD) and the displacement
+/// output.
 void write_step(const analysis::LoadCase& lc, const std::map<int, Vector3d>& forces,
-                const std::string& boundary, bool nonlinear, bool reactions, int dim,
+                const std::string& boundary, const CalculixOptions& options, int dim,
                 std::string& out) {
-  out += "**\n** load case " + lc.id + (nonlinear ? "\n*STEP, NLGEOM" : "\n*STEP") + "\n*STATIC\n" +
-         boundary;
+  out += "**\n** load case " + lc.id + (options.nonlinear ? "\n*STEP, NLGEOM" : "\n*STEP") +
+         "\n*STATIC\n";
+  if (options.newton_tolerance > 0)
+    append_line(out, "*CONTROLS, PARAMETERS=FIELD\n%s, %s", num(options.newton_tolerance).c_str(),
+                num(100 * options.newton_tolerance).c_str());
+  out += boundary;
   out += "*CLOAD, OP=NEW\n";
   for (const auto& [node, f] : forces)
     for (int c = 0; c < dim; ++c)
@@ -276,7 +281,7 @@ void write_step(const analysis::LoadCase& lc, const std::map<int, Vector3d>& for
     append_line(out, "Eall, GRAV, %s, %s, %s, %s", num(g).c_str(), num(lc.gravity.x() / g).c_str(),
                 num(lc.gravity.y() / g).c_str(), num(lc.gravity.z() / g).c_str());
   out += "*NODE PRINT, NSET=Nall\nU\n";
-  if (reactions) out += "*NODE PRINT, NSET=Nall\nRF\n";
+  if (options.print_reactions) out += "*NODE PRINT, NSET=Nall\nRF\n";
   out += "*NODE FILE\nU\n*END STEP\n";
 }
 
@@ -305,8 +310,7 @@ CalculixDeck make_calculix_deck(const analysis::Problem& problem, const Calculix
       throw nurbs::InputError("load case '" + lc.id +
                               "': point loads act on control points, which have no CalculiX "
                               "node; use a traction instead");
-    write_step(lc, side_load_forces(problem, mesh, rule, lc), boundary, options.nonlinear,
-               options.print_reactions, dim, deck.text);
+    write_step(lc, side_load_forces(problem, mesh, rule, lc), boundary, options, dim, deck.text);
   }
   return deck;
 }

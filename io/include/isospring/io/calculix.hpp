@@ -37,6 +37,11 @@ struct CalculixOptions {
   bool neo_hookean = false;
   /// Also print the reaction forces (*NODE PRINT RF) of every node in each step.
   bool print_reactions = false;
+  /// When positive, ccx's Newton criteria (*CONTROLS, PARAMETERS=FIELD): residual force at most
+  /// this fraction of the mean force, correction at most 100 times it of the increment. ccx's
+  /// defaults (0.005 and 0.01) stop NLGEOM steps with relative errors of ~1e-5 and more; 1e-9
+  /// converges to round-off in one or two more iterations. 0: ccx's defaults.
+  double newton_tolerance = 0.0;
   /// Gauss points per direction for the consistent face loads (4 integrates curved faces and
   /// smooth traction functions well; flat faces with constant tractions are exact from 2).
   int face_quadrature = 4;
