@@ -217,17 +217,25 @@ struct StepOutcome {
 using InternalForce =
     std::function<Eigen::VectorXd(const Eigen::VectorXd& u, Eigen::SparseMatrix<double>* tangent)>;
 
-// Newton at load factor t from `u` (updated in place; prescribed DOFs set to t * values).
+// Newton at load factor t from `u` (updated in place; prescribed DOFs end at t * values).
+// The first correction moves the prescribed DOFs to their new values through the tangent at the
+// last converged state (K_ff du_f = r_f - K_fc du_c), so the free DOFs follow them: moving them
+// alone first would squeeze the elements next to a driven side (at a 30 % end stretch of a
+// neo-Hookean block Newton then needed 16 halved steps instead of one).
 StepOutcome newton(const InternalForce& internal_force, const Constraints& constraints,
                    const Eigen::VectorXd& force, double t, const NonlinearOptions& options,
                    Eigen::VectorXd& u) {
-  for (size_t k = 0; k < constraints.dofs.size(); ++k)
-    u[constraints.dofs[k]] = t * constraints.values[k];
   StepOutcome out;
   Eigen::SparseMatrix<double> tangent;
   std::vector<bool> fixed(static_cast<size_t>(u.size()), false);
   for (int d : constraints.dofs) fixed[static_cast<size_t>(d)] = true;
+  Constraints increment = constraints;  // t * values - u on the prescribed DOFs
   for (int it = 0; it <= options.max_iterations; ++it) {
+    bool at_target = true;
+    for (size_t k = 0; k < constraints.dofs.size(); ++k) {
+      increment.values[k] = t * constraints.values[k] - u[constraints.dofs[k]];
+      at_target = at_target && increment.values[k] == 0.0;
+    }
     const Eigen::VectorXd internal = internal_force(u, &tangent);
     const Eigen::VectorXd r = t * force - internal;
     double free_norm = 0.0, load_norm = 0.0, reaction_norm = 0.0;
@@ -242,18 +250,18 @@ StepOutcome newton(const InternalForce& internal_force, const Constraints& const
     const double scale = std::sqrt(std::max(load_norm, reaction_norm));
     out.residual = scale > 0.0 ? std::sqrt(free_norm) / scale : std::sqrt(free_norm);
     if (!std::isfinite(out.residual)) return out;
-    if (std::sqrt(free_norm) <= options.tolerance * scale || free_norm == 0.0) {
+    if (at_target && (std::sqrt(free_norm) <= options.tolerance * scale || free_norm == 0.0)) {
       out.converged = true;
       return out;
     }
     if (it == options.max_iterations) return out;
-    // Correction on the free DOFs (prescribed ones are already at their values: zero increment).
-    Constraints zero = constraints;
-    std::fill(zero.values.begin(), zero.values.end(), 0.0);
-    const detail::ReducedSystem reduced(tangent, zero);
+    const detail::ReducedSystem reduced(tangent, increment);
     TangentSolver solver;
     if (!solver.compute(reduced.free_matrix)) return out;
     u += reduced.expand(solver.solve(reduced.free_rhs(r)));
+    // Exactly at their values from now on (u + (t v - u) may differ from t v in the last bit).
+    for (size_t k = 0; k < constraints.dofs.size(); ++k)
+      u[constraints.dofs[k]] = t * constraints.values[k];
     ++out.iterations;
   }
   return out;
