@@ -10,6 +10,7 @@
 #include <map>
 
 #include "calculix_mesh.hpp"
+#include "isospring/analysis/neo_hookean.hpp"
 #include "isospring/io/calculix.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/quadrature.hpp"
@@ -175,12 +176,13 @@ void write_elastic_law(double E, double nu, bool neo_hookean, std::string& out) 
     append_line(out, "%s, %s", num(E).c_str(), num(nu).c_str());
     return;
   }
-  if (!(nu > -1.0 && nu < 0.5))
-    throw nurbs::InputError(
-        "CalculiX export: a neo-Hookean material needs Poisson's ratio in "
-        "(-1, 0.5), got " +
-        num(nu));
-  const double mu = E / (2.0 * (1.0 + nu)), bulk = E / (3.0 * (1.0 - 2.0 * nu));
+  // The analysis' moduli (and its checks of E and nu), so that both solve the same law.
+  analysis::Material material;
+  material.youngs_modulus = E;
+  material.poisson_ratio = nu;
+  const analysis::NeoHookeanParameters m =
+      analysis::neo_hookean_parameters(material, analysis::Formulation::kSolid);
+  const double mu = m.shear, bulk = m.bulk;
   out += "*HYPERELASTIC, NEO HOOKE\n";
   append_line(out, "%s, %s", num(mu / 2.0).c_str(), num(2.0 / bulk).c_str());
 }
