@@ -1,6 +1,7 @@
 #pragma once
 // Large-deformation elasticity: total Lagrangian St. Venant-Kirchhoff (SVK) on the same IGA
-// spaces as the linear solver, with a Newton solve under dead loads.
+// spaces as the linear solver, with a Newton solve under dead loads (which also solves the
+// neo-Hookean law of neo_hookean.hpp, NonlinearOptions::material).
 //
 //   F = I + grad_X u,  E = (F^T F - I) / 2,  S = lambda tr(E) I + 2 mu E,  P = F S
 //   internal force  r_(a,i) = int P_ij dR_a/dX_j dV
@@ -65,7 +66,7 @@ class SvkAssembler {
 enum class HyperelasticMaterial { kSaintVenantKirchhoff, kNeoHookean };
 
 struct NonlinearOptions {
-  HyperelasticMaterial material = HyperelasticMaterial::kSaintVenantKirchhoff;
+  HyperelasticMaterial material = HyperelasticMaterial::kSaintVenantKirchhoff;  // the law
   /// Converged when |r_free| <= tolerance * max(|f_free|, |r_constrained|) (r = f - internal force
   /// on the free DOFs; the reactions measure the load in displacement-driven problems).
   double tolerance = 1e-10;
