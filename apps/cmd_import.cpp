@@ -39,7 +39,9 @@ void run_import(const ImportOptions& options) {
   workflows::import_report(r, run, options.output, report.json, report.markdown);
   report.write();
   if (!options.quiet && r.path == "immersed")
-    std::cout << "wrote " << options.output << ": an immersed case of solid " << r.immersed_solid
+    std::cout << "wrote " << options.output << ": an immersed case of "
+              << (r.immersed_solid >= 0 ? "solid " + std::to_string(r.immersed_solid)
+                                        : std::string("the sewn faces"))
               << " of " << options.run.input << " (" << r.faces.size()
               << " faces listed; its support, load and material are placeholders to edit), "
                  "because "

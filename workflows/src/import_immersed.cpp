@@ -74,10 +74,13 @@ ImportPath choose_import_path(const geometry::CadModel& model,
     if (faces_asked)
       throw InputError(name +
                        ": --path immersed takes a whole solid; drop --faces and --thickness");
-    if (model.solids == 0)
-      throw InputError(name +
-                       ": --path immersed needs a solid and the file holds faces only; export "
-                       "the part as a solid (or use `isospring info` to see what it holds)");
+    path.immersed = true;
+    path.reason =
+        "--path immersed: the solid's exact B-rep in a B-spline background grid, as asked";
+    if (model.solids == 0) {  // faces only: read_cad_solid sews them, or names the gap
+      path.reason += " (the file's faces sewn into one solid)";
+      return path;
+    }
     const std::vector<int> solids = chosen_solids(model, options);
     require_one_solid(model, solids, "--path immersed");
     path.immersed = true;
@@ -138,13 +141,18 @@ nlohmann::ordered_json faces_json(const std::vector<geometry::SolidFace>& faces)
 nlohmann::ordered_json immersed_case_skeleton(const fs::path& part, const fs::path& output,
                                               int solid, int solids,
                                               const std::vector<geometry::SolidFace>& faces) {
+  // Relative to the case's folder, so that the two move together; absolute when the relative
+  // path would climb to the file system's root (nothing shared but the root).
   const fs::path folder = fs::absolute(output).lexically_normal().parent_path();
   fs::path file = fs::absolute(part).lexically_normal().lexically_relative(folder);
-  if (file.empty()) file = fs::absolute(part);
+  const auto climbs = std::count(file.begin(), file.end(), fs::path(".."));
+  const fs::path below_root = folder.relative_path();
+  const auto depth = std::distance(below_root.begin(), below_root.end());
+  if (file.empty() || climbs >= depth) file = fs::absolute(part).lexically_normal();
   const int clamp = placeholder_clamp(faces);
   nlohmann::ordered_json geometry = {
       {"type", "immersed"}, {"file", file.generic_string()}, {"degree", 2}};
-  if (solids > 1) geometry["solid"] = solid;
+  if (solids > 1 && solid >= 0) geometry["solid"] = solid;
   return nlohmann::ordered_json{
       {"schema_version", 1},
       {"name", part.stem().string()},
@@ -188,9 +196,10 @@ void immersed_import_report(const ImportCommandResult& r, const ImportCommandOpt
                    {"solid_faces", nlohmann::json::parse(faces_json(r.faces).dump())}};
   md.heading(1, "isospring import: " + options.input);
   md.paragraph("Path: immersed. " + r.path_reason + ".");
-  md.paragraph("Wrote " + output + ", an immersed case of solid " +
-               std::to_string(r.immersed_solid) + " (OpenCascade volume " +
-               io::format_number(r.immersed_volume) +
+  md.paragraph("Wrote " + output + ", an immersed case of " +
+               (r.immersed_solid >= 0 ? "solid " + std::to_string(r.immersed_solid)
+                                      : std::string("the file's faces sewn into one solid")) +
+               " (OpenCascade volume " + io::format_number(r.immersed_volume) +
                " m^3). Its support, load and material are placeholders (see its \"description\"): "
                "choose supports and loads from the faces below, by index or by a selector "
                "(plane, box, cylinder, STEP name), then run `isospring analyze " +

@@ -22,14 +22,14 @@ namespace isospring::workflows {
 
 struct ImportPath {
   bool immersed = false;
-  int solid = -1;  // immersed: the solid (0-based in the file)
+  int solid = -1;  // immersed: the solid (0-based in the file; -1: the file's faces, sewn)
   std::string reason;
 };
 
 /// The path `options.path` asks for on `model` and why. Throws nurbs::InputError naming the flag
-/// and the fix for an unknown path, --path immersed with --faces or --thickness, a file without
-/// solids on the immersed path, or several solids of which one is to be immersed without
-/// choosing it (--solids).
+/// and the fix for an unknown path, --path immersed with --faces or --thickness, or several
+/// solids of which one is to be immersed without choosing it (--solids). A file of faces only
+/// takes the immersed path when asked (solid -1: read_cad_solid sews them into one solid).
 ImportPath choose_import_path(const geometry::CadModel& model, const ImportCommandOptions& options);
 
 /// The faces of `faces` as the case's "faces" list (what a user chooses supports and loads from).
