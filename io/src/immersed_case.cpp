@@ -157,11 +157,16 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
   const Field root(document, label, "");
   // "faces" is the list `isospring import` writes for the user to choose from; not read here.
   root.expect_object({"schema_version", "name", "description", "units", "geometry", "material",
-                      "boundary", "load_cases", "faces"});
+                      "boundary", "load_cases", "faces", "output"});
   ImmersedCase c;
   c.file = case_file;
   c.raw = document;
   c.name = root.has("name") ? root.at("name").string() : case_file.stem().string();
+  if (root.has("output")) {
+    const Field output = root.at("output");
+    output.expect_object({"cells"});
+    if (output.has("cells")) c.write_cells = output.at("cells").boolean();
+  }
   c.material = read_material(root);
   read_geometry(root, case_file, c);
   detail::ImmersedFaceChooser chooser(*c.cad);

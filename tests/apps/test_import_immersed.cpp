@@ -6,6 +6,9 @@
 // quadrature; parts with body-fitted volumes keep that path; refusals name the fix and write
 // nothing.
 #include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkUnstructuredGrid.h>
 
 #include <Eigen/Core>
 #include <filesystem>
@@ -13,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_program.hpp"
+#include "vtk_read.hpp"
 
 using isospring::testing::example;
 using isospring::testing::run_isospring;
@@ -80,6 +84,7 @@ TEST(ImportImmersed, RefusedPartGoesFromImportToAnalyze) {
   // plane, a coarser grid. The reaction is minus the traction times OpenCascade's face area.
   json edited = c;
   edited["geometry"]["cells"] = {8, 4, 4};
+  edited["output"] = {{"cells", true}};  // the background cells too (cells.vtu)
   edited["boundary"] = {{{"face", {{"name", "clamp"}}}, {"fix", {"x", "y", "z"}}}};
   edited["load_cases"] = {
       {{"id", "lift"},
@@ -94,6 +99,35 @@ TEST(ImportImmersed, RefusedPartGoesFromImportToAnalyze) {
   EXPECT_NEAR(vec3(lift.at("reaction_sum")).z(), -force, 1e-5 * force) << lift.dump();
   EXPECT_NEAR(vec3(lift.at("applied_load")).z(), force, 1e-9 * force);
   EXPECT_GT(lift.at("max_displacement").get<double>(), 0);
+
+  // The background cells, read back by VTK: the cut ones as many as the report says, every
+  // share of a cell in (0, 1], and share x cell volume summed over the cells is the quadrature's
+  // volume (to rounding) and OpenCascade's (to the quadrature's 1e-6).
+  const json lift_report = read_json(out.path() / "lift" / "report.json");
+  EXPECT_EQ(lift_report.at("cells_file"), "cells.vtu");
+  auto cells = isospring::testing::read_vtu(out.path() / "lift" / "cells.vtu");
+  ASSERT_NE(cells, nullptr);
+  vtkDataArray* kind = cells->GetCellData()->GetArray("kind");
+  vtkDataArray* fraction = cells->GetCellData()->GetArray("fraction");
+  ASSERT_TRUE(kind && fraction);
+  int cut = 0;
+  double sum = 0;
+  for (vtkIdType c = 0; c < cells->GetNumberOfCells(); ++c) {
+    double bounds[6];
+    cells->GetCell(c)->GetBounds(bounds);
+    const double share = fraction->GetTuple1(c);
+    EXPECT_GT(share, 0);
+    EXPECT_LE(share, 1 + 1e-12);
+    if (kind->GetTuple1(c) == 1)
+      ++cut;
+    else
+      EXPECT_NEAR(share, 1, 1e-12);
+    sum += share * (bounds[1] - bounds[0]) * (bounds[3] - bounds[2]) * (bounds[5] - bounds[4]);
+  }
+  EXPECT_EQ(cut, lift_report.at("immersion").at("cut_cells").get<int>());
+  const double quadrature = lift_report.at("measures").at("quadrature").at("volume");
+  EXPECT_NEAR(sum, quadrature, 1e-12 * quadrature);
+  EXPECT_NEAR(sum, volume, 1e-6 * volume);
 }
 
 TEST(ImportImmersed, BodyFittedStaysTheDefaultAndImmersedIsOnRequest) {

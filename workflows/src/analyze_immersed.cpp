@@ -7,6 +7,7 @@
 #include <set>
 
 #include "isospring/analysis/elasticity.hpp"
+#include "isospring/io/vtk_immersed_cells.hpp"
 #include "isospring/io/vtk_surface_fields.hpp"
 #include "surface_refinement.hpp"
 
@@ -208,6 +209,10 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
   }
   write_surface_fields_vtp(out_dir / "result.vtp", a.surface, fields);
   report["vtk_file"] = "result.vtp";
+  if (c.write_cells) {  // the grid the part is embedded in, for those who want to see it
+    write_immersed_cells_vtu(out_dir / "cells.vtu", a.domain);
+    report["cells_file"] = "cells.vtu";
+  }
   report["surface"] = {{"points", a.surface.points.size()},
                        {"triangles", a.surface.triangles.size()},
                        {"seconds", a.surface_seconds}};

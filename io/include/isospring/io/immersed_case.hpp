@@ -49,6 +49,7 @@ struct ImmersedCase {
   analysis::Material material;
   std::vector<analysis::ImmersedSupport> supports;
   std::vector<ImmersedLoadCase> load_cases;
+  bool write_cells = false;  // "output": {"cells": true}: also the background cells (cells.vtu)
 };
 
 /// True when the document's "geometry" is {"type": "immersed", ...}.
