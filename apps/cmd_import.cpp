@@ -8,8 +8,10 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "file_report.hpp"
+#include "isospring/io/atomic_file.hpp"
 #include "isospring/io/patch_file.hpp"
 #include "isospring/workflows/import_command.hpp"
+#include "isospring/workflows/import_immersed.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -25,13 +27,27 @@ void run_import(const ImportOptions& options) {
   if (!options.run.display.empty()) extra.emplace_back(options.run.display);
   check_output_file(options.output, {options.run.input}, extra);
   // --quiet drops the "wrote" lines, not the --report asked for.
+  workflows::ImportCommandOptions run = options.run;
+  run.output = options.output;
   const workflows::ImportCommandResult r =
-      workflows::run_import(options.run, &std::cout, options.quiet ? nullptr : &std::cout);
-  io::write_patch_file(options.output, r.patches);
+      workflows::run_import(run, &std::cout, options.quiet ? nullptr : &std::cout);
+  if (r.path == "immersed")
+    io::write_file_atomically(options.output, workflows::immersed_case_text(r.immersed_case));
+  else
+    io::write_patch_file(options.output, r.patches);
   FileReport report("import", options.run.input, options.output);
-  workflows::import_report(r, options.run, options.output, report.json, report.markdown);
+  workflows::import_report(r, run, options.output, report.json, report.markdown);
   report.write();
-  if (!options.quiet)
+  if (!options.quiet && r.path == "immersed")
+    std::cout << "wrote " << options.output << ": an immersed case of "
+              << (r.immersed_solid >= 0 ? "solid " + std::to_string(r.immersed_solid)
+                                        : std::string("the sewn faces"))
+              << " of " << options.run.input << " (" << r.faces.size()
+              << " faces listed; its support, load and material are placeholders to edit), "
+                 "because "
+              << r.path_reason << "; then: isospring analyze " << options.output
+              << " -o OUTDIR; report " << file_report_path(options.output, ".md").string() << "\n";
+  else if (!options.quiet)
     std::cout << "wrote " << options.output << ": " << r.patches.size() << " patches from "
               << options.run.input << " (file unit " << r.model.file_unit
               << ", written in m); report " << file_report_path(options.output, ".md").string()
@@ -62,6 +78,11 @@ void setup_import(CLI::App& app) {
                   "Display triangulation: largest distance to the faces, as a fraction of the "
                   "part's bounding-box diagonal (default 1e-3)")
       ->check(CLI::Range(1e-6, 0.5));
+  cmd->add_option("--path", options->run.path,
+                  "auto (default): body-fitted volume patches where the part allows them, else an "
+                  "immersed case of the solid; body-fitted: patches only; immersed: an immersed "
+                  "case even when volumes exist")
+      ->check(CLI::IsMember({"auto", "body-fitted", "immersed"}));
   cmd->add_flag("--report", options->run.print_report, "Print the per-face report");
   cmd->add_flag("-q,--quiet", options->quiet, "Do not print the \"wrote ...\" line");
   cmd->footer(
@@ -72,7 +93,10 @@ void setup_import(CLI::App& app) {
       "patch of its edges when that lies on the face's surface, and a planar face with holes or "
       "other edge counts conforming 4-sided patches (a ring of 4 around each hole, rectangles "
       "elsewhere); a prism of such a face becomes its patches extruded. Other faces are reported "
-      "with what to do.");
+      "with what to do. A solid that cannot become volume patches takes the immersed path: "
+      "OUT.json is then an immersed case file (`isospring analyze` runs it) listing the solid's "
+      "faces, with a placeholder support and load to replace; the report says which path the "
+      "part took and why.");
   cmd->callback([options] { run_import(*options); });
 }
 

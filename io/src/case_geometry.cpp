@@ -285,10 +285,11 @@ Patches build(const nlohmann::json& geometry, const std::filesystem::path& case_
   const std::string type = geometry.at("type").get<std::string>();
   if (type == "immersed")
     throw InputError(prefix +
-                     "type 'immersed' is run by `isospring analyze` only (the immersed path, "
-                     "docs/immersed.md); other commands take body-fitted geometry: import the "
-                     "part with `isospring import` or use a geometry type listed in "
-                     "docs/case-files.md");
+                     "type 'immersed' is run by `isospring analyze` (and Python's "
+                     "analyze_immersed) only (the immersed path, docs/immersed.md); study, "
+                     "calibrate, identify and the exports take body-fitted geometry: a "
+                     "\"cad\" geometry of a part `isospring import` makes volumes of, or a "
+                     "geometry type listed in docs/case-files.md");
   const auto it = builders().find(type);
   if (it == builders().end()) {
     std::string names;

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "case_file_json.hpp"
+#include "immersed_faces.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/json_text.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -26,17 +27,6 @@ std::array<bool, 3> read_components(const Field& field) {
     fixed[c] = true;
   }
   return fixed;
-}
-
-/// A face index of the solid (as `isospring info` lists them).
-int read_face(const Field& item, const geometry::CadSolid& solid) {
-  const Field field = item.at("face");
-  const int face = field.integer();
-  if (face < 0 || face >= solid.face_count())
-    field.fail(": face " + std::to_string(face) + " does not exist; the file has " +
-               std::to_string(solid.face_count()) +
-               " faces (0-based; `isospring info` lists them)");
-  return face;
 }
 
 void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c) {
@@ -83,12 +73,12 @@ analysis::Material read_material(const Field& root) {
 }
 
 std::vector<analysis::ImmersedSupport> read_supports(const Field& boundary,
-                                                     const geometry::CadSolid& solid) {
+                                                     detail::ImmersedFaceChooser& chooser) {
   std::vector<analysis::ImmersedSupport> supports;
   for (const Field& item : boundary.elements(false)) {
     item.expect_object({"face", "fix", "value", "symmetry"});
     analysis::ImmersedSupport s;
-    s.face = read_face(item, solid);
+    const std::vector<int> faces = chooser.faces(item);
     s.symmetry = item.has("symmetry") && item.at("symmetry").boolean();
     if (s.symmetry && (item.has("fix") || item.has("value")))
       item.fail(": a symmetry support holds the normal component; drop \"fix\" and \"value\"");
@@ -100,13 +90,17 @@ std::vector<analysis::ImmersedSupport> read_supports(const Field& boundary,
       s.fixed = read_components(item.at("fix"));
       if (item.has("value")) s.value = item.at("value").vector(3);
     }
-    supports.push_back(s);
+    // A selector may match several faces: the same support on each.
+    for (int face : faces) {
+      s.face = face;
+      supports.push_back(s);
+    }
   }
   return supports;
 }
 
 ImmersedLoadCase read_load_case(const Field& item, const ImmersedCase& c,
-                                std::set<std::string>& ids) {
+                                detail::ImmersedFaceChooser& chooser, std::set<std::string>& ids) {
   item.expect_object({"id", "description", "tractions", "pressures", "body_force", "gravity"});
   ImmersedLoadCase load;
   load.id = item.at("id").string();
@@ -118,19 +112,23 @@ ImmersedLoadCase read_load_case(const Field& item, const ImmersedCase& c,
     for (const Field& entry : item.at("tractions").elements()) {
       entry.expect_object({"face", "value"});
       analysis::ImmersedTraction t;
-      t.face = read_face(entry, *c.cad);
       t.value = entry.at("value").vector(3);
       loaded = loaded || t.value.norm() > 0;
-      load.tractions.push_back(t);
+      for (int face : chooser.faces(entry)) {
+        t.face = face;
+        load.tractions.push_back(t);
+      }
     }
   if (item.has("pressures"))
     for (const Field& entry : item.at("pressures").elements()) {
       entry.expect_object({"face", "value"});
       analysis::ImmersedPressure p;
-      p.face = read_face(entry, *c.cad);
       p.value = entry.at("value").number();
       loaded = loaded || p.value != 0;
-      load.pressures.push_back(p);
+      for (int face : chooser.faces(entry)) {
+        p.face = face;
+        load.pressures.push_back(p);
+      }
     }
   if (item.has("body_force")) load.body_force = item.at("body_force").vector(3);
   if (item.has("gravity")) {
@@ -157,18 +155,25 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
   if (!document.is_object())
     throw nurbs::InputError(label + ": a case file is a JSON object {...}");
   const Field root(document, label, "");
+  // "faces" is the list `isospring import` writes for the user to choose from; not read here.
   root.expect_object({"schema_version", "name", "description", "units", "geometry", "material",
-                      "boundary", "load_cases"});
+                      "boundary", "load_cases", "faces", "output"});
   ImmersedCase c;
   c.file = case_file;
   c.raw = document;
   c.name = root.has("name") ? root.at("name").string() : case_file.stem().string();
+  if (root.has("output")) {
+    const Field output = root.at("output");
+    output.expect_object({"cells"});
+    if (output.has("cells")) c.write_cells = output.at("cells").boolean();
+  }
   c.material = read_material(root);
   read_geometry(root, case_file, c);
-  c.supports = read_supports(root.at("boundary"), *c.cad);
+  detail::ImmersedFaceChooser chooser(*c.cad);
+  c.supports = read_supports(root.at("boundary"), chooser);
   std::set<std::string> ids;
   for (const Field& item : root.at("load_cases").elements(false))
-    c.load_cases.push_back(read_load_case(item, c, ids));
+    c.load_cases.push_back(read_load_case(item, c, chooser, ids));
   return c;
 }
 

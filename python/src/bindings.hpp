@@ -9,6 +9,7 @@ void bind_io(pybind11::module_& m);
 void bind_analysis(pybind11::module_& m);
 void bind_fitting(pybind11::module_& m);
 void bind_identify(pybind11::module_& m);
+void bind_immersed(pybind11::module_& m);
 void bind_runtime(pybind11::module_& m);
 
 }  // namespace isospring::python

@@ -17,5 +17,6 @@ PYBIND11_MODULE(isospring, m) {
   isospring::python::bind_analysis(m);
   isospring::python::bind_fitting(m);
   isospring::python::bind_identify(m);
+  isospring::python::bind_immersed(m);
   isospring::python::bind_runtime(m);
 }

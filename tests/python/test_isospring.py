@@ -308,6 +308,38 @@ def test_library_page_snippet_runs():
     assert lines[3] == "['gravity', 'rigid_offset_per_load']", lines
 
 
+def test_immersed_analysis_matches_the_program():
+    """analyze_immersed() and `isospring analyze` on an immersed case: the same numbers, and the
+    clamp's reaction balances the weight from OpenCascade's volume."""
+    case_file = os.path.join(EXAMPLES, "immersed", "cylinder_gravity.json")
+    result = isospring.analyze_immersed(case_file)
+    with tempfile.TemporaryDirectory() as folder:
+        subprocess.run([PROGRAM, "analyze", case_file, "-o", folder, "-q"], check=True)
+        with open(os.path.join(folder, "report.json")) as f:
+            report = json.load(f)
+    assert report["path"] == "immersed"
+    assert result["cut_cells"] == report["immersion"]["cut_cells"]
+    assert len(result["points"]) == report["surface"]["points"]
+    assert len(result["triangles"]) == report["surface"]["triangles"]
+    for ours, theirs in zip(result["load_cases"], report["load_cases"]):
+        assert ours["id"] == theirs["id"]
+        for key in ("strain_energy", "max_displacement", "max_von_mises"):
+            assert abs(ours[key] - theirs[key]) <= 1e-12 * abs(theirs[key]), key
+        # The largest displacement is the one of the returned surface field.
+        assert abs(np.max(np.linalg.norm(ours["displacement"], axis=1)) /
+                   ours["max_displacement"] - 1) < 1e-12
+    with open(case_file) as f:
+        case = json.load(f)
+    weight = result["opencascade"]["volume"] * case["material"]["density"] * 9.81
+    reaction = result["load_cases"][0]["reaction_sum"]
+    assert abs(reaction[0] - weight) <= 1e-5 * weight, (reaction, weight)
+    try:
+        isospring.analyze_immersed(os.path.join(EXAMPLES, "cantilever_box.json"))
+        raise AssertionError("a body-fitted case was accepted")
+    except isospring.InputError as e:
+        assert "geometry" in str(e), str(e)
+
+
 def main():
     tests = [(name, f) for name, f in globals().items() if name.startswith("test_")]
     failed = 0

@@ -2,11 +2,14 @@
 #include "isospring/workflows/analyze_immersed.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <set>
 
 #include "isospring/analysis/elasticity.hpp"
+#include "isospring/io/vtk_immersed_cells.hpp"
 #include "isospring/io/vtk_surface_fields.hpp"
+#include "surface_refinement.hpp"
 
 namespace isospring::workflows {
 using namespace isospring::io;
@@ -113,8 +116,13 @@ ImmersedAnalysis run_analyze_immersed(const ImmersedCase& c, analysis::SolverOpt
            format_number(a.quadrature.volume) + " m^3 (OpenCascade " + format_number(a.occ.volume) +
            ")");
   t = std::chrono::steady_clock::now();
-  // A display triangulation within 1e-3 of the part's diagonal: fine enough to see the fields.
-  a.surface = solid_surface(geometry::triangulate_cad(c.part, 1e-3), a.domain);
+  // A display triangulation within 1e-3 of the part's diagonal, its triangles no longer than a
+  // background cell: the fields vary on that scale, and ParaView interpolates them linearly.
+  double cell = std::numeric_limits<double>::infinity();
+  for (int d = 0; d < a.domain.background.param_dim(); ++d)
+    cell = std::min(cell, a.domain.extent[d] / a.domain.background.knots(d).num_elements());
+  a.surface = detail::refine_triangulation(
+      solid_surface(geometry::triangulate_cad(c.part, 1e-3), a.domain), cell);
   a.surface_seconds = seconds_since(t);
   for (const ImmersedLoadCase& load : c.load_cases) {
     ImmersedLoadCaseResult lc;
@@ -201,6 +209,10 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
   }
   write_surface_fields_vtp(out_dir / "result.vtp", a.surface, fields);
   report["vtk_file"] = "result.vtp";
+  if (c.write_cells) {  // the grid the part is embedded in, for those who want to see it
+    write_immersed_cells_vtu(out_dir / "cells.vtu", a.domain);
+    report["cells_file"] = "cells.vtu";
+  }
   report["surface"] = {{"points", a.surface.points.size()},
                        {"triangles", a.surface.triangles.size()},
                        {"seconds", a.surface_seconds}};

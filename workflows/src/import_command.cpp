@@ -5,9 +5,12 @@
 
 #include "isospring/geometry/cad_triangulation.hpp"
 #include "isospring/geometry/construction.hpp"
+#include "isospring/geometry/immersed_cad.hpp"
 #include "isospring/geometry/measure.hpp"
+#include "isospring/io/immersed_case.hpp"
 #include "isospring/io/report_patch.hpp"
 #include "isospring/io/vtk_triangulation.hpp"
+#include "isospring/workflows/import_immersed.hpp"
 
 namespace isospring::workflows {
 // The use cases read and write io's formats; io's names are used unqualified here.
@@ -27,9 +30,29 @@ ImportCommandResult run_import(const ImportCommandOptions& options, std::ostream
       *log << "wrote " << options.display << ": " << mesh.triangles.size() << " triangles of "
            << model.faces << " faces\n";
   }
-  r.patches = options.solids.empty()
-                  ? geometry::cad_patches(model, options.thickness, options.faces)
-                  : geometry::cad_solid_patches(model, options.solids);
+  const ImportPath path = choose_import_path(model, options);
+  r.path = path.immersed ? "immersed" : "body-fitted";
+  r.path_reason = path.reason;
+  if (!path.immersed) {
+    r.patches = options.solids.empty()
+                    ? geometry::cad_patches(model, options.thickness, options.faces)
+                    : geometry::cad_solid_patches(model, options.solids);
+    return r;
+  }
+  // The solid is read as analyze will read it (open or invalid shells are refused here, with
+  // the fix), its faces described for the user, and the case checked by analyze's own reader
+  // before anything is written.
+  const geometry::CadSolid solid =
+      geometry::read_cad_solid(options.input, model.solids > 1 ? path.solid : -1);
+  r.immersed_solid = path.solid;
+  r.immersed_volume = geometry::measure_solid(solid).volume;
+  r.faces = geometry::solid_faces(solid);
+  const std::string output = options.output.empty() ? "immersed.json" : options.output;
+  r.immersed_case =
+      immersed_case_skeleton(options.input, output, path.solid, model.solids, r.faces);
+  const std::filesystem::path anchor = std::filesystem::absolute(output);
+  // "file" is relative to the output's folder, as analyze will resolve it.
+  build_immersed_case(nlohmann::json::parse(r.immersed_case.dump()), anchor);
   return r;
 }
 
@@ -50,8 +73,12 @@ void import_report(const ImportCommandResult& r, const ImportCommandOptions& opt
   j["cad_volume"] = model.volume;
   j["cad_area"] = model.area;
   j["warnings"] = model.warnings;
-  j["options"] = {
-      {"faces", options.faces}, {"solids", options.solids}, {"thickness", options.thickness}};
+  j["options"] = {{"faces", options.faces},
+                  {"solids", options.solids},
+                  {"thickness", options.thickness},
+                  {"path", options.path}};
+  j["path"] = r.path;
+  j["path_reason"] = r.path_reason;
   std::vector<std::vector<std::string>> face_rows;
   for (const auto& f : model.face_reports) {
     const std::string kind =
@@ -80,6 +107,10 @@ void import_report(const ImportCommandResult& r, const ImportCommandOptions& opt
           std::count(model.patch_solid.begin(), model.patch_solid.end(), static_cast<int>(s))},
          {"note", model.solid_notes[s]},
          {"remark", model.solid_remarks[s]}});
+  if (r.path == "immersed") {
+    immersed_import_report(r, options, output, j, md);
+    return;
+  }
   j["patch_count"] = patches.size();
   std::vector<std::vector<std::string>> jacobian_rows;
   for (size_t p = 0; p < patches.size(); ++p) {
@@ -115,6 +146,7 @@ void import_report(const ImportCommandResult& r, const ImportCommandOptions& opt
     j["display"] = {{"file", options.display}, {"triangles", display_triangles}};
 
   md.heading(1, "isospring import: " + options.input);
+  md.paragraph("Path: body-fitted (" + r.path_reason + ").");
   md.paragraph("File unit " + model.file_unit + " (written in m). " + std::to_string(model.solids) +
                " solids, " + std::to_string(model.faces) + " faces, " +
                std::to_string(model.edges) + " edges. " + std::to_string(patches.size()) +

@@ -1,13 +1,18 @@
 #pragma once
 // Case files whose geometry is an immersed CAD solid ("geometry": {"type": "immersed", ...}):
 // the part's exact B-rep embedded in a B-spline background grid (geometry/immersed_cad.hpp),
-// supports and loads on the part's faces by index (as `isospring info` lists them). The schema
-// is in docs/case-files.md ("Immersed geometry"); `isospring analyze` runs such a case.
+// supports and loads on the part's faces by index (as `isospring info` lists them) or by a
+// selector (a plane, a box, a cylinder or the face's STEP name; geometry/cad_face_selection.hpp),
+// which may match several faces. The schema is in docs/case-files.md ("Immersed geometry");
+// `isospring analyze` runs such a case, and `isospring import` writes one for a part it cannot
+// turn into body-fitted volumes (workflows/import_immersed.hpp).
 //
 //   {"name": "cylinder", "geometry": {"type": "immersed", "file": "part.step", "solid": 1,
 //                                      "cells": [6, 6, 6], "degree": 2},
 //    "material": {"E": 2.1e11, "nu": 0.3, "density": 7850},
-//    "boundary": [{"face": 0, "fix": ["x", "y", "z"]}],
+//    "boundary": [{"face": 0, "fix": ["x", "y", "z"]},
+//                 {"face": {"plane": {"point": [0, 0, 0.01], "normal": [0, 0, 1]}},
+//                  "symmetry": true}],
 //    "load_cases": [{"id": "gravity", "gravity": [0, 0, -9.81]}]}
 //
 // Every problem is a nurbs::InputError naming the case file, the field and the fix, found before
@@ -44,6 +49,7 @@ struct ImmersedCase {
   analysis::Material material;
   std::vector<analysis::ImmersedSupport> supports;
   std::vector<ImmersedLoadCase> load_cases;
+  bool write_cells = false;  // "output": {"cells": true}: also the background cells (cells.vtu)
 };
 
 /// True when the document's "geometry" is {"type": "immersed", ...}.

@@ -1,7 +1,11 @@
 #pragma once
-// The use case behind `isospring import PART.step -o patches.json`: a STEP/IGES part to NURBS
+// The use case behind `isospring import PART.step -o OUT.json`: a STEP/IGES part to NURBS
 // patches (metres), with a triangulation of every face for display when asked, and the report
 // of what the part held, what became patches, and for every face and solid that did not, why.
+// A solid that cannot become body-fitted volume patches takes the immersed path instead
+// (import_immersed.hpp): OUT.json is then an immersed case file that `isospring analyze` runs,
+// with the solid's faces listed for choosing supports and loads. The result says which path the
+// part took and why.
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -9,6 +13,7 @@
 #include <vector>
 
 #include "isospring/geometry/cad.hpp"
+#include "isospring/geometry/cad_face_selection.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/patch.hpp"
 
@@ -22,12 +27,26 @@ struct ImportCommandOptions {
   std::string display;        // also write a triangulation of every face here (.vtp)
   double deflection = 1e-3;   // of the display triangulation, relative to the bbox diagonal
   bool print_report = false;  // print OpenCascade's per-face report
+  /// "auto": body-fitted volume patches when every (chosen) solid becomes them, else the immersed
+  /// path for the one solid that does not; "body-fitted": patches only (a solid that cannot be
+  /// volumes gives its faces' patches or the face's error, as before the immersed path);
+  /// "immersed": the immersed case of the solid even when body-fitted volumes exist.
+  std::string path = "auto";
+  /// Where the output goes: the immersed case names the part relative to this file's folder.
+  std::string output;
 };
 
 struct ImportCommandResult {
   geometry::CadModel model;
-  std::vector<nurbs::Patch> patches;
+  std::vector<nurbs::Patch> patches;  // body-fitted path only
   size_t display_triangles = 0;
+  std::string path;         // "body-fitted" or "immersed"
+  std::string path_reason;  // why, in a sentence
+  /// Immersed path: the solid (0-based in the file), its faces, and the case file to write.
+  int immersed_solid = -1;
+  std::vector<geometry::SolidFace> faces;
+  nlohmann::ordered_json immersed_case;
+  double immersed_volume = 0.0;  // OpenCascade's, of the chosen solid (m^3)
 };
 
 /// Reads and converts the part; writes options.display when given. `report` gets the per-face
@@ -35,7 +54,7 @@ struct ImportCommandResult {
 ImportCommandResult run_import(const ImportCommandOptions& options, std::ostream* report,
                                std::ostream* log);
 
-/// The report's content beside the patch file `output` (FileReport's json and markdown).
+/// The report's content beside the output file `output` (FileReport's json and markdown).
 void import_report(const ImportCommandResult& r, const ImportCommandOptions& options,
                    const std::string& output, nlohmann::json& json, io::MarkdownReport& md);
 
