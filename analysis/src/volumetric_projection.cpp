@@ -106,7 +106,9 @@ std::array<int, 3> PressureSpace::element_of(const nurbs::Param& u) const {
 void PressureSpace::evaluate(const std::array<int, 3>& element, const nurbs::Param& u, int* indices,
                              double* values) const {
   // Univariate values per direction, then their tensor product (first direction fastest).
+  // Directions beyond the parametric dimension: one function, 1.
   std::array<std::array<double, nurbs::kMaxDegree + 1>, 3> rows{};
+  for (auto& row : rows) row[0] = 1.0;
   std::array<int, 3> first{0, 0, 0}, order{1, 1, 1}, count{1, 1, 1};
   for (int d = 0; d < param_dim_; ++d) {
     const Direction& dir = directions_[static_cast<size_t>(d)];
