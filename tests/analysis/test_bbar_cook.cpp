@@ -51,8 +51,8 @@ double extrapolated(const std::vector<double>& q) {
 // The clamped corner (0, 44) is singular, so every degree converges at the same low order
 // (observed 1.0-1.1). Measured (8 / 16 / 32 / 64 elements per side): p = 2 7.5613 7.6742 7.7253
 // 7.7491, p = 3 7.6543 7.7160 7.7443 7.7583, p = 4 7.6810 7.7281 7.7511 7.7616; extrapolated from
-// 16 / 32 / 64: 7.770 / 7.772 / 7.770 (from 8 / 16 / 32, as tested: 7.767 / 7.768 / 7.773). The displacement formulation at p = 4 reaches 7.7515 at
-// 64, below B-bar's p = 4 at 32.
+// 16 / 32 / 64: 7.770 / 7.772 / 7.770 (from 8 / 16 / 32, as tested: 7.767 / 7.768 / 7.773). The
+// displacement formulation at p = 4 reaches 7.7515 at 64, below B-bar's p = 4 at 32.
 TEST(BbarCook, TipDeflectionConvergesMonotonicallyToOneLimit) {
   std::vector<double> limits;
   for (int p : {2, 3, 4}) {
