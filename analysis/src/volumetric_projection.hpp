@@ -11,10 +11,11 @@
 // patch. The local projection used here instead projects element by element onto the
 // functions of Q that live on the element and averages each coefficient over the elements of
 // its support, weighted by the function's integral over each (a local least-squares
-// quasi-interpolant, as analysed by Govindjee, Strain, Mitchell and Taylor, CMAME 2012, for
-// this purpose). It reproduces Q exactly (so constants and the patch test are kept),
-// converges at the same rate, and couples only DOFs whose supports meet a common Q support: a
-// sparse stiffness, wider than the displacement one (see docs/verification.md). A mixed
+// quasi-interpolant in the sense of Govindjee, Strain, Mitchell and Taylor, CMAME 2012). It
+// reproduces Q exactly (so constants and the patch test are kept), preserves integrals,
+// converges at the same rate (tests: Lame at nu = 0.4999), and couples control points up to
+// 3p - 2 apart per direction (p for the displacement formulation): a sparse stiffness, wider
+// than the displacement one (see docs/limitations.md). A mixed
 // displacement-pressure form would keep the pattern but turn the SPD system into a saddle point
 // that the direct and CG solvers (and the cached factorisations of identify) cannot use.
 //
