@@ -4,8 +4,10 @@
 
 #include <cstdio>
 
+#include "isospring/analysis/nonlinear_elasticity.hpp"
 #include "isospring/analysis/post_processing.hpp"
 #include "isospring/analysis/static_solver.hpp"
+#include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/quadrature.hpp"
 #include "lame_cylinder.hpp"
 
@@ -144,6 +146,18 @@ TEST(BbarLame, AgreesWithDisplacementFormulationAtNu03) {
       }
       previous = relative;
     }
+  }
+}
+
+// Large deformations keep the displacement strain (no F-bar): asking for B-bar there is an
+// error that says so, not a silently different model.
+TEST(BbarLame, LargeDeformationsRefuseBbar) {
+  const Problem problem = cylinder(kNearlyIncompressible, 2, 2, Volumetric::kBbar);
+  try {
+    solve_static_nonlinear(problem, NonlinearOptions{});
+    FAIL() << "B-bar was accepted by the large-deformation solver";
+  } catch (const nurbs::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("linear elasticity only"), std::string::npos) << e.what();
   }
 }
 
