@@ -6,6 +6,7 @@
 #include "dense_products.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/elasticity.hpp"
+#include "volumetric_projection.hpp"
 
 namespace isospring::analysis {
 
@@ -14,7 +15,7 @@ namespace detail {
 ElementStiffness::ElementStiffness(const Problem& problem, const AssemblyStructure& structure)
     : structure_(&structure), dim_(structure.dofs_per_node) {
   const LameParameters lame = lame_parameters(problem.material, problem.formulation);
-  lambda_ = lame.lambda;
+  lambda_ = kernel_lambda(problem, lame.lambda, lame.mu);  // B-bar: deviatoric part only
   mu_ = lame.mu;
   thickness_ = thickness_factor(problem);
 }
@@ -79,7 +80,11 @@ void ElementStiffness::operator()(int e, QuadraturePoint& point, Eigen::MatrixXd
 
 Eigen::SparseMatrix<double> assemble_stiffness(const Problem& problem, const DofMap& dofs) {
   const detail::AssemblyStructure structure(problem, dofs);
-  return detail::assemble_matrix(structure, detail::ElementStiffness(problem, structure));
+  Eigen::SparseMatrix<double> k =
+      detail::assemble_matrix(structure, detail::ElementStiffness(problem, structure));
+  if (problem.volumetric == Volumetric::kBbar)
+    k += detail::bbar_volumetric_stiffness(problem, dofs, structure);
+  return k;
 }
 
 Eigen::SparseMatrix<double> assemble_consistent_mass(const Problem& problem, const DofMap& dofs) {

@@ -35,7 +35,13 @@ struct SvkAssembler::Impl {
 };
 
 SvkAssembler::SvkAssembler(const Problem& problem, const DofMap& dofs)
-    : impl_(std::make_unique<Impl>(problem, dofs)), num_dofs_(dofs.num_dofs()) {}
+    : impl_(std::make_unique<Impl>(problem, dofs)), num_dofs_(dofs.num_dofs()) {
+  // Large deformations use the displacement strain throughout (no F-bar).
+  if (problem.volumetric == Volumetric::kBbar)
+    throw nurbs::InputError(
+        "\"volumetric\": \"bbar\" is linear elasticity only; large deformations (SVK) use "
+        "\"displacement\"");
+}
 
 SvkAssembler::~SvkAssembler() = default;
 

@@ -582,6 +582,11 @@ StaticResult solve_static_petsc(const Problem& problem, const PetscSolverOptions
   PetscInitialized(&initialized);
   if (!initialized)
     throw std::logic_error("solve_static_petsc needs a live analysis::PetscSession");
+  // The ranks assemble element by element; the B-bar projection couples beyond one element.
+  if (problem.volumetric == Volumetric::kBbar)
+    throw nurbs::InputError(
+        "\"volumetric\": \"bbar\" runs on the direct, CG and AMG solvers, not the distributed "
+        "PETSc backend; use \"displacement\" there");
   return solve_on(PETSC_COMM_WORLD, problem, options);
 }
 

@@ -2,11 +2,13 @@
 #include "isospring/analysis/post_processing.hpp"
 
 #include <cmath>
+#include <memory>
 
 #include "assembly_structure.hpp"
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/elasticity.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "volumetric_projection.hpp"
 
 namespace isospring::analysis {
 
@@ -64,8 +66,8 @@ void check_sizes(const Problem& problem, const ControlDisplacements& displacemen
         "vector per control point of every patch is needed)");
 }
 
-// f(point, displacement, grad u, dV) at every point of a rule with `points` per direction
-// (0: `extra` beyond degree + 1).
+// f(point, displacement, grad u, dV, patch, parameter) at every point of a rule with `points`
+// per direction (0: `extra` beyond degree + 1).
 template <class F>
 void integrate(const Problem& problem, const ControlDisplacements& displacements, int points,
                int extra, F&& f) {
@@ -92,7 +94,7 @@ void integrate(const Problem& problem, const ControlDisplacements& displacements
             detail::physical_gradients(point, dim, static_cast<int>(p), e, gradients);
         displacement_and_gradient(displacements[p], cps.data(), point.values, gradients, dim, u,
                                   grad);
-        f(point.point, u, grad, point.weight * det * thickness);
+        f(point.point, u, grad, point.weight * det * thickness, static_cast<int>(p), point.param);
       }
     }
   }
@@ -100,9 +102,22 @@ void integrate(const Problem& problem, const ControlDisplacements& displacements
 
 }  // namespace
 
-FieldPoint evaluate_field(const Problem& problem, const ControlDisplacements& displacements,
-                          int patch_index, const nurbs::Param& u) {
+struct FieldEvaluator::Projection {
+  detail::ProjectedDilatation dilatation;
+};
+
+FieldEvaluator::FieldEvaluator(const Problem& problem, const ControlDisplacements& displacements)
+    : problem_(&problem), displacements_(&displacements) {
   check_sizes(problem, displacements);
+  if (problem.volumetric == Volumetric::kBbar)
+    projection_ = std::make_unique<const Projection>(
+        Projection{detail::ProjectedDilatation(problem, displacements)});
+}
+FieldEvaluator::~FieldEvaluator() = default;
+FieldEvaluator::FieldEvaluator(FieldEvaluator&&) noexcept = default;
+
+FieldPoint FieldEvaluator::operator()(int patch_index, const nurbs::Param& u) const {
+  const Problem& problem = *problem_;
   const auto& patch = problem.patches.at(static_cast<size_t>(patch_index));
   const int dim = spatial_dimension(problem.formulation);
   const nurbs::RationalBasis basis = patch.basis(u, 1);
@@ -123,12 +138,24 @@ FieldPoint evaluate_field(const Problem& problem, const ControlDisplacements& di
   FieldPoint field;
   field.point = point.point;
   Eigen::Matrix3d grad;
-  displacement_and_gradient(displacements[static_cast<size_t>(patch_index)], basis.indices.data(),
-                            basis.values, gradients, dim, field.displacement, grad);
+  displacement_and_gradient((*displacements_)[static_cast<size_t>(patch_index)],
+                            basis.indices.data(), basis.values, gradients, dim, field.displacement,
+                            grad);
   field.strain = strain_of(grad, problem);
-  field.stress = stress_from_strain(field.strain, problem.material, problem.formulation);
+  if (projection_) {
+    const double dilatation = projection_->dilatation.at(patch_index, u);
+    field.stress = detail::bbar_stress(field.strain, dilatation, problem);
+    field.strain = detail::bbar_strain(field.strain, dilatation, problem);
+  } else {
+    field.stress = stress_from_strain(field.strain, problem.material, problem.formulation);
+  }
   field.von_mises = von_mises(field.stress);
   return field;
+}
+
+FieldPoint evaluate_field(const Problem& problem, const ControlDisplacements& displacements,
+                          int patch_index, const nurbs::Param& u) {
+  return FieldEvaluator(problem, displacements)(patch_index, u);
 }
 
 ErrorNorms error_norms(const Problem& problem, const ControlDisplacements& displacements,
@@ -136,16 +163,23 @@ ErrorNorms error_norms(const Problem& problem, const ControlDisplacements& displ
                        const std::function<Eigen::Matrix3d(const Eigen::Vector3d&)>& exact_stress,
                        int quadrature_points) {
   const int dim = spatial_dimension(problem.formulation);
+  check_sizes(problem, displacements);
+  const std::unique_ptr<detail::ProjectedDilatation> projected =
+      problem.volumetric == Volumetric::kBbar
+          ? std::make_unique<detail::ProjectedDilatation>(problem, displacements)
+          : nullptr;
   ErrorNorms norms;
   integrate(problem, displacements, quadrature_points, 2,
             [&](const Eigen::Vector3d& x, const Eigen::Vector3d& u, const Eigen::Matrix3d& grad,
-                double dv) {
+                double dv, int patch, const nurbs::Param& param) {
               const Eigen::Vector3d ue = exact_u(x);
               norms.l2_error += squared_norm(ue - u, dim) * dv;
               norms.l2_norm += squared_norm(ue, dim) * dv;
               const Eigen::Matrix3d se = exact_stress(x);
-              const Eigen::Matrix3d sh = stress_from_strain(strain_of(grad, problem),
-                                                            problem.material, problem.formulation);
+              const Eigen::Matrix3d strain = strain_of(grad, problem);
+              const Eigen::Matrix3d sh =
+                  projected ? detail::bbar_stress(strain, projected->at(patch, param), problem)
+                            : stress_from_strain(strain, problem.material, problem.formulation);
               norms.energy_error += energy_product(se - sh, problem) * dv;
               norms.energy_norm += energy_product(se, problem) * dv;
             });
@@ -157,11 +191,21 @@ ErrorNorms error_norms(const Problem& problem, const ControlDisplacements& displ
 }
 
 double strain_energy(const Problem& problem, const ControlDisplacements& displacements) {
+  check_sizes(problem, displacements);
+  const std::unique_ptr<detail::ProjectedDilatation> projected =
+      problem.volumetric == Volumetric::kBbar
+          ? std::make_unique<detail::ProjectedDilatation>(problem, displacements)
+          : nullptr;
   double energy = 0.0;
   integrate(
       problem, displacements, problem.quadrature_points, 0,
-      [&](const Eigen::Vector3d&, const Eigen::Vector3d&, const Eigen::Matrix3d& grad, double dv) {
+      [&](const Eigen::Vector3d&, const Eigen::Vector3d&, const Eigen::Matrix3d& grad, double dv,
+          int patch, const nurbs::Param& param) {
         const Eigen::Matrix3d e = strain_of(grad, problem);
+        if (projected) {
+          energy += detail::bbar_energy_density(e, projected->at(patch, param), problem) * dv;
+          return;
+        }
         energy +=
             0.5 *
             stress_from_strain(e, problem.material, problem.formulation).cwiseProduct(e).sum() * dv;

@@ -131,14 +131,32 @@ analysis::Material read_material(const Field& root) {
   return material;
 }
 
+/// "analysis": "volumetric": "displacement" (default) or "bbar" (plane strain and solids).
+analysis::Volumetric read_volumetric(const Field& field, analysis::Formulation formulation) {
+  if (!field.has("volumetric")) return analysis::Volumetric::kDisplacement;
+  const Field volumetric = field.at("volumetric");
+  const std::string name = volumetric.string();
+  if (name == "displacement") return analysis::Volumetric::kDisplacement;
+  if (name != "bbar")
+    volumetric.fail(": unknown volumetric treatment '" + name +
+                    "'; use \"displacement\" (default) or \"bbar\" (locking-free for nu near "
+                    "0.5)");
+  if (formulation == analysis::Formulation::kPlaneStress)
+    volumetric.fail(
+        ": \"bbar\" needs plane_strain or solid; plane stress does not lock, use "
+        "\"displacement\"");
+  return analysis::Volumetric::kBbar;
+}
+
 /// "analysis": plane_stress (default for 2D, thickness 1 m), plane_strain or solid (3D only).
 analysis::Formulation read_formulation(const Field& root, int dimension,
-                                       analysis::Material& material, int& quadrature_points) {
+                                       analysis::Material& material, int& quadrature_points,
+                                       analysis::Volumetric& volumetric) {
   analysis::Formulation formulation =
       dimension == 3 ? analysis::Formulation::kSolid : analysis::Formulation::kPlaneStress;
   if (!root.has("analysis")) return formulation;
   const Field field = root.at("analysis");
-  field.expect_object({"type", "thickness", "quadrature_points"});
+  field.expect_object({"type", "thickness", "quadrature_points", "volumetric"});
   if (field.has("type")) {
     const Field type = field.at("type");
     const std::string name = type.string();
@@ -174,6 +192,7 @@ analysis::Formulation read_formulation(const Field& root, int dimension,
     if (quadrature_points < 1 || quadrature_points > 20)
       field.at("quadrature_points").fail(" must be 1..20 Gauss points per direction");
   }
+  volumetric = read_volumetric(field, formulation);
   return formulation;
 }
 
@@ -352,8 +371,8 @@ Case build_case_from_json(const json& document, const fs::path& case_file,
   c.dimension = geometry_dimension(c.geometry, geometry);
 
   c.problem.material = read_material(root);
-  c.problem.formulation =
-      read_formulation(root, c.dimension, c.problem.material, c.problem.quadrature_points);
+  c.problem.formulation = read_formulation(root, c.dimension, c.problem.material,
+                                           c.problem.quadrature_points, c.problem.volumetric);
   if (root.has("analytic"))
     c.analytic = make_analytic_solution(root.at("analytic").json(), c.problem.material,
                                         c.problem.formulation, root.at("analytic").where());

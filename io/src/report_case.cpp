@@ -25,6 +25,7 @@ nlohmann::json case_summary(const Case& c, const analysis::Problem& problem) {
   s["file"] = c.file.string();
   s["dimension"] = c.dimension;
   s["formulation"] = formulation_name(problem.formulation);
+  s["volumetric"] = problem.volumetric == analysis::Volumetric::kBbar ? "bbar" : "displacement";
   s["material"] = {{"E", problem.material.youngs_modulus},
                    {"nu", problem.material.poisson_ratio},
                    {"density", problem.material.density}};
@@ -60,7 +61,8 @@ void add_case_summary(MarkdownReport& report, const nlohmann::json& s) {
   }
   std::vector<std::string> items{
       "case: " + s["name"].get<std::string>() + " (`" + s["file"].get<std::string>() + "`)",
-      "analysis: " + s["formulation"].get<std::string>() + ", " + s["dimension"].dump() + "D",
+      "analysis: " + s["formulation"].get<std::string>() + ", " + s["dimension"].dump() + "D" +
+          (s.value("volumetric", "") == "bbar" ? ", B-bar volumetric strain" : ""),
       "material: E = " + format_number(s["material"]["E"].get<double>()) +
           " Pa, nu = " + format_number(s["material"]["nu"].get<double>()) +
           ", density = " + format_number(s["material"]["density"].get<double>()) + " kg/m^3",

@@ -6,52 +6,20 @@
 #include "analysis_models.hpp"
 #include "isospring/analysis/post_processing.hpp"
 #include "isospring/analysis/static_solver.hpp"
+#include "lame_cylinder.hpp"
 
 namespace isospring::analysis {
 namespace {
 
-constexpr double kRi = 1.0, kRo = 2.0;
-
-struct Lame {
-  double E, nu, P;
-  // Plane strain = the plane-stress formula with E' = E / (1 - nu^2), nu' = nu / (1 - nu).
-  double radial(double r) const {
-    const double e = E / (1 - nu * nu), n = nu / (1 - nu);
-    return P * kRi * kRi / (e * (kRo * kRo - kRi * kRi)) * ((1 - n) * r + (1 + n) * kRo * kRo / r);
-  }
-  Eigen::Vector3d displacement(const Eigen::Vector3d& x) const {
-    const double r = x.head<2>().norm();
-    return Eigen::Vector3d(x.x(), x.y(), 0.0) * (radial(r) / r);
-  }
-  Eigen::Matrix3d stress(const Eigen::Vector3d& x) const {
-    const double r = x.head<2>().norm(), c = P * kRi * kRi / (kRo * kRo - kRi * kRi);
-    const double srr = c * (1 - kRo * kRo / (r * r)), stt = c * (1 + kRo * kRo / (r * r));
-    return testing::polar_to_cartesian(srr, stt, nu * (srr + stt), std::atan2(x.y(), x.x()));
-  }
-};
+using Lame = testing::LameCylinder;
 
 Problem cylinder(const Lame& lame, const nurbs::Patch& patch) {
-  Problem problem;
-  problem.formulation = Formulation::kPlaneStrain;
-  problem.material = {lame.E, lame.nu, 1.0, 1.0};
-  problem.patches.push_back(patch);
-  for (int end = 0; end < 2; ++end) {
-    Support symmetry;
-    symmetry.side = {0, 1, end};  // v0: y = 0, v1: x = 0
-    symmetry.symmetry = true;
-    problem.supports.push_back(symmetry);
-  }
-  LoadCase load;
-  load.id = "internal pressure";
-  load.pressures.push_back({{0, 0, 0}, lame.P});
-  problem.load_cases.push_back(load);
-  return problem;
+  return testing::lame_cylinder(lame, patch);
 }
-
-// Degree p in both directions (C^{p-1}), n x n elements.
 nurbs::Patch ring(int p, int n, double weight = testing::kSqrtHalf) {
-  return nurbs::k_refine(testing::quarter_ring(kRi, kRo, weight), {p, p, 0}, {n, n, 1});
+  return testing::lame_ring(p, n, weight);
 }
+constexpr double kRi = testing::kLameRi;
 
 // benchmarks.md: E = 1, nu = 0, P = 1, degree 3, C2, 9x9 elements, 288 DOFs, "L2 error
 // 1.53640513551293e-06". That number is the ABSOLUTE L2 norm of u - u_h integrated with p + 1 = 4

@@ -371,5 +371,20 @@ TEST(CaseFile, AnalysisSection) {
   expect_error(doc, "analysis.thickness must be > 0");
 }
 
+TEST(CaseFile, VolumetricTreatment) {
+  EXPECT_EQ(build_case_from_json(cantilever(), "case.json").problem.volumetric,
+            analysis::Volumetric::kDisplacement);
+  json doc = cantilever();
+  doc["analysis"] = {{"volumetric", "bbar"}};
+  EXPECT_EQ(build_case_from_json(doc, "case.json").problem.volumetric, analysis::Volumetric::kBbar);
+  doc = plate();
+  doc["analysis"]["volumetric"] = "bbar";
+  EXPECT_EQ(build_case_from_json(doc, "case.json").problem.volumetric, analysis::Volumetric::kBbar);
+  doc["analysis"]["volumetric"] = "b-bar";
+  expect_error(doc, "analysis.volumetric: unknown volumetric treatment 'b-bar'", "\"bbar\"");
+  doc["analysis"] = {{"type", "plane_stress"}, {"volumetric", "bbar"}};
+  expect_error(doc, "analysis.volumetric: \"bbar\" needs plane_strain or solid");
+}
+
 }  // namespace
 }  // namespace isospring::io

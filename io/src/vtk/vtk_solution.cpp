@@ -28,7 +28,12 @@ class CachedField {
       : problem_(std::move(problem)),
         displacements_(std::move(displacements)),
         load_case_(std::move(load_case)),
+        evaluator_(*problem_, displacements_),
         slots_(static_cast<size_t>(std::max(1, omp_get_max_threads()))) {}
+
+  // evaluator_ points at displacements_: never copied nor moved (held by shared_ptr).
+  CachedField(const CachedField&) = delete;
+  CachedField& operator=(const CachedField&) = delete;
 
   /// The fields are evaluated while the VTK files are written. A value that overflows (strains
   /// of a solution near the limits of a double) must stop the run (std::runtime_error: exit
@@ -50,7 +55,7 @@ class CachedField {
     if (!slot.valid || patch != slot.patch || u != slot.u) {
       slot.degenerate = false;
       try {
-        slot.point = analysis::evaluate_field(*problem_, displacements_, patch, u);
+        slot.point = evaluator_(patch, u);
         check(false, slot.point.strain.allFinite(), "strain", patch);
         check(false, slot.point.stress.allFinite() && std::isfinite(slot.point.von_mises), "stress",
               patch);
@@ -81,6 +86,7 @@ class CachedField {
   std::shared_ptr<const analysis::Problem> problem_;
   analysis::ControlDisplacements displacements_;
   std::string load_case_;
+  analysis::FieldEvaluator evaluator_;
   std::vector<Slot> slots_;
 };
 

@@ -14,6 +14,12 @@ namespace isospring::analysis {
 
 enum class Formulation { kPlaneStress, kPlaneStrain, kSolid };
 
+/// How the volumetric strain enters the stiffness and the stresses. kDisplacement: the strain of
+/// the displacement field everywhere (locks at low degree as nu -> 0.5). kBbar: the volumetric
+/// strain projected onto splines of one degree lower on the same knots (B-bar, volumetric_
+/// projection.hpp); plane strain and solids only (plane stress does not lock).
+enum class Volumetric { kDisplacement, kBbar };
+
 struct Material {
   double youngs_modulus = 0.0;  // E [Pa]
   double poisson_ratio = 0.0;   // nu, in (-1, 0.5)
@@ -76,6 +82,7 @@ struct LoadCase {
 struct Problem {
   std::vector<nurbs::Patch> patches;
   Formulation formulation = Formulation::kSolid;
+  Volumetric volumetric = Volumetric::kDisplacement;
   Material material;
   std::vector<Support> supports;
   std::vector<LoadCase> load_cases;

@@ -1,0 +1,179 @@
+// The DOFs a 3D cantilever needs before its marker error falls below a third of the
+// identification noise (0.2 % of the largest displacement), displacement formulation against
+// B-bar, at nu = 0.3 / 0.45 / 0.49: the locking table of docs/verification.md.
+//
+// The cantilever is the identify suite's (examples/identify_suite/cantilever_*): a box
+// 0.1 x 0.02 x 0.02 m clamped at x = 0, E = 7.5 MPa, tractions on the tip face (down, sideways,
+// pull). Markers: the tip face. Candidate discretisations: degree p = 2, 3, 4
+// with 5k x k x k elements (the suite's aspect), taken in order of DOFs; each formulation's
+// error is measured against a fine reference of the other one too, so the reference is checked.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/post_processing.hpp"
+#include "isospring/analysis/static_solver.hpp"
+#include "isospring/nurbs/refine.hpp"
+
+namespace isospring::analysis {
+namespace {
+
+constexpr double kLength = 0.1, kWidth = 0.02;
+constexpr double kNoise = 0.002;  // of the largest displacement component, per load case
+
+Problem cantilever(double nu, int p, int k, Volumetric volumetric) {
+  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
+  std::vector<Eigen::Vector3d> corners;
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) corners.emplace_back(x * kLength, y * kWidth, z * kWidth);
+  const nurbs::Patch box({linear, linear, linear}, corners);
+  Problem problem;
+  problem.formulation = Formulation::kSolid;
+  problem.volumetric = volumetric;
+  problem.material = {7.5e6, nu, 1000.0, 1.0};
+  problem.patches.push_back(nurbs::k_refine(box, {p, p, p}, {5 * k, k, k}));
+  Support clamp;
+  clamp.side = {0, 0, 0};
+  clamp.fixed = {true, true, true};
+  problem.supports.push_back(clamp);
+  const std::vector<std::pair<std::string, Eigen::Vector3d>> loads{
+      {"tip_down", {0, 0, -2000}}, {"tip_side", {0, 1500, 0}}, {"pull", {20000, 0, 0}}};
+  for (const auto& [id, traction] : loads) {
+    LoadCase load;
+    load.id = id;
+    load.tractions.push_back({{0, 0, 1}, traction, {}});
+    problem.load_cases.push_back(load);
+  }
+  return problem;
+}
+
+// Tip markers: the 3 x 3 grid of the tip face (parameters: the box map is affine). Markers along
+// the length converge slowly next to the clamped edges (singular stresses), which would measure
+// the clamp's singularity rather than locking.
+std::vector<nurbs::Param> markers() {
+  std::vector<nurbs::Param> out;
+  for (int j = 0; j < 3; ++j)
+    for (int l = 0; l < 3; ++l) out.push_back({1.0, j / 2.0, l / 2.0});
+  return out;
+}
+
+using Prediction = std::vector<std::vector<Eigen::Vector3d>>;  // [load case][marker]
+
+Prediction predict(const Problem& problem) {
+  const StaticResult result = solve_static(problem);
+  Prediction out;
+  for (const auto& lc : result.load_cases) {
+    std::vector<Eigen::Vector3d> at;
+    const FieldEvaluator field(problem, lc.control_displacements);
+    for (const nurbs::Param& u : markers()) at.push_back(field(0, u).displacement);
+    out.push_back(at);
+  }
+  return out;
+}
+
+// Worst load case of max |u - u_ref| / (largest |u_ref| component).
+double marker_error(const Prediction& u, const Prediction& reference) {
+  double worst = 0.0;
+  for (size_t l = 0; l < u.size(); ++l) {
+    double error = 0.0, largest = 0.0;
+    for (size_t m = 0; m < u[l].size(); ++m) {
+      error = std::max(error, (u[l][m] - reference[l][m]).cwiseAbs().maxCoeff());
+      largest = std::max(largest, reference[l][m].cwiseAbs().maxCoeff());
+    }
+    worst = std::max(worst, error / largest);
+  }
+  return worst;
+}
+
+int dofs(int p, int k) {
+  return 3 * (5 * k + p) * (k + p) * (k + p);
+}
+
+struct Found {
+  int p = 0, k = 0, dofs = 0;
+  double error = 0.0;
+};
+
+// The first candidate in order of DOFs whose marker error is below a third of the noise.
+// B-bar's candidates stop at 6,000 DOFs: its stiffness has 6-13 x the entries per row (the
+// projection couples DOFs through the supports of the projection space), and a 3D degree-3
+// B-bar model of 15k DOFs needs gigabytes to factorise.
+Found smallest_passing(double nu, Volumetric volumetric, const Prediction& reference) {
+  std::vector<std::pair<int, int>> candidates;
+  for (int p : {2, 3, 4})
+    for (int k : {1, 2, 3, 4, 6, 8})
+      if (volumetric == Volumetric::kDisplacement || dofs(p, k) <= 6000)
+        candidates.emplace_back(p, k);
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+    return dofs(a.first, a.second) < dofs(b.first, b.second);
+  });
+  for (const auto& [p, k] : candidates) {
+    const double error = marker_error(predict(cantilever(nu, p, k, volumetric)), reference);
+    std::printf("  nu %.2f %s p=%d k=%d %d DOFs: error %.2e\n", nu,
+                volumetric == Volumetric::kBbar ? "B-bar" : "displacement", p, k, dofs(p, k),
+                error);
+    if (error < kNoise / 3.0) return {p, k, dofs(p, k), error};
+  }
+  return {};
+}
+
+// Generates the table of docs/verification.md; disabled in the suite (about 15 CPU-minutes, most
+// of it the references) and not an acceptance test: its reference is not converged enough at
+// nu >= 0.45 (it moves by 5.3e-4 and 9.1e-4 of the largest displacement between 30 x 6 x 6 and
+// 40 x 8 x 8, against the tolerance 6.7e-4), so the DOFs it finds there are indicative only.
+// Run: test_analysis --gtest_also_run_disabled_tests --gtest_filter='BbarDofs.DISABLED_*'
+TEST(BbarDofs, DISABLED_CantileverTable) {
+  for (double nu : {0.3, 0.45, 0.49}) {
+    // Reference: the displacement formulation at degree 4, 40 x 8 x 8 elements (19,008 DOFs),
+    // printed with its change from 30 x 6 x 6 and its distance to a B-bar solution of degree 3.
+    const Prediction reference = predict(cantilever(nu, 4, 8, Volumetric::kDisplacement));
+    const double reference_change =
+        marker_error(predict(cantilever(nu, 4, 6, Volumetric::kDisplacement)), reference);
+    const double bbar_apart =
+        marker_error(predict(cantilever(nu, 3, 4, Volumetric::kBbar)), reference);
+    std::printf(
+        "nu = %.2f: reference p=4 40x8x8 against 30x6x6 %.2e, against B-bar p=3 20x4x4 %.2e\n", nu,
+        reference_change, bbar_apart);
+    const Found disp = smallest_passing(nu, Volumetric::kDisplacement, reference);
+    const Found bbar = smallest_passing(nu, Volumetric::kBbar, reference);
+    std::printf(
+        "nu = %.2f: displacement p=%d %dx%dx%d %d DOFs (error %.2e); "
+        "B-bar p=%d %dx%dx%d %d DOFs (error %.2e)\n",
+        nu, disp.p, 5 * disp.k, disp.k, disp.k, disp.dofs, disp.error, bbar.p, 5 * bbar.k, bbar.k,
+        bbar.k, bbar.dofs, bbar.error);
+    EXPECT_GT(bbar.dofs, 0);
+    EXPECT_GT(disp.dofs, 0);
+  }
+}
+
+// The price of the projection: entries of the (upper) stiffness and one solve's seconds, B-bar
+// against the displacement formulation on the same net. The entries per row grow with the
+// projection's reach, (6p - 3)^3 against (2p + 1)^3 nodes in the interior (x5.8 at p = 2, x9.8 at
+// p = 3), fewer near the boundary.
+TEST(BbarDofs, StiffnessEntriesAndCost) {
+  for (int p : {2, 3}) {
+    const Problem disp = cantilever(0.49, p, 2, Volumetric::kDisplacement);
+    const Problem bbar = cantilever(0.49, p, 2, Volumetric::kBbar);
+    const DofMap dofs(disp);
+    const Eigen::SparseMatrix<double> kd = assemble_stiffness(disp, dofs);
+    const Eigen::SparseMatrix<double> kb = assemble_stiffness(bbar, dofs);
+    const StaticResult rd = solve_static(disp), rb = solve_static(bbar);
+    const double ratio = static_cast<double>(kb.nonZeros()) / static_cast<double>(kd.nonZeros());
+    std::printf(
+        "p=%d 10x2x2, %d DOFs: entries %ld (displacement) %ld (B-bar) x%.1f; assembly %.3f / "
+        "%.3f s, factorisation %.3f / %.3f s\n",
+        p, dofs.num_dofs(), static_cast<long>(kd.nonZeros()), static_cast<long>(kb.nonZeros()),
+        ratio, rd.assembly_seconds, rb.assembly_seconds, rd.factorization_seconds,
+        rb.factorization_seconds);
+    EXPECT_GT(ratio, 1.0);
+    EXPECT_LT(ratio, std::pow((6.0 * p - 3.0) / (2.0 * p + 1.0), 3));
+  }
+}
+
+}  // namespace
+}  // namespace isospring::analysis
