@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 namespace isospring::analysis {
 
@@ -154,10 +155,24 @@ BlockCgResult block_cg(const SymmetricBlockMatrix& matrix, const Eigen::VectorXd
       }
     }
   }
+  // Fixed-size node blocks: a dynamic d x d product per node costs more than the block itself.
+  const auto apply_blocks = [&](auto size, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    constexpr int D = decltype(size)::value;
+    for (Eigen::Index J = 0; J < n / D; ++J)
+      z.template segment<D>(J * D).noalias() =
+          Eigen::Map<const Eigen::Matrix<double, D, D>>(inverse.data() + J * D * D) *
+          r.template segment<D>(J * D);
+  };
   const auto precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     z.resize(n);
-    for (Eigen::Index J = 0; J < n / d; ++J)
-      z.segment(J * d, d).noalias() = inverse.middleCols(J * d, d) * r.segment(J * d, d);
+    if (d == 3)
+      apply_blocks(std::integral_constant<int, 3>(), r, z);
+    else if (d == 2)
+      apply_blocks(std::integral_constant<int, 2>(), r, z);
+    else if (d == 1)
+      apply_blocks(std::integral_constant<int, 1>(), r, z);
+    else
+      throw std::invalid_argument("block_cg: block sizes 1, 2, 3 only");
   };
 
   BlockCgResult result;
