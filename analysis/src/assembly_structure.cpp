@@ -140,20 +140,26 @@ void AssemblyStructure::scatter(int element, const Eigen::MatrixXd& local,
       node_offset[static_cast<size_t>(element) + 1] - node_offset[static_cast<size_t>(element)];
   const int* outer = matrix.outerIndexPtr();
   double* values = matrix.valuePtr();
-  for (int b = 0; b < n; ++b) {
-    const int B = element_nodes[b];
-    const int* row_begin = pattern.data() + pattern_offset[static_cast<size_t>(B)];
-    const int* row_end = pattern.data() + pattern_offset[static_cast<size_t>(B) + 1];
-    for (int a = 0; a < n; ++a) {
-      const int A = element_nodes[a];
-      if (A > B) continue;  // the mirror entry (in the lower triangle)
-      const int k = static_cast<int>(std::lower_bound(row_begin, row_end, A) - row_begin);
+  // The element's nodes in ascending global order (with their local index): for each column
+  // node B the coupled nodes A <= B then come in the order of B's pattern row, found by one merge
+  // instead of a binary search per pair. A node may appear twice (a glued seam).
+  thread_local std::vector<std::pair<int, int>> sorted;
+  sorted.resize(static_cast<size_t>(n));
+  for (int a = 0; a < n; ++a) sorted[static_cast<size_t>(a)] = {element_nodes[a], a};
+  std::sort(sorted.begin(), sorted.end());
+  for (const auto& [B, b] : sorted) {
+    const int* row = pattern.data() + pattern_offset[static_cast<size_t>(B)];
+    int k = 0;
+    for (const auto& [A, a] : sorted) {
+      if (A > B) break;  // the mirror entries (in the lower triangle)
+      while (row[k] < A) ++k;
       for (int j = 0; j < d; ++j) {
         double* column = values + outer[B * d + j] + k * d;
-        for (int i = 0; i < d; ++i) {
-          if (A == B && i > j) continue;
-          column[i] += local(a * d + i, b * d + j);
-        }
+        const double* source = local.data() +
+                               (static_cast<Eigen::Index>(b) * d + j) * local.rows() +
+                               static_cast<Eigen::Index>(a) * d;
+        const int rows = A == B ? j + 1 : d;  // the diagonal block's upper triangle only
+        for (int i = 0; i < rows; ++i) column[i] += source[i];
       }
     }
   }

@@ -68,16 +68,28 @@ Eigen::SparseMatrix<double> assemble_matrix(
         element_matrix);
 
 /// The stiffness matrix of linear elasticity of one element (local DOF a * dim + i, symmetric,
-/// both triangles filled): the kernel of assemble_stiffness and of the PETSc backend.
+/// both triangles filled): the kernel of assemble_stiffness and of the PETSc backend. On affine
+/// patches (element_classes.hpp) each class of equal elements is integrated once, at
+/// construction, and its matrix copied for the others.
 class ElementStiffness {
  public:
-  ElementStiffness(const Problem& problem, const AssemblyStructure& structure);
+  /// reuse_equal_elements = false integrates every element (the reference of the tests).
+  ElementStiffness(const Problem& problem, const AssemblyStructure& structure,
+                   bool reuse_equal_elements = true);
   void operator()(int element, QuadraturePoint& point, Eigen::MatrixXd& local) const;
+  /// Elements whose matrix comes from the cache of their class (for tests and reports).
+  long long cached_elements() const { return cached_elements_; }
 
  private:
+  void integrate(int element, QuadraturePoint& point, Eigen::MatrixXd& local) const;
+
   const AssemblyStructure* structure_;
   int dim_;
   double lambda_, mu_, thickness_;
+  // Per patch: the class of each element (empty: none cached) and each class's matrix.
+  std::vector<std::vector<int>> element_class_;
+  std::vector<std::vector<Eigen::MatrixXd>> class_matrix_;
+  long long cached_elements_ = 0;
 };
 
 /// Physical dimension of the formulation, Jacobian determinant check and gradients: fills

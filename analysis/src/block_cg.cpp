@@ -6,7 +6,11 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
+#include <type_traits>
+#include <unordered_map>
 
 namespace isospring::analysis {
 
@@ -55,15 +59,67 @@ SymmetricBlockMatrix::SymmetricBlockMatrix(const Eigen::SparseMatrix<double>& up
     }
   }
   column_start_.back() = static_cast<Eigen::Index>(block_row_.size());
+  share_repeated_blocks();
+}
+
+namespace {
+
+// A block's values as a hash key, compared bit by bit (so -0.0 and 0.0 differ, and a NaN
+// equals itself): blocks that compare equal give the same products.
+struct BlockKey {
+  const double* values;
+  int size;
+  bool operator==(const BlockKey& other) const {
+    return std::memcmp(values, other.values, sizeof(double) * static_cast<size_t>(size)) == 0;
+  }
+};
+struct BlockKeyHash {
+  size_t operator()(const BlockKey& key) const {
+    uint64_t hash = 1469598103934665603ull;
+    for (int k = 0; k < key.size; ++k) {
+      uint64_t bits;
+      std::memcpy(&bits, key.values + k, sizeof bits);
+      hash = (hash ^ bits) * 1099511628211ull;
+      hash ^= hash >> 29;
+    }
+    return static_cast<size_t>(hash);
+  }
+};
+
+}  // namespace
+
+void SymmetricBlockMatrix::share_repeated_blocks() {
+  const int d2 = block_size_ * block_size_;
+  const size_t stored = block_row_.size();
+  // Small matrices are cheap to multiply either way; the table must stay far smaller than the
+  // values to pay for the indirection.
+  constexpr size_t kMinimumBlocks = 4096;
+  constexpr size_t kDistinctFraction = 8;
+  if (stored < kMinimumBlocks) return;
+  std::unordered_map<BlockKey, int, BlockKeyHash> index;
+  index.reserve(stored / kDistinctFraction + 1);
+  std::vector<int> block_value(stored);
+  for (size_t b = 0; b < stored; ++b) {
+    const auto found = index.try_emplace(BlockKey{values_.data() + b * static_cast<size_t>(d2), d2},
+                                         static_cast<int>(index.size()));
+    block_value[b] = found.first->second;
+    if (index.size() * kDistinctFraction > stored) return;  // too many distinct blocks
+  }
+  std::vector<double> table(index.size() * static_cast<size_t>(d2));
+  for (const auto& [key, id] : index)
+    std::copy(key.values, key.values + d2, table.begin() + static_cast<std::ptrdiff_t>(id) * d2);
+  values_.swap(table);
+  std::vector<double>().swap(table);
+  block_value_.swap(block_value);
 }
 
 Eigen::MatrixXd SymmetricBlockMatrix::diagonal_block(Eigen::Index block) const {
   const int d = block_size_;
-  return Eigen::Map<const Eigen::MatrixXd>(
-      values_.data() + column_start_[static_cast<size_t>(block)] * d * d, d, d);
+  return Eigen::Map<const Eigen::MatrixXd>(block_values(column_start_[static_cast<size_t>(block)]),
+                                           d, d);
 }
 
-template <int D>
+template <int D, bool Shared>
 void SymmetricBlockMatrix::multiply_fixed(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   using Block = Eigen::Matrix<double, D, D>;
   using Segment = Eigen::Matrix<double, D, 1>;
@@ -71,9 +127,8 @@ void SymmetricBlockMatrix::multiply_fixed(const Eigen::VectorXd& x, Eigen::Vecto
   // Small matrices on one thread: a parallel region costs microseconds (more when a thread waits
   // for a core on a loaded machine), more than a product of a few thousand blocks.
   constexpr Eigen::Index kParallelValues = 200000;
-  const int threads = static_cast<Eigen::Index>(values_.size()) < kParallelValues
-                          ? 1
-                          : std::max(1, omp_get_max_threads());
+  const int threads =
+      stored_blocks() * D * D < kParallelValues ? 1 : std::max(1, omp_get_max_threads());
   if (static_cast<int>(scratch_.size()) < threads) scratch_.resize(static_cast<size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {
@@ -94,9 +149,14 @@ void SymmetricBlockMatrix::multiply_fixed(const Eigen::VectorXd& x, Eigen::Vecto
       const Eigen::Index begin = column_start_[static_cast<size_t>(J)],
                          end = column_start_[static_cast<size_t>(J) + 1];
       // Diagonal block (stored first): one product.
-      Segment yj = Eigen::Map<const Block>(values_.data() + begin * D * D) * xj;
+      const auto values = [&](Eigen::Index b) {
+        return values_.data() +
+               (Shared ? static_cast<Eigen::Index>(block_value_[static_cast<size_t>(b)]) : b) * D *
+                   D;
+      };
+      Segment yj = Eigen::Map<const Block>(values(begin)) * xj;
       for (Eigen::Index b = begin + 1; b < end; ++b) {
-        const Eigen::Map<const Block> a(values_.data() + b * D * D);
+        const Eigen::Map<const Block> a(values(b));
         const Eigen::Index i = block_row_[static_cast<size_t>(b)];
         out.template segment<D>(i * D).noalias() += a * xj;
         yj.noalias() += a.transpose() * x.template segment<D>(i * D);
@@ -114,17 +174,25 @@ void SymmetricBlockMatrix::multiply_fixed(const Eigen::VectorXd& x, Eigen::Vecto
   }
 }
 
+template <int D>
+void SymmetricBlockMatrix::multiply_block_size(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  if (block_value_.empty())
+    multiply_fixed<D, false>(x, y);
+  else
+    multiply_fixed<D, true>(x, y);
+}
+
 void SymmetricBlockMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   y.resize(rows_);
   switch (block_size_) {
     case 1:
-      multiply_fixed<1>(x, y);
+      multiply_block_size<1>(x, y);
       break;
     case 2:
-      multiply_fixed<2>(x, y);
+      multiply_block_size<2>(x, y);
       break;
     case 3:
-      multiply_fixed<3>(x, y);
+      multiply_block_size<3>(x, y);
       break;
     default:
       throw std::invalid_argument("SymmetricBlockMatrix: block sizes 1, 2, 3 only");
@@ -154,10 +222,24 @@ BlockCgResult block_cg(const SymmetricBlockMatrix& matrix, const Eigen::VectorXd
       }
     }
   }
+  // Fixed-size node blocks: a dynamic d x d product per node costs more than the block itself.
+  const auto apply_blocks = [&](auto size, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    constexpr int D = decltype(size)::value;
+    for (Eigen::Index J = 0; J < n / D; ++J)
+      z.template segment<D>(J * D).noalias() =
+          Eigen::Map<const Eigen::Matrix<double, D, D>>(inverse.data() + J * D * D) *
+          r.template segment<D>(J * D);
+  };
   const auto precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     z.resize(n);
-    for (Eigen::Index J = 0; J < n / d; ++J)
-      z.segment(J * d, d).noalias() = inverse.middleCols(J * d, d) * r.segment(J * d, d);
+    if (d == 3)
+      apply_blocks(std::integral_constant<int, 3>(), r, z);
+    else if (d == 2)
+      apply_blocks(std::integral_constant<int, 2>(), r, z);
+    else if (d == 1)
+      apply_blocks(std::integral_constant<int, 1>(), r, z);
+    else
+      throw std::invalid_argument("block_cg: block sizes 1, 2, 3 only");
   };
 
   BlockCgResult result;

@@ -4,6 +4,7 @@
 
 #include "assembly_structure.hpp"
 #include "dense_products.hpp"
+#include "element_classes.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/elasticity.hpp"
 #include "volumetric_projection.hpp"
@@ -12,15 +13,50 @@ namespace isospring::analysis {
 
 namespace detail {
 
-ElementStiffness::ElementStiffness(const Problem& problem, const AssemblyStructure& structure)
+ElementStiffness::ElementStiffness(const Problem& problem, const AssemblyStructure& structure,
+                                   bool reuse_equal_elements)
     : structure_(&structure), dim_(structure.dofs_per_node) {
   const LameParameters lame = lame_parameters(problem.material, problem.formulation);
   lambda_ = kernel_lambda(problem, lame.lambda, lame.mu);  // B-bar: deviatoric part only
   mu_ = lame.mu;
   thickness_ = thickness_factor(problem);
+  // Cache the matrices of affine patches whose elements fall into few classes (at most one in
+  // eight elements distinct: otherwise the cache saves little and costs memory).
+  element_class_.resize(structure.quadratures.size());
+  class_matrix_.resize(structure.quadratures.size());
+  if (!reuse_equal_elements) return;
+  std::vector<int> patch_start(structure.quadratures.size() + 1, 0);
+  for (size_t p = 0; p < structure.quadratures.size(); ++p)
+    patch_start[p + 1] = patch_start[p] + structure.quadratures[p].num_elements();
+  for (size_t p = 0; p < structure.quadratures.size(); ++p) {
+    const int elements = structure.quadratures[p].num_elements();
+    if (elements < 16) continue;
+    ElementClasses classes = affine_element_classes(structure.quadratures[p]);
+    if (classes.of_element.empty() || classes.first.size() * 8 > static_cast<size_t>(elements))
+      continue;
+    // structure.elements lists the patches' elements in order, so patch p's element k is
+    // patch_start[p] + k there.
+    QuadraturePoint point;
+    class_matrix_[p].resize(classes.first.size());
+    for (size_t c = 0; c < classes.first.size(); ++c)
+      integrate(patch_start[p] + classes.first[c], point, class_matrix_[p][c]);
+    element_class_[p] = std::move(classes.of_element);
+    cached_elements_ += elements;
+  }
 }
 
 void ElementStiffness::operator()(int e, QuadraturePoint& point, Eigen::MatrixXd& local) const {
+  const auto& element = structure_->elements[static_cast<size_t>(e)];
+  const auto& classes = element_class_[static_cast<size_t>(element.patch)];
+  if (classes.empty()) {
+    integrate(e, point, local);
+    return;
+  }
+  local = class_matrix_[static_cast<size_t>(element.patch)]
+                       [static_cast<size_t>(classes[static_cast<size_t>(element.index)])];
+}
+
+void ElementStiffness::integrate(int e, QuadraturePoint& point, Eigen::MatrixXd& local) const {
   const int dim = dim_;
   const auto& element = structure_->elements[static_cast<size_t>(e)];
   const auto& quadrature = structure_->quadratures[static_cast<size_t>(element.patch)];

@@ -53,6 +53,8 @@ class PatchQuadrature {
   void element_control_points(int element, int* out) const;
   void evaluate(int element, int point, QuadraturePoint& out) const;
   const nurbs::Patch& patch() const { return *patch_; }
+  /// The cached rule of direction d (d < the patch's parametric dimension).
+  const DirectionRule& rule(int d) const { return rules_[static_cast<size_t>(d)]; }
 
  private:
   const nurbs::Patch* patch_;

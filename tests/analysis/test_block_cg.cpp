@@ -102,6 +102,59 @@ TEST(BlockCg, ProductMatchesEigenOnEveryThreadCount) {
   }
 }
 
+// A matrix of few distinct blocks (a banded node pattern repeating three 3 x 3 blocks, as a
+// structured mesh's stiffness does) keeps one table of them; its products on every thread
+// count equal Eigen's symmetric product, the fixed DOFs masked, and its diagonal blocks are the
+// stored ones. A random matrix keeps every block.
+TEST(BlockCg, RepeatedBlocksShareOneTable) {
+  const int nodes = 20000, d = 3;
+  const Eigen::Matrix3d diagonal =
+      (Eigen::Matrix3d() << 9, 1, 0.5, 1, 8, 0.25, 0.5, 0.25, 7).finished();
+  const Eigen::Matrix3d near = Eigen::Matrix3d::Constant(-0.75) + Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d far =
+      (Eigen::Matrix3d() << 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9).finished();
+  std::vector<Eigen::Triplet<double>> entries;
+  const auto add = [&](int I, int J, const Eigen::Matrix3d& block) {  // I <= J
+    for (int j = 0; j < d; ++j)
+      for (int i = 0; i < d; ++i)
+        if (I < J || i <= j) entries.emplace_back(I * d + i, J * d + j, block(i, j));
+  };
+  for (int J = 0; J < nodes; ++J) {
+    add(J, J, diagonal);
+    if (J >= 1) add(J - 1, J, near);
+    if (J >= 7) add(J - 7, J, far);
+  }
+  Eigen::SparseMatrix<double> upper(nodes * d, nodes * d);
+  upper.setFromTriplets(entries.begin(), entries.end());
+  std::vector<bool> fixed(static_cast<size_t>(upper.rows()), false);
+  for (size_t k = 0; k < fixed.size(); k += 50) fixed[k] = true;
+  const SymmetricBlockMatrix matrix(upper, d, fixed);
+  EXPECT_EQ(matrix.stored_blocks(), 3 * nodes - 1 - 7);
+  EXPECT_LT(matrix.distinct_blocks() * 8, matrix.stored_blocks());
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(upper.rows(), -1.0, 2.0);
+  Eigen::VectorXd masked = x;
+  for (size_t k = 0; k < fixed.size(); ++k)
+    if (fixed[k]) masked[static_cast<Eigen::Index>(k)] = 0;
+  Eigen::VectorXd expected = upper.selfadjointView<Eigen::Upper>() * masked;
+  for (size_t k = 0; k < fixed.size(); ++k)
+    if (fixed[k]) expected[static_cast<Eigen::Index>(k)] = x[static_cast<Eigen::Index>(k)];
+  for (int threads : {1, 2, 3}) {
+    const ThreadScope scope(threads);
+    Eigen::VectorXd y;
+    matrix.multiply(x, y);
+    EXPECT_LT((y - expected).norm(), 1e-13 * expected.norm()) << threads;
+  }
+  EXPECT_EQ(matrix.diagonal_block(5), diagonal);
+  Eigen::Matrix3d with_fixed = diagonal;  // node 50 / 3 = 16 holds the fixed DOF 50 (its 2nd)
+  with_fixed.row(2).setZero();
+  with_fixed.col(2).setZero();
+  with_fixed(2, 2) = 1.0;
+  EXPECT_EQ(matrix.diagonal_block(16), with_fixed);
+
+  const SymmetricBlockMatrix random(random_sparse_upper(4000, 3, 7, 3u), 3);
+  EXPECT_EQ(random.distinct_blocks(), random.stored_blocks());
+}
+
 // Small matrices take the one-thread path.
 TEST(BlockCg, SmallProductMatchesDense) {
   const Eigen::MatrixXd dense = random_spd(40, 3, 5u);

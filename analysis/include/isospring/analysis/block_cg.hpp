@@ -31,6 +31,14 @@ class SymmetricBlockMatrix {
   int block_size() const { return block_size_; }
   /// Stored blocks (upper triangle, diagonal included).
   Eigen::Index stored_blocks() const { return static_cast<Eigen::Index>(block_row_.size()); }
+  /// Blocks with different values (bitwise). When at most one stored block in eight is distinct
+  /// (structured meshes: the 32^3 p = 2 cube has 9,557 for 2.5 M), each stored block keeps an
+  /// index into a table of the distinct ones: the product then reads 8 instead of 76 bytes per
+  /// block and is no longer bound by memory bandwidth. The values, and so every product, are
+  /// exactly those of the plain storage.
+  Eigen::Index distinct_blocks() const {
+    return static_cast<Eigen::Index>(values_.size()) / (block_size_ * block_size_);
+  }
 
   /// y = A x with all OpenMP threads. Not reentrant (uses per-thread scratch vectors).
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
@@ -39,8 +47,15 @@ class SymmetricBlockMatrix {
   Eigen::MatrixXd diagonal_block(Eigen::Index block) const;
 
  private:
-  template <int D>
+  template <int D, bool Shared>
   void multiply_fixed(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  template <int D>
+  void multiply_block_size(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  void share_repeated_blocks();
+  const double* block_values(Eigen::Index block) const {
+    const Eigen::Index at = block_value_.empty() ? block : block_value_[static_cast<size_t>(block)];
+    return values_.data() + at * block_size_ * block_size_;
+  }
 
   Eigen::Index rows_ = 0;
   int block_size_ = 3;
@@ -48,7 +63,8 @@ class SymmetricBlockMatrix {
   // holds its block row and d * d values (column-major). Diagonal blocks are stored full.
   std::vector<Eigen::Index> column_start_;
   std::vector<int> block_row_;
-  std::vector<double> values_;
+  std::vector<double> values_;    // per stored block, or the table of distinct blocks
+  std::vector<int> block_value_;  // empty, or each stored block's index into the table
   mutable std::vector<Eigen::VectorXd> scratch_;
 };
 
