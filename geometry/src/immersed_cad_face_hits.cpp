@@ -57,6 +57,44 @@ FaceLineIntersector::FaceLineIntersector(const TopoDS_Face& face, double toleran
   nu_ = nv_ = kBins;
   bins_.assign(static_cast<size_t>(nu_) * static_cast<size_t>(nv_), Bin::kUnknown);
   mark_trimming_curves();
+  if (analytic_) label_regions();
+  std::vector<Bin>().swap(bins_);
+}
+
+// Connected regions of free bins (4-neighbours), by flood fill. No trimming curve meets a region,
+// so the face's classifier answers the same everywhere in it. Past 65,535 regions the rest count
+// as boundary bins (their lines take the full path: slower, never wrong).
+void FaceLineIntersector::label_regions() {
+  const size_t count = bins_.size();
+  region_.assign(count, 0);
+  region_state_.assign(1, Bin::kBoundary);
+  std::vector<size_t> stack;
+  for (size_t start = 0; start < count; ++start) {
+    if (bins_[start] == Bin::kBoundary || region_[start] != 0) continue;
+    if (region_state_.size() > 65535) break;
+    const auto label = static_cast<std::uint16_t>(region_state_.size());
+    region_state_.push_back(Bin::kUnknown);
+    region_[start] = label;
+    stack.assign(1, start);
+    while (!stack.empty()) {
+      const size_t bin = stack.back();
+      stack.pop_back();
+      const int i = static_cast<int>(bin % static_cast<size_t>(nu_));
+      const int j = static_cast<int>(bin / static_cast<size_t>(nu_));
+      const auto visit = [&](int ni, int nj) {
+        if (ni < 0 || ni >= nu_ || nj < 0 || nj >= nv_) return;
+        const size_t next =
+            static_cast<size_t>(nj) * static_cast<size_t>(nu_) + static_cast<size_t>(ni);
+        if (bins_[next] == Bin::kBoundary || region_[next] != 0) return;
+        region_[next] = label;
+        stack.push_back(next);
+      };
+      visit(i - 1, j);
+      visit(i + 1, j);
+      visit(i, j - 1);
+      visit(i, j + 1);
+    }
+  }
 }
 
 // Every bin that a trimming curve's piece box (enlarged by twice the UV tolerance and a hair of
@@ -108,13 +146,16 @@ FaceLineIntersector::Bin FaceLineIntersector::bin_state(double u, double v) {
   const double su = (u - u0_) / (u1_ - u0_) * nu_, sv = (v - v0_) / (v1_ - v0_) * nv_;
   if (!(su >= 0.0 && su < nu_ && sv >= 0.0 && sv < nv_)) return Bin::kBoundary;
   const int i = static_cast<int>(su), j = static_cast<int>(sv);
-  Bin& bin = bins_[static_cast<size_t>(j) * static_cast<size_t>(nu_) + static_cast<size_t>(i)];
-  if (bin == Bin::kUnknown) {
+  const std::uint16_t label =
+      region_[static_cast<size_t>(j) * static_cast<size_t>(nu_) + static_cast<size_t>(i)];
+  Bin& state = region_state_[label];
+  if (state == Bin::kUnknown) {
+    // The centre of the bin the hit is in: it lies in the region, away from every curve.
     const gp_Pnt2d centre(u0_ + (i + 0.5) * (u1_ - u0_) / nu_, v0_ + (j + 0.5) * (v1_ - v0_) / nv_);
-    const TopAbs_State state = classifier_->Perform(centre);
-    bin = state == TopAbs_IN ? Bin::kIn : state == TopAbs_OUT ? Bin::kOut : Bin::kBoundary;
+    const TopAbs_State found = classifier_->Perform(centre);
+    state = found == TopAbs_IN ? Bin::kIn : found == TopAbs_OUT ? Bin::kOut : Bin::kBoundary;
   }
-  return bin;
+  return state;
 }
 
 void FaceLineIntersector::perform_full(const gp_Lin& line, double w0, double w1,

@@ -11,13 +11,17 @@
 // UV tolerance) lies wholly inside or wholly outside the face, so its state is that of its centre,
 // classified once by the same classifier. A line whose hits all fall in such bins is answered
 // from the surface intersection alone; any other line (a hit near a trimming curve, a hit outside
-// the UV box, a face that is not analytic) goes to IntCurvesFace_Intersector itself.
+// the UV box, a face that is not analytic) goes to IntCurvesFace_Intersector itself. Bins that
+// touch (share a side) and are both free of trimming curves have the same state, so the free bins
+// are grouped into connected regions and one centre per region is classified, the first time a
+// hit lands in it.
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <IntCurvesFace_Intersector.hxx>
 #include <TopoDS_Face.hxx>
 #include <gp_Lin.hxx>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -44,6 +48,7 @@ class FaceLineIntersector {
  private:
   enum class Bin : unsigned char { kUnknown, kIn, kOut, kBoundary };
   void mark_trimming_curves();
+  void label_regions();
   Bin bin_state(double u, double v);
   void perform_full(const gp_Lin& line, double w0, double w1, std::vector<FaceHit>& hits);
 
@@ -54,7 +59,9 @@ class FaceLineIntersector {
   std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // for bin centres
   double u0_ = 0.0, u1_ = 0.0, v0_ = 0.0, v1_ = 0.0;
   int nu_ = 0, nv_ = 0;
-  std::vector<Bin> bins_;
+  std::vector<Bin> bins_;              // kBoundary or kUnknown (free) per bin, while labelling
+  std::vector<std::uint16_t> region_;  // per bin: 0 on a trimming curve, else its free region
+  std::vector<Bin> region_state_;      // per region (index 0 unused)
   long fast_ = 0, full_ = 0;
 };
 
