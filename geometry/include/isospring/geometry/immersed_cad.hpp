@@ -12,19 +12,19 @@
 // (IntCurvesFace_Intersector, whose transitions say where a line enters and leaves the part; on
 // planes, cylinders, cones, spheres and tori its answer is reproduced from the closed-form
 // surface intersection and a per-face grid of UV bins that no trimming curve meets, which
-// replaces its point-in-face test wherever that test cannot change), dimension by dimension: the outer interval of a cell is split where the cell's edges along it
-// cross the boundary, each outer Gauss abscissa's middle interval where the lines through the
-// cell's two faces normal to the line direction cross it, and along every Gauss line the inside
-// intervals are exact. So the rule is Gauss-exact along each line and, between those break
-// points, integrates functions that are smooth wherever the boundary is smooth inside the cell:
-// it converges exponentially there. The line direction of a cell is the axis closest to the
-// boundary normal nearest to its centre, so the boundary is a graph over the cell's cross
-// section. What the break points do not catch (a sharp edge of the part crossing a cell
-// obliquely, a tangent of a section curve along the outer direction) is found by comparing the
-// cell's volume with two Gauss orders: the cell is then split into eight and each child treated
-// the same way, up to `max_depth` levels. A Gauss rule over a singular point has the same
-// relative error at any size, so the test is absolute (a fraction of the background cell's
-// volume): each bisection divides such a piece's error by eight.
+// replaces its point-in-face test wherever that test cannot change), dimension by dimension:
+// the outer interval of a cell is split where the cell's edges along it cross the boundary, each
+// outer Gauss abscissa's middle interval where the lines through the cell's two faces normal to the
+// line direction cross it, and along every Gauss line the inside intervals are exact. So the rule
+// is Gauss-exact along each line and, between those break points, integrates functions that are
+// smooth wherever the boundary is smooth inside the cell: it converges exponentially there. The
+// line direction of a cell is the axis closest to the boundary normal nearest to its centre, so the
+// boundary is a graph over the cell's cross section. What the break points do not catch (a sharp
+// edge of the part crossing a cell obliquely, a tangent of a section curve along the outer
+// direction) is found by comparing the cell's volume with two Gauss orders: the cell is then split
+// into eight and each child treated the same way, up to `max_depth` levels. A Gauss rule over a
+// singular point has the same relative error at any size, so the test is absolute (a fraction of
+// the background cell's volume): each bisection divides such a piece's error by eight.
 //
 // Why not the alternatives: an octree with plain Gauss leaves converges only like the leaf size
 // squared at the boundary (1e-6 would need millions of leaves); moment fitting needs the cut
