@@ -1,9 +1,13 @@
 // Immersed domain of a CAD solid: grid, classification, cell and boundary quadrature
 // (immersed_cad.hpp).
+#include <omp.h>
 #include <Standard_Failure.hxx>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <memory>
 #include <sstream>
 
 #include "cad_solid_shape.hpp"
@@ -57,6 +61,9 @@ void check_options(const ImmersionOptions& o, const std::string& name) {
     throw InputError(where + "max_depth = " + std::to_string(o.max_depth) + ": give 0..8");
   if (!(o.tolerance > 0.0 && o.tolerance < 1.0))
     throw InputError(where + "tolerance must be in (0, 1)");
+  if (o.threads < 0 || o.threads > 256)
+    throw InputError(where + "threads = " + std::to_string(o.threads) +
+                     ": give 1..256, or 0 for one per core");
 }
 
 Grid make_grid(const detail::SolidProbe& probe, const ImmersionOptions& o,
@@ -158,22 +165,88 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The cells: inside cells get the tensor Gauss rule, cut cells the line rule
-// (immersed_cad_cells.hpp); a cut candidate whose lines meet no boundary is inside or outside.
-void add_cells(detail::SolidProbe& probe, const Grid& grid, const std::vector<State>& states,
-               const ImmersionOptions& o, ImmersedDomain& domain, ImmersionStats& stats) {
-  std::vector<std::vector<const BoundaryPoint*>> near(states.size());
+// The boundary points of each cell (their normals choose a cut cell's line direction).
+std::vector<std::vector<const BoundaryPoint*>> points_by_cell(const Grid& grid,
+                                                              const ImmersedDomain& domain) {
+  std::vector<std::vector<const BoundaryPoint*>> near(
+      static_cast<size_t>(grid.cells.cast<long>().prod()));
   const Eigen::Vector3d h = grid.h();
   for (const BoundaryPoint& b : domain.boundary) {
     Eigen::Vector3i i = ((b.point - grid.origin).cwiseQuotient(h)).array().floor().cast<int>();
     i = i.cwiseMax(0).cwiseMin(grid.cells - Eigen::Vector3i::Ones());
     near[static_cast<size_t>(grid.index(i))].push_back(&b);
   }
+  return near;
+}
+
+// The rules of the cut candidates, on `threads` threads (OpenMP), each with its own probe (its
+// own OpenCascade intersectors and classifier: they are not shared between threads). Cells are
+// handed out one by one, as their cost varies by orders of magnitude; each rule depends on its
+// cell only, so the result does not depend on the threads.
+std::vector<detail::CutCellRule> cut_cell_rules(
+    detail::SolidProbe& probe, const Grid& grid, const std::vector<Eigen::Vector3i>& cut,
+    const std::vector<std::vector<const BoundaryPoint*>>& near,
+    const detail::CutCellSettings& settings, int threads, ImmersionStats& stats,
+    detail::CutCellStats& totals) {
+  threads = std::max(1, std::min<int>(threads, static_cast<int>(cut.size())));
+  std::vector<std::unique_ptr<detail::SolidProbe>> copies;
+  for (int t = 1; t < threads; ++t) copies.push_back(std::make_unique<detail::SolidProbe>(probe));
+  std::vector<detail::CutCellStats> per_thread(static_cast<size_t>(threads));
+  std::vector<detail::CutCellRule> rules(cut.size());
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
+  const Eigen::Vector3d h = grid.h();
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (long c = 0; c < static_cast<long>(cut.size()); ++c) {
+    const int t = omp_get_thread_num();
+    if (errors[static_cast<size_t>(t)]) continue;
+    detail::SolidProbe& mine = t == 0 ? probe : *copies[static_cast<size_t>(t - 1)];
+    const Eigen::Vector3i& index = cut[static_cast<size_t>(c)];
+    try {
+      const Eigen::Vector3d lo = grid.corner(index), hi = lo + h;
+      rules[static_cast<size_t>(c)] =
+          detail::cut_cell_rule(mine, lo, hi, near[static_cast<size_t>(grid.index(index))],
+                                settings, h.prod(), per_thread[static_cast<size_t>(t)]);
+    } catch (...) {
+      errors[static_cast<size_t>(t)] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
+  for (const detail::CutCellStats& s : per_thread) {
+    totals.boxes += s.boxes;
+    totals.unresolved += s.unresolved;
+    totals.unresolved_error += s.unresolved_error;
+  }
+  for (const auto& copy : copies) {
+    stats.lines += copy->lines();
+    stats.classified_lines += copy->classified_lines();
+    stats.binned_face_lines += copy->fast_face_lines();
+    stats.face_lines += copy->fast_face_lines() + copy->full_face_lines();
+  }
+  return rules;
+}
+
+// The cells: inside cells get the tensor Gauss rule, cut cells the line rule
+// (immersed_cad_cells.hpp); a cut candidate whose lines meet no boundary is inside or outside.
+void add_cells(detail::SolidProbe& probe, const Grid& grid, const std::vector<State>& states,
+               const ImmersionOptions& o, ImmersedDomain& domain, ImmersionStats& stats) {
+  const std::vector<std::vector<const BoundaryPoint*>> near = points_by_cell(grid, domain);
   detail::CutCellSettings settings;
   settings.order = o.gauss > 0 ? o.gauss : o.degree + 2;
   settings.tolerance = o.tolerance;
   settings.max_depth = o.max_depth;
-  detail::CutCellStats cut;
+  std::vector<Eigen::Vector3i> cut;
+  for (int z = 0; z < grid.cells.z(); ++z)
+    for (int y = 0; y < grid.cells.y(); ++y)
+      for (int x = 0; x < grid.cells.x(); ++x)
+        if (states[static_cast<size_t>(grid.index({x, y, z}))] == State::kCut)
+          cut.emplace_back(x, y, z);
+  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+  stats.threads = threads;
+  detail::CutCellStats totals;
+  const std::vector<detail::CutCellRule> rules =
+      cut_cell_rules(probe, grid, cut, near, settings, threads, stats, totals);
+  size_t next_cut = 0;
   for (int z = 0; z < grid.cells.z(); ++z)
     for (int y = 0; y < grid.cells.y(); ++y)
       for (int x = 0; x < grid.cells.x(); ++x) {
@@ -182,9 +255,7 @@ void add_cells(detail::SolidProbe& probe, const Grid& grid, const std::vector<St
         if (state == State::kOutside) continue;
         ImmersedCell cell;
         if (state == State::kCut) {
-          const Eigen::Vector3d lo = grid.corner(index), hi = lo + h;
-          const detail::CutCellRule rule = detail::cut_cell_rule(
-              probe, lo, hi, near[static_cast<size_t>(grid.index(index))], settings, h.prod(), cut);
+          const detail::CutCellRule& rule = rules[next_cut++];
           if (rule.points.empty()) continue;
           cell.kind = CellKind::kCut;
           cell.points = rule.points;
@@ -197,18 +268,18 @@ void add_cells(detail::SolidProbe& probe, const Grid& grid, const std::vector<St
         (cell.kind == CellKind::kCut ? stats.cut_cells : stats.inside_cells) += 1;
         domain.cells.push_back(std::move(cell));
       }
-  stats.cut_boxes = cut.boxes;
+  stats.cut_boxes = totals.boxes;
   // Pieces left at max_depth are worth a warning only when together they could move the
   // part's volume by more than 1e-6.
   double volume = 0.0;
   for (const ImmersedCell& cell : domain.cells)
     for (double w : cell.weights) volume += w;
-  if (cut.unresolved_error > 1e-6 * volume) {
+  if (totals.unresolved_error > 1e-6 * volume) {
     std::ostringstream out;
     out.precision(3);
-    out << cut.unresolved << " pieces of cut cells did not reach the quadrature tolerance after "
+    out << totals.unresolved << " pieces of cut cells did not reach the quadrature tolerance after "
         << o.max_depth << " bisections; their volumes may be off by "
-        << cut.unresolved_error / volume
+        << totals.unresolved_error / volume
         << " of the part's in all: a finer grid or a larger max_depth resolves them";
     domain.warnings.push_back(out.str());
   }
@@ -240,8 +311,10 @@ ImmersedDomain immerse(const CadSolid& solid, const ImmersionOptions& o, Immersi
   start = std::chrono::steady_clock::now();
   add_cells(probe, grid, states, o, domain, stats);
   stats.cut_cell_seconds = seconds_since(start);
-  stats.lines = probe.lines();
-  stats.classified_lines = probe.classified_lines();
+  stats.lines += probe.lines();
+  stats.classified_lines += probe.classified_lines();
+  stats.binned_face_lines += probe.fast_face_lines();
+  stats.face_lines += probe.fast_face_lines() + probe.full_face_lines();
   return domain;
 }
 

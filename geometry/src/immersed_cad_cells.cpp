@@ -45,25 +45,37 @@ int line_axis(const std::vector<const BoundaryPoint*>& boundary) {
   return axis;
 }
 
-// Dimension by dimension: outer axis a, middle axis b, lines along d (see immersed_cad.hpp).
-CutCellRule line_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                      int d, int order) {
+// Lines on the box's faces are moved inside by a hair, so that a face of the part lying in the
+// box's face plane is met on one side, not along the line.
+Eigen::Vector3d hair(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  return 1e-9 * (hi - lo);
+}
+
+// The outer interval [lo[a], hi[a]] cut where the box's four edges along a (a = d + 1) cross the
+// boundary: the same for every Gauss order, so found once per box.
+std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
+                                 const Eigen::Vector3d& hi, int d) {
   const int a = (d + 1) % 3, b = (d + 2) % 3;
-  // Lines on the box's faces are moved inside by a hair, so that a face of the part lying in
-  // the box's face plane is met on one side, not along the line.
-  const Eigen::Vector3d hair = 1e-9 * (hi - lo);
-  const std::array<double, 2> d_ends{lo[d] + hair[d], hi[d] - hair[d]};
-  CutCellRule rule;
-  std::vector<double> outer_breaks;
-  for (double sb : {lo[b] + hair[b], hi[b] - hair[b]})
-    for (double sd : d_ends) {
+  const Eigen::Vector3d e = hair(lo, hi);
+  std::vector<double> breaks;
+  for (double sb : {lo[b] + e[b], hi[b] - e[b]})
+    for (double sd : {lo[d] + e[d], hi[d] - e[d]}) {
       Eigen::Vector3d p = lo;
       p[b] = sb;
       p[d] = sd;
-      for (double t : probe.crossings(p, a, lo[a], hi[a])) outer_breaks.push_back(t);
+      for (double t : probe.crossings(p, a, lo[a], hi[a])) breaks.push_back(t);
     }
+  return pieces(lo[a], hi[a], breaks);
+}
+
+// Dimension by dimension: outer axis a, middle axis b, lines along d (see immersed_cad.hpp).
+CutCellRule line_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                      int d, const std::vector<double>& outer, int order) {
+  const int a = (d + 1) % 3, b = (d + 2) % 3;
+  const Eigen::Vector3d e = hair(lo, hi);
+  const std::array<double, 2> d_ends{lo[d] + e[d], hi[d] - e[d]};
+  CutCellRule rule;
   const nurbs::GaussRule& g = gauss(order);
-  const std::vector<double> outer = pieces(lo[a], hi[a], outer_breaks);
   rule.crossed = outer.size() > 2;
   int full = 0, empty = 0;  // lines wholly inside / outside the part
   for (size_t i = 0; i + 1 < outer.size(); ++i)
@@ -120,8 +132,9 @@ CutCellRule cut_cell_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Ei
                           int depth) {
   ++stats.boxes;
   const int d = line_axis(boundary);
-  CutCellRule low = line_rule(probe, lo, hi, d, settings.order);
-  CutCellRule high = line_rule(probe, lo, hi, d, settings.order + 2);
+  const std::vector<double> outer = outer_pieces(probe, lo, hi, d);
+  CutCellRule low = line_rule(probe, lo, hi, d, outer, settings.order);
+  CutCellRule high = line_rule(probe, lo, hi, d, outer, settings.order + 2);
   const double error = std::abs(sum(low.weights) - sum(high.weights));
   if (error <= settings.tolerance * cell_volume) return low;
   if (depth >= settings.max_depth) {

@@ -46,9 +46,38 @@ SolidProbe::SolidProbe(const CadSolid::Shape& shape) : shape_(shape), classifier
     BRepBndLib::AddOptimal(face, face_box, false, false);
     face_min_.push_back(corner(face_box, false) - Eigen::Vector3d::Constant(merge_));
     face_max_.push_back(corner(face_box, true) + Eigen::Vector3d::Constant(merge_));
-    // Hits within the face's edge tolerance of its boundary count as on the face (UseBToler).
-    intersectors_.push_back(std::make_unique<IntCurvesFace_Intersector>(face, 1e-9, true, true));
   }
+  make_intersectors();
+}
+
+SolidProbe::SolidProbe(const SolidProbe& other)
+    : shape_(other.shape_),
+      face_min_(other.face_min_),
+      face_max_(other.face_max_),
+      box_min_(other.box_min_),
+      box_max_(other.box_max_),
+      merge_(other.merge_),
+      classifier_(other.shape_.solid) {
+  make_intersectors();
+}
+
+// Hits within the face's edge tolerance of its boundary count as on the face (IntCurvesFace's
+// UseBToler).
+void SolidProbe::make_intersectors() {
+  for (const TopoDS_Face& face : shape_.faces)
+    intersectors_.push_back(std::make_unique<FaceLineIntersector>(face, 1e-9));
+}
+
+long SolidProbe::fast_face_lines() const {
+  long n = 0;
+  for (const auto& intersector : intersectors_) n += intersector->fast_lines();
+  return n;
+}
+
+long SolidProbe::full_face_lines() const {
+  long n = 0;
+  for (const auto& intersector : intersectors_) n += intersector->full_lines();
+  return n;
 }
 
 // OpenCascade's optimal box is Precision::Confusion() (1e-7 m) too large on a side it finds by
@@ -90,29 +119,22 @@ std::vector<SolidProbe::Event> SolidProbe::events(const Eigen::Vector3d& point, 
   const gp_Lin line(to_gp(origin), gp_Dir(direction.x(), direction.y(), direction.z()));
   const double w0 = box_min_[axis] - 1e-3 * size(), w1 = box_max_[axis] + 1e-3 * size();
   const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-  std::vector<Event> hits;
+  hits_.clear();
   for (size_t f = 0; f < intersectors_.size(); ++f) {
     if (point[a] < face_min_[f][a] || point[a] > face_max_[f][a] || point[b] < face_min_[f][b] ||
         point[b] > face_max_[f][b])
       continue;
-    IntCurvesFace_Intersector& intersector = *intersectors_[f];
-    intersector.Perform(line, w0, w1);
-    if (!intersector.IsDone()) continue;
-    for (int i = 1; i <= intersector.NbPnt(); ++i) {
-      const IntCurveSurface_TransitionOnCurve transition = intersector.Transition(i);
-      hits.push_back({intersector.WParameter(i), transition == IntCurveSurface_In    ? 1
-                                                 : transition == IntCurveSurface_Out ? -1
-                                                                                     : 0});
-    }
+    intersectors_[f]->perform(line, w0, w1, hits_);
   }
-  std::sort(hits.begin(), hits.end(), [](const Event& x, const Event& y) { return x.t < y.t; });
+  std::sort(hits_.begin(), hits_.end(),
+            [](const FaceHit& x, const FaceHit& y) { return x.w < y.w; });
   // One crossing through an edge or vertex is reported by every face that meets there.
   std::vector<Event> merged;
-  for (const Event& hit : hits) {
-    if (!merged.empty() && hit.t - merged.back().t <= merge_) {
+  for (const FaceHit& hit : hits_) {
+    if (!merged.empty() && hit.w - merged.back().t <= merge_) {
       merged.back().net += hit.net;
     } else {
-      merged.push_back(hit);
+      merged.push_back({hit.w, hit.net});
     }
   }
   return merged;

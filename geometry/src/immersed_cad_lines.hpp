@@ -1,9 +1,10 @@
 #pragma once
 // Axis-parallel lines against the exact B-rep of a solid: where they cross its boundary and where
 // they are inside (OpenCascade's IntCurvesFace_Intersector per face, faces culled by their
-// bounding boxes), and OpenCascade's classifier and face distances for points and boxes.
+// bounding boxes, hits on analytic faces classified by bins: immersed_cad_face_hits.hpp), and
+// OpenCascade's classifier and face distances for points and boxes. A probe is used by one thread
+// at a time; a copy made by SolidProbe(const SolidProbe&) shares nothing mutable with its source.
 #include <BRepClass3d_SolidClassifier.hxx>
-#include <IntCurvesFace_Intersector.hxx>
 
 #include <Eigen/Core>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "cad_solid_shape.hpp"
+#include "immersed_cad_face_hits.hpp"
 
 namespace isospring::geometry::detail {
 
@@ -21,6 +23,10 @@ struct Interval {
 class SolidProbe {
  public:
   explicit SolidProbe(const CadSolid::Shape& shape);
+  /// A probe for another thread: the same boxes, its own intersectors and classifier, counters
+  /// at zero.
+  SolidProbe(const SolidProbe& other);
+  SolidProbe& operator=(const SolidProbe&) = delete;
 
   /// Where the line through `point` along `axis` is inside the solid, as intervals of the axis
   /// coordinate clipped to [lo, hi]. The whole line is intersected, so whether it starts inside
@@ -44,6 +50,9 @@ class SolidProbe {
   long lines() const { return lines_; }                  // lines intersected so far
   long classified_lines() const { return classified_; }  // of which needed the classifier
   long distance_queries() const { return distances_; }
+  /// Line-face intersections answered by the bins / by IntCurvesFace's own classification.
+  long fast_face_lines() const;
+  long full_face_lines() const;
 
  private:
   struct Event {
@@ -52,16 +61,18 @@ class SolidProbe {
   };
   std::vector<Event> events(const Eigen::Vector3d& point, int axis);
   void tighten_box();
+  void make_intersectors();
   std::vector<Interval> classify_pieces(const Eigen::Vector3d& point, int axis,
                                         const std::vector<Event>& events);
 
   const CadSolid::Shape& shape_;
-  std::vector<std::unique_ptr<IntCurvesFace_Intersector>> intersectors_;
+  std::vector<std::unique_ptr<FaceLineIntersector>> intersectors_;
   std::vector<Eigen::Vector3d> face_min_, face_max_;  // bounding boxes, enlarged by tolerance
   Eigen::Vector3d box_min_, box_max_;                 // of the solid (exact, optimal)
   double merge_ = 0.0;  // crossings closer than this along a line are one
   BRepClass3d_SolidClassifier classifier_;
   long lines_ = 0, classified_ = 0, distances_ = 0;
+  std::vector<FaceHit> hits_;  // of the current line (kept to reuse its memory)
 };
 
 }  // namespace isospring::geometry::detail

@@ -9,20 +9,22 @@
 // remain, which are cut. No Boolean operation touches the part.
 //
 // Cut cells are integrated by lines intersected exactly with the B-rep faces
-// (IntCurvesFace_Intersector, whose transitions say where a line enters and leaves the part),
-// dimension by dimension: the outer interval of a cell is split where the cell's edges along it
-// cross the boundary, each outer Gauss abscissa's middle interval where the lines through the
-// cell's two faces normal to the line direction cross it, and along every Gauss line the inside
-// intervals are exact. So the rule is Gauss-exact along each line and, between those break
-// points, integrates functions that are smooth wherever the boundary is smooth inside the cell:
-// it converges exponentially there. The line direction of a cell is the axis closest to the
-// boundary normal nearest to its centre, so the boundary is a graph over the cell's cross
-// section. What the break points do not catch (a sharp edge of the part crossing a cell
-// obliquely, a tangent of a section curve along the outer direction) is found by comparing the
-// cell's volume with two Gauss orders: the cell is then split into eight and each child treated
-// the same way, up to `max_depth` levels. A Gauss rule over a singular point has the same
-// relative error at any size, so the test is absolute (a fraction of the background cell's
-// volume): each bisection divides such a piece's error by eight.
+// (IntCurvesFace_Intersector, whose transitions say where a line enters and leaves the part; on
+// planes, cylinders, cones, spheres and tori its answer is reproduced from the closed-form
+// surface intersection and a per-face grid of UV bins that no trimming curve meets, which
+// replaces its point-in-face test wherever that test cannot change), dimension by dimension:
+// the outer interval of a cell is split where the cell's edges along it cross the boundary, each
+// outer Gauss abscissa's middle interval where the lines through the cell's two faces normal to the
+// line direction cross it, and along every Gauss line the inside intervals are exact. So the rule
+// is Gauss-exact along each line and, between those break points, integrates functions that are
+// smooth wherever the boundary is smooth inside the cell: it converges exponentially there. The
+// line direction of a cell is the axis closest to the boundary normal nearest to its centre, so the
+// boundary is a graph over the cell's cross section. What the break points do not catch (a sharp
+// edge of the part crossing a cell obliquely, a tangent of a section curve along the outer
+// direction) is found by comparing the cell's volume with two Gauss orders: the cell is then split
+// into eight and each child treated the same way, up to `max_depth` levels. A Gauss rule over a
+// singular point has the same relative error at any size, so the test is absolute (a fraction of
+// the background cell's volume): each bisection divides such a piece's error by eight.
 //
 // Why not the alternatives: an octree with plain Gauss leaves converges only like the leaf size
 // squared at the boundary (1e-6 would need millions of leaves); moment fitting needs the cut
@@ -94,6 +96,9 @@ struct ImmersionOptions {
   /// A cut cell (or a piece of it) is accepted when its volumes with `gauss` and `gauss` + 2
   /// points differ by less than this fraction of the background cell's volume.
   double tolerance = 1e-7;
+  /// Threads integrating cut cells (0: one per core, OpenMP's default). The result does not
+  /// depend on it.
+  int threads = 0;
 };
 
 /// Where the time went and how much work it was (for benchmarks and reports).
@@ -102,10 +107,13 @@ struct ImmersionStats {
   double classification_seconds = 0.0;  // inside / outside / cut
   double cut_cell_seconds = 0.0;        // cut-cell quadrature
   int inside_cells = 0, cut_cells = 0;
-  long cut_boxes = 0;         // cut cells and their octree children integrated
-  long lines = 0;             // lines intersected with the B-rep
-  long classified_lines = 0;  // of which needed the solid classifier (crossings did not alternate)
-  long distance_queries = 0;  // exact point-face distances of the classification
+  long cut_boxes = 0;          // cut cells and their octree children integrated
+  long lines = 0;              // lines intersected with the B-rep
+  long classified_lines = 0;   // of which needed the solid classifier (crossings did not alternate)
+  long distance_queries = 0;   // exact point-face distances of the classification
+  long face_lines = 0;         // line-face intersections (lines x faces near them)
+  long binned_face_lines = 0;  // of which every hit was classified by the face's UV bins
+  int threads = 1;             // that integrated the cut cells
 };
 
 /// The immersed domain of `solid`. Throws nurbs::InputError naming the option and the fix for a

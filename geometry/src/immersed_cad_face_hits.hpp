@@ -1,0 +1,68 @@
+#pragma once
+// Where a line meets one trimmed face of a B-rep: OpenCascade's IntCurvesFace_Intersector, made
+// fast for analytic faces without changing its answer.
+//
+// IntCurvesFace_Intersector intersects the line with the face's untrimmed surface
+// (IntCurveSurface_HInter, in closed form for planes, cylinders, cones, spheres and tori) and then
+// classifies every hit's (u, v) against the face's trimming curves (BRepTopAdaptor_FClass2d, a
+// point-in-polygon test over all the face's edges, exact near them). On a face with many holes the
+// classification is nearly all of the cost. Here the face's UV box is cut into bins; a bin that
+// no trimming curve comes near (the curves' bounding boxes, piece by piece, enlarged by the edges'
+// UV tolerance) lies wholly inside or wholly outside the face, so its state is that of its centre,
+// classified once by the same classifier. A line whose hits all fall in such bins is answered
+// from the surface intersection alone; any other line (a hit near a trimming curve, a hit outside
+// the UV box, a face that is not analytic) goes to IntCurvesFace_Intersector itself. Bins that
+// touch (share a side) and are both free of trimming curves have the same state, so the free bins
+// are grouped into connected regions and one centre per region is classified, the first time a
+// hit lands in it.
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <IntCurvesFace_Intersector.hxx>
+#include <TopoDS_Face.hxx>
+#include <gp_Lin.hxx>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace isospring::geometry::detail {
+
+struct FaceHit {
+  double w = 0.0;  // line parameter
+  int net = 0;     // +1 the line enters the solid, -1 it leaves, 0 a touch (tangent)
+};
+
+class FaceLineIntersector {
+ public:
+  /// `tolerance` and the use of the edges' tolerance as IntCurvesFace_Intersector's.
+  FaceLineIntersector(const TopoDS_Face& face, double tolerance);
+
+  /// Appends the hits of `line` with the face with parameter in [w0, w1] (IntCurvesFace's
+  /// points whose classification is IN or ON, with the transition seen from the solid).
+  void perform(const gp_Lin& line, double w0, double w1, std::vector<FaceHit>& hits);
+
+  /// Lines answered without IntCurvesFace's classification so far, and lines sent to it.
+  long fast_lines() const { return fast_; }
+  long full_lines() const { return full_; }
+
+ private:
+  enum class Bin : unsigned char { kUnknown, kIn, kOut, kBoundary };
+  void mark_trimming_curves();
+  void label_regions();
+  Bin bin_state(double u, double v);
+  void perform_full(const gp_Lin& line, double w0, double w1, std::vector<FaceHit>& hits);
+
+  TopoDS_Face face_;
+  IntCurvesFace_Intersector full_intersector_;
+  bool analytic_ = false;
+  Handle(BRepAdaptor_Surface) surface_;
+  std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // for bin centres
+  double u0_ = 0.0, u1_ = 0.0, v0_ = 0.0, v1_ = 0.0;
+  int nu_ = 0, nv_ = 0;
+  std::vector<Bin> bins_;              // kBoundary or kUnknown (free) per bin, while labelling
+  std::vector<std::uint16_t> region_;  // per bin: 0 on a trimming curve, else its free region
+  std::vector<Bin> region_state_;      // per region (index 0 unused)
+  long fast_ = 0, full_ = 0;
+};
+
+}  // namespace isospring::geometry::detail
