@@ -8,12 +8,20 @@
 #include "assembly_structure.hpp"
 #include "dense_products.hpp"
 #include "isospring/analysis/elasticity.hpp"
+#include "isospring/nurbs/error.hpp"
 
 namespace isospring::analysis {
 
 std::vector<LameStiffness> assemble_lame_stiffness(const Problem& problem, const DofMap& dofs,
                                                    const std::vector<SpatialWeight>& weights,
                                                    int threads) {
+  // The split K = lambda K_lambda + mu K_mu is the displacement formulation's; a B-bar problem
+  // would silently lose its projection here.
+  if (problem.volumetric == Volumetric::kBbar)
+    throw nurbs::InputError(
+        "analysis.volumetric: \"bbar\" is supported by analyze and the spring calibration's "
+        "reference, not by stiffness parameters fitted per Lame parameter (identify); use "
+        "\"displacement\" (the default) for this case");
   const detail::AssemblyStructure structure(problem, dofs);
   const int dim = structure.dofs_per_node;
   const double thickness = thickness_factor(problem);
