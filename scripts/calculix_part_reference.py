@@ -56,7 +56,20 @@ def mesh_part(step, h, clamp_face, clamp_refine):
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 12)  # elements per 2 pi of curvature
     gmsh.option.setNumber("Mesh.ElementOrder", 2)
     gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)  # untangle curved elements
-    gmsh.model.mesh.generate(3)
+    # gmsh's untangling of curved elements can fail on one mesh and succeed on a slightly
+    # different one: retry with the sizes 3 % smaller.
+    for attempt in range(4):
+        try:
+            gmsh.model.mesh.generate(3)
+            break
+        except Exception:  # gmsh raises a bare Exception
+            if attempt == 3:
+                raise
+            gmsh.model.mesh.clear()
+            h *= 0.97
+            gmsh.option.setNumber("Mesh.MeshSizeMax", h)
+            gmsh.model.mesh.field.setNumber(threshold, "SizeMin", h / clamp_refine)
+            gmsh.model.mesh.field.setNumber(threshold, "SizeMax", h)
     tags, coords, _ = gmsh.model.mesh.getNodes()
     nodes = {int(t): (coords[3 * i], coords[3 * i + 1], coords[3 * i + 2])
              for i, t in enumerate(tags)}
@@ -69,7 +82,7 @@ def mesh_part(step, h, clamp_face, clamp_refine):
     face = clamp_face + 1
     clamped, _, _ = gmsh.model.mesh.getNodes(2, face, includeBoundary=True)
     area = gmsh.model.occ.getMass(2, face)
-    return nodes, tets, sorted(int(t) for t in clamped), area
+    return nodes, tets, sorted(int(t) for t in clamped), area, h
 
 
 def check_midside_nodes(nodes, tets):
@@ -132,7 +145,8 @@ def read_results(path):
 
 def solve(part, step, h, work):
     start = time.time()
-    nodes, tets, clamped, area = mesh_part(step, h, part["clamp_face"], part.get("clamp_refine", 3.0))
+    nodes, tets, clamped, area, h = mesh_part(step, h, part["clamp_face"],
+                                              part.get("clamp_refine", 3.0))
     mesh_seconds = time.time() - start
     deck = os.path.join(work, "part.inp")
     write_deck(deck, nodes, tets, clamped, part)

@@ -88,8 +88,9 @@ Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vec
 void check_part(const std::string& name) {
   if (!fs::exists(kParts / "parts.json") || !fs::exists(kParts / "calculix_reference.json"))
     GTEST_SKIP() << "tests/data/parts (third-party parts and their CalculiX reference) is absent";
+  const json parts = read_json(kParts / "parts.json");
   json part;
-  for (const auto& p : read_json(kParts / "parts.json").at("parts"))
+  for (const auto& p : parts.at("parts"))
     if (p.at("name") == name) part = p;
   ASSERT_FALSE(part.is_null()) << name << " is not in parts.json";
   if (!fs::exists(kParts / part.at("file").get<std::string>()))
