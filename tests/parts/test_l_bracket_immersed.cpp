@@ -29,8 +29,8 @@ using nlohmann::json;
 
 const fs::path kExample = fs::path(ISOSPRING_SOURCE_DIR) / "examples/l_bracket";
 const fs::path kPart = fs::path(ISOSPRING_SHARED_DIR) / "cad/l_bracket_caxif.stp";
-constexpr int kClampFace = 3;     // y = 60 mm (`isospring info` numbering)
-constexpr int kLoadedFace = 7;    // x = 50 mm
+constexpr int kClampFace = 3;   // y = 60 mm (`isospring info` numbering)
+constexpr int kLoadedFace = 7;  // x = 50 mm
 
 // The body-fitted displacement of the control point at `at` (a patch corner, which box patches
 // interpolate), from analyze's CSV (i,x,y,z,ux,uy,uz).
@@ -89,8 +89,8 @@ TEST(LBracketImmersed, LoadedEndAgreesWithCalculixAndTheBodyFittedModel) {
     options.supports = {clamp};
     analysis::ImmersedTraction traction;
     traction.face = kLoadedFace;
-    traction.value = load_case == "shear_y" ? Eigen::Vector3d(0, -1e6, 0)
-                                            : Eigen::Vector3d(0, 0, 1e6);
+    traction.value =
+        load_case == "shear_y" ? Eigen::Vector3d(0, -1e6, 0) : Eigen::Vector3d(0, 0, 1e6);
     options.tractions = {traction};
     const analysis::ImmersedResult result = analysis::solve_immersed(domain, options);
 
@@ -109,13 +109,15 @@ TEST(LBracketImmersed, LoadedEndAgreesWithCalculixAndTheBodyFittedModel) {
         const double calculix = c["u_m"][static_cast<size_t>(k)].get<double>();
         if (std::abs(calculix) < 0.1 * largest) continue;
         ++compared;
-        std::printf("%s (%g, %g, %g) u%c: immersed %.6e (%d DOFs), body-fitted %.6e, CalculiX "
-                    "%.6e: %+.3f %%, %+.3f %%\n",
-                    load_case.c_str(), at.x(), at.y(), at.z(), "xyz"[k], ours[k], result.dofs,
-                    fitted[k], calculix, 100 * (ours[k] / fitted[k] - 1),
-                    100 * (ours[k] / calculix - 1));
-        EXPECT_NEAR(ours[k] / calculix, 1.0, 5e-3) << load_case << " u" << "xyz"[k];
-        EXPECT_NEAR(ours[k] / fitted[k], 1.0, 5e-3) << load_case << " u" << "xyz"[k];
+        std::printf(
+            "%s (%g, %g, %g) u%c: immersed %.6e (%d DOFs), body-fitted %.6e, CalculiX "
+            "%.6e: %+.3f %%, %+.3f %%\n",
+            load_case.c_str(), at.x(), at.y(), at.z(), "xyz"[k], ours[k], result.dofs, fitted[k],
+            calculix, 100 * (ours[k] / fitted[k] - 1), 100 * (ours[k] / calculix - 1));
+        EXPECT_NEAR(ours[k] / calculix, 1.0, 5e-3) << load_case << " u"
+                                                   << "xyz"[k];
+        EXPECT_NEAR(ours[k] / fitted[k], 1.0, 5e-3) << load_case << " u"
+                                                    << "xyz"[k];
       }
     }
   }
