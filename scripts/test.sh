@@ -9,5 +9,4 @@ bash "$root/scripts/build.sh" -DISOSPRING_BUILD_TESTS=ON -DISOSPRING_BUILD_BENCH
 cd "$build"
 # The identify unseen-data suite (label identify_suite, 14 CalculiX datasets, up to 25 min of CPU
 # each on the 3D ones) runs on its own: ctest -L identify_suite, or scripts/identify_suite.sh table.
-# So do the third-party parts against CalculiX (label parts, minutes of CPU each): ctest -L parts.
-ctest --output-on-failure -j "${ISOSPRING_JOBS:-$(nproc)}" -LE "identify_suite|parts" "$@"
+ctest --output-on-failure -j "${ISOSPRING_JOBS:-$(nproc)}" -LE identify_suite "$@"

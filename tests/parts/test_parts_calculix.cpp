@@ -12,6 +12,7 @@
 // face with the same index (1e-6): both programs number the faces alike.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -121,18 +122,28 @@ void check_part(const std::string& name) {
 
   EXPECT_NEAR(ours.clamp_area, finest.at("clamp_face_area_m2").get<double>(),
               1e-6 * ours.clamp_area);
-  // Within `within` (parts.json: the measured difference, rounded up) of CalculiX; the 1 % aimed
-  // at is not reached on these grids (docs/immersed.md): the error is the clamp's singular edges,
-  // which one more degree hardly reduces. Both discretisations are conforming up to Nitsche's
-  // consistent terms, so the energy approaches the exact one from below: the immersed energy
-  // must lie below CalculiX's converged value, and one degree higher must come closer to it.
+  // Within `within` of CalculiX (parts.json: 1 % where that is reached; for the plate the
+  // measured difference rounded up, docs/immersed.md: its error is the clamp's singular edges,
+  // which one more degree hardly reduces).
   const double within = grid.at("within").get<double>();
   EXPECT_NEAR(ours.strain_energy, energy, within * energy);
   EXPECT_NEAR(ours.displacement, displacement, within * displacement);
-  EXPECT_LT(ours.strain_energy, higher.strain_energy);
-  EXPECT_LT(higher.strain_energy, energy);
-  EXPECT_LT(std::abs(higher.displacement - displacement),
-            std::abs(ours.displacement - displacement));
+  // Where the immersed result differs from CalculiX's by more than CalculiX's own last change
+  // under refinement, the difference is the immersed discretisation's, and its direction is
+  // known: both discretisations are conforming up to Nitsche's consistent terms, so the energy
+  // approaches the exact one from below, and one degree higher must come closer. Inside that
+  // band the two agree as far as the reference can tell, and the direction is not tested.
+  const double settled = std::max(finest.at("change_strain_energy").get<double>(),
+                                  finest.at("change_max_displacement").get<double>());
+  if (std::abs(ours.strain_energy / energy - 1) > settled) {
+    EXPECT_LT(ours.strain_energy, higher.strain_energy);
+    EXPECT_LT(higher.strain_energy, energy);
+    EXPECT_LT(std::abs(higher.displacement - displacement),
+              std::abs(ours.displacement - displacement));
+  } else {
+    EXPECT_NEAR(higher.strain_energy, energy, within * energy);
+    EXPECT_NEAR(higher.displacement, displacement, within * displacement);
+  }
 }
 
 // The CAx-IF plate (six holes) and nut (a bore). The other parts of parts.json (the screw, gmsh's
