@@ -3,9 +3,9 @@
 // the CAD solid is embedded in a B-spline background grid on its exact B-rep
 // (geometry::immerse_solid), every load case is solved by analysis::solve_immersed, and the
 // results are evaluated on the part's display triangulation (not on the grid; its triangles split
-// to at most a background cell's edge), so ParaView shows the part. Outputs: report.json, report.md and result.vtp (displacement_<id> and
-// von_mises_<id> as point data, the face index as cell data), and with "output": {"cells": true}
-// cells.vtu (the background cells, io/vtk_immersed_cells.hpp).
+// to at most a background cell's edge), so ParaView shows the part. Outputs: report.json, report.md
+// and result.vtp (displacement_<id> and von_mises_<id> as point data, the face index as cell data),
+// and with "output": {"cells": true} cells.vtu (the background cells, io/vtk_immersed_cells.hpp).
 #include <Eigen/Core>
 #include <chrono>
 #include <filesystem>
