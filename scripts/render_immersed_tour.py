@@ -13,6 +13,8 @@ import sys
 
 import vtk
 
+from vtk_png import render_png
+
 LOAD = "tip_down"
 SCALE = 40.0  # the tip moves 0.17 mm on a 60 mm part: magnified to be seen
 
@@ -93,32 +95,8 @@ def main(result_dir, png):
     title.GetTextProperty().SetFontSize(16)
     title.SetDisplayPosition(12, 470)
 
-    renderer = vtk.vtkRenderer()
-    renderer.SetBackground(1, 1, 1)
-    renderer.AddActor(deformed)
-    renderer.AddActor(undeformed)
-    renderer.AddActor2D(bar)
-    renderer.AddActor2D(title)
-    camera = renderer.GetActiveCamera()
-    camera.SetFocalPoint(0.03, 0.015, 0.01)
-    camera.SetPosition(0.12, -0.09, 0.08)
-    camera.SetViewUp(0, 0, 1)
-    renderer.ResetCamera()
-    camera.Zoom(1.3)
-
-    window = vtk.vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(800, 500)
-    window.SetMultiSamples(8)
-    window.AddRenderer(renderer)
-    window.Render()
-    image = vtk.vtkWindowToImageFilter()
-    image.SetInput(window)
-    image.Update()
-    writer = vtk.vtkPNGWriter()
-    writer.SetFileName(png)
-    writer.SetInputConnection(image.GetOutputPort())
-    writer.Write()
+    render_png(png, [deformed, undeformed], [bar, title], size=(800, 500),
+               focal_point=(0.03, 0.015, 0.01), position=(0.12, -0.09, 0.08), zoom=1.3)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,8 @@ import sys
 
 import vtk
 
+from vtk_png import render_png
+
 
 def main(demo_dir, png):
     reader = vtk.vtkXMLMultiBlockDataReader()
@@ -81,32 +83,8 @@ def main(demo_dir, png):
     title.GetTextProperty().SetFontSize(16)
     title.SetDisplayPosition(12, 370)
 
-    renderer = vtk.vtkRenderer()
-    renderer.SetBackground(1, 1, 1)
-    renderer.AddActor(deformed)
-    renderer.AddActor(undeformed)
-    renderer.AddActor2D(bar)
-    renderer.AddActor2D(title)
-    camera = renderer.GetActiveCamera()
-    camera.SetFocalPoint(0.05, 0.01, 0.0)
-    camera.SetPosition(0.11, -0.17, 0.08)
-    camera.SetViewUp(0, 0, 1)
-    renderer.ResetCamera()
-    camera.Zoom(1.5)
-
-    window = vtk.vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(800, 400)
-    window.SetMultiSamples(8)
-    window.AddRenderer(renderer)
-    window.Render()
-    image = vtk.vtkWindowToImageFilter()
-    image.SetInput(window)
-    image.Update()
-    writer = vtk.vtkPNGWriter()
-    writer.SetFileName(png)
-    writer.SetInputConnection(image.GetOutputPort())
-    writer.Write()
+    render_png(png, [deformed, undeformed], [bar, title], size=(800, 400),
+               focal_point=(0.05, 0.01, 0.0), position=(0.11, -0.17, 0.08), zoom=1.5)
 
 
 if __name__ == "__main__":
