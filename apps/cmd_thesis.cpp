@@ -5,6 +5,7 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "isospring/io/report.hpp"
+#include "isospring/workflows/frontier.hpp"
 #include "isospring/workflows/thesis_command.hpp"
 
 namespace isospring::apps {
@@ -13,10 +14,29 @@ namespace {
 struct ThesisOptions {
   std::string output;
   bool quiet = false;
+  bool frontier = false;
   workflows::ThesisCommandOptions run;
 };
 
+// --frontier: the outputs are rewritten after every object, so a run stopped early keeps the
+// objects that finished.
+void run_frontier(const ThesisOptions& options) {
+  const io::Progress progress("thesis", options.quiet);
+  const std::filesystem::path out_dir =
+      output_folder(options.output, {}, workflows::frontier_output_files());
+  workflows::FrontierOptions run;
+  run.objects = options.run.objects;
+  run.quick = options.run.quick;
+  run.on_object = [&](const workflows::FrontierResult& partial) {
+    workflows::write_frontier_outputs(out_dir, partial);
+  };
+  const workflows::FrontierResult result = workflows::run_frontier(run, progress);
+  workflows::write_frontier_outputs(out_dir, result);
+  progress("wrote " + (out_dir / "report.md").string());
+}
+
 void run_thesis(const ThesisOptions& options) {
+  if (options.frontier) return run_frontier(options);
   const io::Progress progress("thesis", options.quiet);
   // Checked first: the tables take minutes, a folder that cannot be written must fail at once.
   const std::filesystem::path out_dir =
@@ -39,10 +59,17 @@ void setup_thesis(CLI::App& app) {
   cmd->add_flag("--quick", options->run.quick,
                 "Skip the cube 6^3 and 9^3 of Table 5.4 and the cube's per-spring fit; fewer "
                 "candidates and iterations in the generalisation table");
-  cmd->add_flag("--generalisation-only", options->run.generalisation_only,
-                "Only the generalisation table (load suite, cross-validated freedom)");
+  CLI::Option* generalisation =
+      cmd->add_flag("--generalisation-only", options->run.generalisation_only,
+                    "Only the generalisation table (load suite, cross-validated freedom)");
+  cmd->add_flag("--frontier", options->frontier,
+                "Only the cost/accuracy frontier: per object and model kind, the worst held-out "
+                "%e_rms, the engine step measured with the runtime, the engines, the Pareto set; "
+                "writes OUTDIR/frontier.png too (docs/frontier.md)")
+      ->excludes(generalisation);
   cmd->add_option("--object", options->run.objects,
-                  "Generalisation table: only this object (repeatable; default all six)")
+                  "Generalisation table or frontier: only this object (repeatable; default all "
+                  "six)")
       ->check(CLI::IsMember({"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}));
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_thesis(*options); });

@@ -288,4 +288,41 @@ bool plot_bars_before_after(const fs::path& png, const std::vector<std::string>&
                 });
 }
 
+bool plot_frontier(const fs::path& png, const std::vector<PlotSeries>& series,
+                   const std::vector<std::vector<bool>>& marked, const PlotOptions& options) {
+  std::vector<std::pair<std::string, std::string>> data;
+  for (size_t s = 0; s < series.size(); ++s) {
+    PlotSeries front;
+    for (size_t i = 0; i < std::min(series[s].x.size(), series[s].y.size()); ++i)
+      if (s < marked.size() && i < marked[s].size() && marked[s][i]) {
+        front.x.push_back(series[s].x[i]);
+        front.y.push_back(series[s].y[i]);
+      }
+    // The front joined from cheap to costly.
+    std::vector<size_t> order(front.x.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return front.x[a] < front.x[b]; });
+    PlotSeries sorted;
+    for (size_t i : order) sorted.x.push_back(front.x[i]), sorted.y.push_back(front.y[i]);
+    data.emplace_back("all" + std::to_string(s) + ".dat", series_file(series[s], true));
+    data.emplace_back("front" + std::to_string(s) + ".dat", series_file(sorted, true));
+  }
+  return render(png, "frontier plot", data, [&](const fs::path& folder, const fs::path& out) {
+    std::ostringstream g;
+    g << header(options, png_terminal(), out) << "set logscale x\nset format x '10^{%L}'\n"
+      << "set key top right\nplot ";
+    for (size_t s = 0; s < series.size(); ++s) {
+      const std::string colour = std::to_string(static_cast<int>(s % 8) + 1);
+      const int open_symbol = 4 + 2 * static_cast<int>(s % 4);  // 4 6 8 10: open; +1 filled
+      g << (s ? ", " : "") << quoted((folder / ("all" + std::to_string(s) + ".dat")).string())
+        << " using 1:2 with points lc " << colour << " pt " << open_symbol << " ps 1.4 notitle, "
+        << quoted((folder / ("front" + std::to_string(s) + ".dat")).string())
+        << " using 1:2 with linespoints lc " << colour << " lw 2 pt " << open_symbol + 1
+        << " ps 1.6 title " << quoted(series[s].name);
+    }
+    return g.str() + "\n";
+  });
+}
+
 }  // namespace isospring::io

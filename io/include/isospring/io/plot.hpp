@@ -52,6 +52,13 @@ bool plot_bars_before_after(const std::filesystem::path& png,
                             const std::vector<double>& before, const std::vector<double>& after,
                             const PlotOptions& options = {});
 
+/// Cost against accuracy: one series per object (x: cost, e.g. microseconds per step, on a log
+/// axis; y: error, log axis when options.log_y), every point an open symbol; the points with
+/// `marked[series][point]` (e.g. Pareto-optimal) filled and joined by a line in the series'
+/// colour. Points with a non-positive or non-finite coordinate are left out.
+bool plot_frontier(const std::filesystem::path& png, const std::vector<PlotSeries>& series,
+                   const std::vector<std::vector<bool>>& marked, const PlotOptions& options = {});
+
 /// The slope of log y against log x over the last two points with positive finite values
 /// (NaN when there are fewer than two).
 double last_log_slope(const PlotSeries& series);

@@ -1,0 +1,163 @@
+// The frontier's report.json, report.md and figure (frontier.hpp).
+#include <cmath>
+
+#include "isospring/io/plot.hpp"
+#include "isospring/workflows/frontier.hpp"
+
+namespace isospring::workflows {
+
+namespace {
+
+constexpr const char* kFigure = "frontier.png";
+
+std::string num(double x) {
+  return std::isfinite(x) ? io::format_number(x, 3) : "-";
+}
+
+// JSON has no NaN: a missing number is null.
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+nlohmann::json row_json(const FrontierRow& r) {
+  return {{"kind", r.kind.name},
+          {"volume_terms", r.kind.volume_terms},
+          {"shear_terms", r.kind.shear_terms},
+          {"strain_points_per_direction", r.kind.strain_points},
+          {"reduced", r.kind.reduced},
+          {"failure", r.failure},
+          {"model", r.model},
+          {"reach", r.reach},
+          {"gamma", r.gamma},
+          {"prior_weight", r.prior_weight},
+          {"parameters", r.parameters},
+          {"springs", r.springs},
+          {"cell_volume_terms", r.cell_volume_terms},
+          {"cell_shear_terms", r.cell_shear_terms},
+          {"strain_point_count", r.strain_point_terms},
+          {"reduced_basis", r.reduced_basis},
+          {"reduced_of", r.reduced_of},
+          {"cross_validation_worst", number_or_null(r.cross_validation_worst)},
+          {"worst_validation", number_or_null(r.worst_validation)},
+          {"worst_validation_case", r.worst_case},
+          {"worst_fitted", number_or_null(r.worst_fitted)},
+          {"measured_step_us", number_or_null(r.measured_step_us)},
+          {"measured_step_us_min", number_or_null(r.measured_min_us)},
+          {"measured_step_us_max", number_or_null(r.measured_max_us)},
+          {"estimated_step_us", number_or_null(r.estimated_step_us)},
+          {"measured_over_estimated", number_or_null(r.measured_step_us / r.estimated_step_us)},
+          {"engines", r.engines},
+          {"pareto", r.pareto},
+          {"seconds", r.seconds}};
+}
+
+std::string engines_cell(const std::vector<std::string>& engines) {
+  std::string text;
+  for (const std::string& e : engines) text += (text.empty() ? "" : ", ") + e;
+  return text.empty() ? "-" : text;
+}
+
+}  // namespace
+
+nlohmann::json frontier_report_json(const FrontierResult& result) {
+  nlohmann::json report = io::report_header("thesis", io::isospring_version(), "");
+  nlohmann::json& frontier = report["frontier"];
+  frontier["machine"] = result.machine;
+  frontier["objects"] = nlohmann::json::array();
+  for (const FrontierObject& o : result.objects) {
+    nlohmann::json j = {{"object", o.name},
+                        {"training_cases", o.training_cases},
+                        {"validation_cases", o.validation_cases},
+                        {"published_percent_e_rms", o.published_e_rms},
+                        {"seconds", o.seconds},
+                        {"complete", o.complete},
+                        {"rows", nlohmann::json::array()}};
+    for (const FrontierRow& r : o.rows) j["rows"].push_back(row_json(r));
+    frontier["objects"].push_back(j);
+  }
+  return report;
+}
+
+io::MarkdownReport frontier_report_markdown(const FrontierResult& result,
+                                            const std::string& figure) {
+  io::MarkdownReport md;
+  md.heading(1, "isospring thesis --frontier: cost against accuracy, per object");
+  md.paragraph(
+      "Per [S15] object and model kind: the model calibrated for generalisation within the kind "
+      "(3-fold cross-validation over the load suite's training cases chooses reach, gamma and "
+      "per-spring weight; the choice refitted on all training cases), its worst held-out "
+      "%e_rms on the control points over the validation cases (never fitted; [S15]'s own cases "
+      "among them), the worst over the training cases, the cost of one engine step measured "
+      "with the runtime on that model (one force and one Jacobian-vector product evaluation, "
+      "median CPU time of repeated calls) beside step_cost's estimate (forces only, per-term "
+      "costs from bench_runtime), and the engines whose export accepts the model. Reduced: the "
+      "modal model of the most accurate kind (lowest natural modes plus the static responses of "
+      "the training loads; its step: the reduced step plus the whole displacement field), "
+      "its error the static response. Pareto: no other kind of the object is at most as costly "
+      "(measured) and at most as wrong (worst held-out), and better in one.");
+  md.paragraph("Machine: " + result.machine + ".");
+  std::vector<std::vector<std::string>> rows;
+  for (const FrontierObject& o : result.objects)
+    for (const FrontierRow& r : o.rows) {
+      if (!r.failure.empty()) {
+        rows.push_back({o.name, r.kind.name, "failed: " + r.failure, "-", "-", "-", "-", "-", "-",
+                        "-", num(r.seconds)});
+        continue;
+      }
+      rows.push_back({o.name, r.kind.name, r.model,
+                      num(r.worst_validation) + " (" + r.worst_case + ")", num(r.worst_fitted),
+                      num(r.measured_step_us) + " (" + num(r.measured_min_us) + "-" +
+                          num(r.measured_max_us) + ")",
+                      num(r.estimated_step_us), num(r.measured_step_us / r.estimated_step_us),
+                      engines_cell(r.engines), r.pareto ? "**yes**" : "", num(r.seconds)});
+    }
+  md.table({"object", "kind", "model (chosen within the kind)", "worst held-out %e_rms (case)",
+            "worst fitted", "step [us] measured (min-max)", "estimate [us]", "measured / estimate",
+            "engines", "Pareto", "time [s]"},
+           rows);
+  std::vector<std::string> published;
+  for (const FrontierObject& o : result.objects)
+    published.push_back(o.name + ": [S15] fitted-case %e_rms " + num(o.published_e_rms) + ", " +
+                        std::to_string(o.training_cases) + " training and " +
+                        std::to_string(o.validation_cases) + " validation cases, " +
+                        num(o.seconds) + " s" +
+                        (o.complete ? "" : " (INCOMPLETE: the run stopped before its last kind)"));
+  md.bullets(published);
+  if (!figure.empty())
+    md.paragraph("![Worst held-out %e_rms against the measured step cost](" + figure + ")");
+  return md;
+}
+
+std::vector<std::string> frontier_output_files() {
+  return {"report.json", "report.md", kFigure};
+}
+
+void write_frontier_outputs(const std::filesystem::path& out_dir, const FrontierResult& result) {
+  std::filesystem::create_directories(out_dir);
+  std::vector<io::PlotSeries> series;
+  std::vector<std::vector<bool>> pareto;
+  for (const FrontierObject& o : result.objects) {
+    io::PlotSeries s;
+    s.name = o.name;
+    pareto.emplace_back();
+    for (const FrontierRow& r : o.rows) {
+      if (!r.failure.empty()) continue;
+      s.x.push_back(r.measured_step_us);
+      s.y.push_back(r.worst_validation);
+      pareto.back().push_back(r.pareto);
+    }
+    series.push_back(s);
+  }
+  io::PlotOptions plot;
+  plot.title = "Cost against accuracy per model kind (filled and joined: Pareto-optimal)";
+  plot.xlabel = "engine step, force + Jacobian-vector product [us, CPU, measured]";
+  plot.ylabel = "worst held-out %e_rms";
+  plot.log_y = true;
+  plot.width = 1000;
+  plot.height = 650;
+  const bool figure = io::plot_frontier(out_dir / kFigure, series, pareto, plot);
+  io::write_json_report(out_dir / "report.json", frontier_report_json(result));
+  frontier_report_markdown(result, figure ? kFigure : "").write(out_dir / "report.md");
+}
+
+}  // namespace isospring::workflows
