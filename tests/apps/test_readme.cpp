@@ -62,6 +62,9 @@ const std::vector<NotRun> kNotRun{
     {"docs/calibration.md", "isospring thesis --generalisation-only",
      "a fragment naming the run that measured the numbers quoted (minutes per object); the "
      "README's quick example runs its square"},
+    {"docs/frontier.md", "isospring thesis --frontier -o frontier",
+     "the full run: the six objects, tens of minutes on 2 cores; the page's square run "
+     "(`--quick --object square`) is run instead"},
     {"docs/runtime.md", "isospring export model.json -o scene.xml",
      "needs a calibrated model with volume or strain-point terms (minutes to calibrate); "
      "tests/mujoco exports such models and steps them in MuJoCo"},

@@ -4,7 +4,7 @@
 // estimate, the reduced model's held-out error is at least the model it reduces, and a budget
 // between two kinds' estimates makes the generalising calibration (what `calibrate
 // --max-step-us` runs; tests/apps/test_calibrate_step_budget.cpp checks the flag reaches it)
-// pick the kind the frontier says is the most accurate within that budget.
+// pick the kind the frontier says is the most accurate within that budget. One TEST: one run.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,25 +18,22 @@
 namespace isospring::workflows {
 namespace {
 
-const FrontierResult& square_frontier() {
-  static const FrontierResult result = [] {
-    FrontierOptions options;
-    options.objects = {"square"};
-    options.quick = true;
-    options.timing_samples = 7;
-    for (const FrontierKind& k : frontier_kinds())
-      if (k.strain_points <= 2 && !k.volume_terms) options.kinds.push_back(k);
-    const io::Progress progress("test", true);
-    return run_frontier(options, progress);
-  }();
-  return result;
+// One frontier run (about 15 s of CPU) serves every check below; CTest runs each TEST in a
+// process of its own, so they are one TEST.
+FrontierResult square_frontier() {
+  FrontierOptions options;
+  options.objects = {"square"};
+  options.quick = true;
+  options.timing_samples = 7;
+  for (const FrontierKind& k : frontier_kinds())
+    if (k.strain_points <= 2 && !k.volume_terms) options.kinds.push_back(k);
+  const io::Progress progress("test", true);
+  return run_frontier(options, progress);
 }
 
-TEST(Frontier, OneRowPerOfferedKindWithItsEngines) {
-  const FrontierResult& result = square_frontier();
-  ASSERT_EQ(result.objects.size(), 1u);
-  const FrontierObject& square = result.objects[0];
+void check_rows(const FrontierObject& square) {
   EXPECT_EQ(square.name, "square");
+  EXPECT_TRUE(square.complete);
   const std::vector<std::string> kinds = {"springs", "springs + strain points 1/dir",
                                           "springs + strain points 2/dir", "reduced"};
   ASSERT_EQ(square.rows.size(), kinds.size());
@@ -60,8 +57,7 @@ TEST(Frontier, OneRowPerOfferedKindWithItsEngines) {
   EXPECT_EQ(square.rows[2].strain_point_terms, 64u);
 }
 
-TEST(Frontier, ParetoFlagsAreThoseOfTheRows) {
-  const FrontierObject& square = square_frontier().objects[0];
+void check_pareto(const FrontierObject& square) {
   std::vector<fitting::CostError> points;
   for (const FrontierRow& r : square.rows)
     points.push_back({r.measured_step_us, r.worst_validation});
@@ -83,9 +79,10 @@ TEST(Frontier, ParetoFlagsAreThoseOfTheRows) {
 // the measured step is a force AND a Jacobian-vector product, which bench_runtime puts at 1.5-1.7
 // times a force evaluation, so the measurement should be about 2.5 times the estimate; a model
 // of 36 particles adds per-call overhead the large lattices amortise, and the shared machine
-// adds noise (CPU time, median). Accepted: between 1 and 10 times the estimate.
-TEST(Frontier, MeasuredStepIsPositiveAndWithinAFactorOfTheEstimate) {
-  const FrontierObject& square = square_frontier().objects[0];
+// adds noise (CPU time, median). Measured 1.7-1.8 (load average 16). Accepted: between 1 and 5
+// times the estimate. (Not for 2D cell terms: step_cost prices a cell at the 3D cell's cost, 8
+// Gauss points of a trilinear volume; a 2D cell costs about 0.4 of it, measured.)
+void check_step_costs(const FrontierObject& square) {
   for (const FrontierRow& r : square.rows) {
     EXPECT_GT(r.measured_step_us, 0.0) << r.kind.name;
     EXPECT_LE(r.measured_min_us, r.measured_step_us);
@@ -96,7 +93,7 @@ TEST(Frontier, MeasuredStepIsPositiveAndWithinAFactorOfTheEstimate) {
     }
     const double ratio = r.measured_step_us / r.estimated_step_us;
     EXPECT_GT(ratio, 1.0) << r.kind.name;
-    EXPECT_LT(ratio, 10.0) << r.kind.name;
+    EXPECT_LT(ratio, 5.0) << r.kind.name;
   }
   // More terms cost more, measured as estimated: springs < 1 point < 2 points per direction.
   EXPECT_LT(square.rows[0].measured_step_us, square.rows[1].measured_step_us);
@@ -109,8 +106,7 @@ TEST(Frontier, MeasuredStepIsPositiveAndWithinAFactorOfTheEstimate) {
 // is the full model's (to round-off); a held-out load is projected, so its error is the full
 // model's plus the projection's: never below the full model's by more than round-off on every
 // case at once.
-TEST(Frontier, ReducedModelReducesTheMostAccurateKind) {
-  const FrontierObject& square = square_frontier().objects[0];
+void check_reduced(const FrontierObject& square) {
   const FrontierRow& reduced = square.rows.back();
   size_t best = 0;
   for (size_t i = 1; i + 1 < square.rows.size(); ++i)
@@ -122,8 +118,7 @@ TEST(Frontier, ReducedModelReducesTheMostAccurateKind) {
   EXPECT_GT(reduced.reduced_basis, 0);
 }
 
-TEST(Frontier, BudgetChoiceEqualsTheMostAccurateFrontierPointWithinIt) {
-  const FrontierObject& square = square_frontier().objects[0];
+void check_budget(const FrontierObject& square) {
   std::vector<fitting::CostError> points;  // the kinds calibrate offers, at the cost it budgets
   for (const FrontierRow& r : square.rows)
     if (!r.kind.reduced) points.push_back({r.estimated_step_us, r.worst_validation});
@@ -155,6 +150,33 @@ TEST(Frontier, BudgetChoiceEqualsTheMostAccurateFrontierPointWithinIt) {
         << "budget " << budget << " us";
     EXPECT_NEAR(g.worst_validation, points[static_cast<size_t>(expected)].error,
                 1e-6 * points[static_cast<size_t>(expected)].error);
+  }
+}
+
+TEST(Frontier, SquareRowsParetoSetStepCostsReducedModelAndBudgetChoice) {
+  const FrontierResult result = square_frontier();
+  ASSERT_EQ(result.objects.size(), 1u);
+  const FrontierObject& square = result.objects[0];
+  ASSERT_EQ(square.rows.size(), 4u);  // the helpers index the rows
+  {
+    SCOPED_TRACE("one row per offered kind, with its engines");
+    check_rows(square);
+  }
+  {
+    SCOPED_TRACE("Pareto flags");
+    check_pareto(square);
+  }
+  {
+    SCOPED_TRACE("measured step against the estimate");
+    check_step_costs(square);
+  }
+  {
+    SCOPED_TRACE("reduced model");
+    check_reduced(square);
+  }
+  {
+    SCOPED_TRACE("budget choice");
+    check_budget(square);
   }
 }
 
