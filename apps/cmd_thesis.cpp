@@ -15,6 +15,7 @@ struct ThesisOptions {
   std::string output;
   bool quiet = false;
   bool frontier = false;
+  std::vector<std::string> combine;  // --frontier --combine: report.json files of earlier runs
   workflows::ThesisCommandOptions run;
 };
 
@@ -30,12 +31,22 @@ void run_frontier(const ThesisOptions& options) {
   run.on_object = [&](const workflows::FrontierResult& partial) {
     workflows::write_frontier_outputs(out_dir, partial);
   };
-  const workflows::FrontierResult result = workflows::run_frontier(run, progress);
+  workflows::FrontierResult result;
+  if (!options.combine.empty()) {
+    std::vector<workflows::FrontierResult> runs;
+    for (const std::string& file : options.combine)
+      runs.push_back(workflows::read_frontier_report(file));
+    result = workflows::combine_frontier_results(runs);
+  } else {
+    result = workflows::run_frontier(run, progress);
+  }
   workflows::write_frontier_outputs(out_dir, result);
   progress("wrote " + (out_dir / "report.md").string());
 }
 
 void run_thesis(const ThesisOptions& options) {
+  if (!options.combine.empty() && !options.frontier)
+    throw CLI::ValidationError("--combine", "only with --frontier");
   if (options.frontier) return run_frontier(options);
   const io::Progress progress("thesis", options.quiet);
   // Checked first: the tables take minutes, a folder that cannot be written must fail at once.
@@ -67,6 +78,10 @@ void setup_thesis(CLI::App& app) {
                 "%e_rms, the engine step measured with the runtime, the engines, the Pareto set; "
                 "writes OUTDIR/frontier.png too (docs/frontier.md)")
       ->excludes(generalisation);
+  cmd->add_option("--combine", options->combine,
+                  "With --frontier: no run; the report.json files of earlier frontier runs (e.g. "
+                  "one object each) as one report and figure")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--object", options->run.objects,
                   "Generalisation table or frontier: only this object (repeatable; default all "
                   "six)")

@@ -313,8 +313,11 @@ bool plot_frontier(const fs::path& png, const std::vector<PlotSeries>& series,
     g << header(options, png_terminal(), out) << "set logscale x\nset format x '10^{%L}'\n"
       << "set key top right\nplot ";
     for (size_t s = 0; s < series.size(); ++s) {
-      const std::string colour = std::to_string(static_cast<int>(s % 8) + 1);
-      const int open_symbol = 4 + 2 * static_cast<int>(s % 4);  // 4 6 8 10: open; +1 filled
+      // Six colours and symbols told apart also in grey (open symbol n, filled n + 1).
+      static const char* const kColours[] = {"#7b2d9e", "#009e73", "#0072b2",
+                                             "#e69f00", "#d55e00", "#555555"};
+      const std::string colour = std::string("rgb '") + kColours[s % 6] + "'";
+      const int open_symbol = 4 + 2 * static_cast<int>(s % 6);  // 4 6 8 10 12 14
       g << (s ? ", " : "") << quoted((folder / ("all" + std::to_string(s) + ".dat")).string())
         << " using 1:2 with points lc " << colour << " pt " << open_symbol << " ps 1.4 notitle, "
         << quoted((folder / ("front" + std::to_string(s) + ".dat")).string())

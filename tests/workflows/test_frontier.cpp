@@ -13,6 +13,7 @@
 #include "isospring/fitting/generalising_calibration.hpp"
 #include "isospring/fitting/pareto.hpp"
 #include "isospring/fitting/thesis_experiments.hpp"
+#include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/frontier.hpp"
 
 namespace isospring::workflows {
@@ -153,6 +154,22 @@ void check_budget(const FrontierObject& square) {
   }
 }
 
+// report.json reads back to the same result (so runs of single objects combine into one
+// report); NaN cells (the reduced model's estimate) survive as null.
+void check_report_round_trip(const FrontierResult& result) {
+  const nlohmann::json report = frontier_report_json(result);
+  const FrontierResult back = frontier_result_from_json(report, "report.json");
+  EXPECT_EQ(frontier_report_json(back)["frontier"], report["frontier"]);
+  FrontierResult other = back;
+  other.objects[0].name = "circle";
+  const FrontierResult combined = combine_frontier_results({back, other, result});
+  ASSERT_EQ(combined.objects.size(), 2u);  // the square once (the later run's), the circle
+  EXPECT_EQ(combined.objects[0].name, "square");
+  EXPECT_EQ(combined.objects[1].name, "circle");
+  EXPECT_THROW((void)frontier_result_from_json(nlohmann::json::object(), "x.json"),
+               nurbs::InputError);
+}
+
 TEST(Frontier, SquareRowsParetoSetStepCostsReducedModelAndBudgetChoice) {
   const FrontierResult result = square_frontier();
   ASSERT_EQ(result.objects.size(), 1u);
@@ -177,6 +194,10 @@ TEST(Frontier, SquareRowsParetoSetStepCostsReducedModelAndBudgetChoice) {
   {
     SCOPED_TRACE("budget choice");
     check_budget(square);
+  }
+  {
+    SCOPED_TRACE("report.json round trip and combination of runs");
+    check_report_round_trip(result);
   }
 }
 

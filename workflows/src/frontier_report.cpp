@@ -1,7 +1,13 @@
 // The frontier's report.json, report.md and figure (frontier.hpp).
+#include <algorithm>
 #include <cmath>
 
+#include <fstream>
+#include <sstream>
+
+#include "isospring/io/json_text.hpp"
 #include "isospring/io/plot.hpp"
+#include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/frontier.hpp"
 
 namespace isospring::workflows {
@@ -57,7 +63,91 @@ std::string engines_cell(const std::vector<std::string>& engines) {
   return text.empty() ? "-" : text;
 }
 
+// The numbers row_json writes as null when not finite come back as NaN.
+double number_of(const nlohmann::json& j, const char* key) {
+  return j.at(key).is_null() ? NAN : j.at(key).get<double>();
+}
+
+FrontierRow row_from_json(const nlohmann::json& j) {
+  FrontierRow r;
+  r.kind = {j.at("kind").get<std::string>(), j.at("volume_terms").get<bool>(),
+            j.at("shear_terms").get<bool>(), j.at("strain_points_per_direction").get<int>(),
+            j.at("reduced").get<bool>()};
+  r.failure = j.at("failure").get<std::string>();
+  r.model = j.at("model").get<std::string>();
+  r.reach = j.at("reach").get<int>();
+  r.gamma = j.at("gamma").get<double>();
+  r.prior_weight = j.at("prior_weight").get<double>();
+  r.parameters = j.at("parameters").get<int>();
+  r.springs = j.at("springs").get<size_t>();
+  r.cell_volume_terms = j.at("cell_volume_terms").get<size_t>();
+  r.cell_shear_terms = j.at("cell_shear_terms").get<size_t>();
+  r.strain_point_terms = j.at("strain_point_count").get<size_t>();
+  r.reduced_basis = j.at("reduced_basis").get<int>();
+  r.reduced_of = j.at("reduced_of").get<std::string>();
+  r.cross_validation_worst = number_of(j, "cross_validation_worst");
+  r.worst_validation = number_of(j, "worst_validation");
+  r.worst_case = j.at("worst_validation_case").get<std::string>();
+  r.worst_fitted = number_of(j, "worst_fitted");
+  r.measured_step_us = number_of(j, "measured_step_us");
+  r.measured_min_us = number_of(j, "measured_step_us_min");
+  r.measured_max_us = number_of(j, "measured_step_us_max");
+  r.estimated_step_us = number_of(j, "estimated_step_us");
+  r.engines = j.at("engines").get<std::vector<std::string>>();
+  r.pareto = j.at("pareto").get<bool>();
+  r.seconds = j.at("seconds").get<double>();
+  return r;
+}
+
 }  // namespace
+
+FrontierResult frontier_result_from_json(const nlohmann::json& report, const std::string& source) {
+  try {
+    const nlohmann::json& frontier = report.at("frontier");
+    FrontierResult result;
+    result.machine = frontier.at("machine").get<std::string>();
+    for (const nlohmann::json& o : frontier.at("objects")) {
+      FrontierObject object;
+      object.name = o.at("object").get<std::string>();
+      object.training_cases = o.at("training_cases").get<size_t>();
+      object.validation_cases = o.at("validation_cases").get<size_t>();
+      object.published_e_rms = o.at("published_percent_e_rms").get<double>();
+      object.seconds = o.at("seconds").get<double>();
+      object.complete = o.at("complete").get<bool>();
+      for (const nlohmann::json& r : o.at("rows")) object.rows.push_back(row_from_json(r));
+      result.objects.push_back(std::move(object));
+    }
+    return result;
+  } catch (const nlohmann::json::exception& e) {
+    throw nurbs::InputError(source + ": not a report.json of `isospring thesis --frontier` (" +
+                            e.what() + "); give the report.json a frontier run wrote");
+  }
+}
+
+FrontierResult read_frontier_report(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw nurbs::InputError(path.string() + ": cannot be read; check the path");
+  std::stringstream text;
+  text << in.rdbuf();
+  return frontier_result_from_json(
+      io::parse_json_text(text.str(), path.string(), "frontier report.json"), path.string());
+}
+
+FrontierResult combine_frontier_results(const std::vector<FrontierResult>& results) {
+  FrontierResult combined;
+  for (const FrontierResult& r : results) {
+    combined.machine += (combined.machine.empty() ? "" : " | ") + r.machine;
+    for (const FrontierObject& o : r.objects) {
+      auto same = std::find_if(combined.objects.begin(), combined.objects.end(),
+                               [&](const FrontierObject& c) { return c.name == o.name; });
+      if (same != combined.objects.end())
+        *same = o;
+      else
+        combined.objects.push_back(o);
+    }
+  }
+  return combined;
+}
 
 nlohmann::json frontier_report_json(const FrontierResult& result) {
   nlohmann::json report = io::report_header("thesis", io::isospring_version(), "");

@@ -103,6 +103,18 @@ io::MarkdownReport frontier_report_markdown(const FrontierResult& result,
 /// (created), each atomically.
 void write_frontier_outputs(const std::filesystem::path& out_dir, const FrontierResult& result);
 
+/// A result back from report.json contents (frontier_report_json's), e.g. to combine runs of
+/// single objects made apart (run_frontier's objects are independent). Throws
+/// nurbs::InputError naming `source` and the key when the document is not a frontier report.
+FrontierResult frontier_result_from_json(const nlohmann::json& report, const std::string& source);
+
+/// frontier_result_from_json of a report.json file.
+FrontierResult read_frontier_report(const std::filesystem::path& path);
+
+/// Several results as one: their objects in order (an object named twice: the later run's),
+/// their machine lines joined.
+FrontierResult combine_frontier_results(const std::vector<FrontierResult>& results);
+
 /// The files write_frontier_outputs writes.
 std::vector<std::string> frontier_output_files();
 
