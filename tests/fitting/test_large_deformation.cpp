@@ -199,6 +199,8 @@ TEST(LargeDeformation, BadInputNamesTheField) {
       << message(problem, large);
   large.amplitudes = {-1.0};
   EXPECT_EQ(message(problem, large).rfind("calibration.amplitudes[0] must be > 0", 0), 0u);
+  large.amplitudes = {10.0, 5.0};
+  EXPECT_EQ(message(problem, large).rfind("calibration.amplitudes[1] must be larger", 0), 0u);
   large.amplitudes = {};
   EXPECT_EQ(message(problem, large).rfind("calibration.amplitudes: give at least one", 0), 0u);
   large.amplitudes = {5.0};

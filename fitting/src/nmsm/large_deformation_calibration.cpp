@@ -83,6 +83,12 @@ void check_settings(const analysis::Problem& problem, const CalibrationSettings&
       throw nurbs::InputError("calibration.amplitudes[" + std::to_string(i) +
                               "] must be > 0 (a target %eps_G in percent), got " +
                               amplitude_label(large.amplitudes[i]));
+  for (size_t i = 1; i < large.amplitudes.size(); ++i)
+    if (!(large.amplitudes[i] > large.amplitudes[i - 1]))
+      throw nurbs::InputError("calibration.amplitudes[" + std::to_string(i) +
+                              "] must be larger than the one before (ascending amplitudes: the "
+                              "fit continues from each to the next), got " +
+                              amplitude_label(large.amplitudes[i]));
   if (problem.formulation == analysis::Formulation::kPlaneStress)
     throw nurbs::InputError(
         "material.model: a finite-strain law needs plane strain or a solid; set "
@@ -266,8 +272,41 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
     options.on_iteration = [&settings](int it, double cost) {
       settings.iteration("large-deformation fit", it, cost);
     };
-  if (settings.progress) settings.progress("large-deformation fit (nonlinear springs)");
-  result.fit = fit_displacements_nonlinear(data, options);
+  // Continuation in amplitude: the cases up to each amplitude in turn, each fit starting from
+  // the previous one's stiffnesses, so that every fit starts where its loads have an
+  // equilibrium (a large amplitude may have none at the linear start: cells collapse).
+  const size_t per_amplitude = references.size() / large.amplitudes.size();
+  double reached = 0.0;
+  for (size_t k = 0; k < large.amplitudes.size(); ++k) {
+    const double amplitude = large.amplitudes[k];  // ascending (check_settings)
+    DisplacementFitData stage = data;
+    stage.loads.resize((k + 1) * per_amplitude);
+    stage.references.resize((k + 1) * per_amplitude);
+    if (settings.progress)
+      settings.progress("large-deformation fit (nonlinear springs) up to %eps_G " +
+                        amplitude_label(amplitude));
+    try {
+      result.fit = fit_displacements_nonlinear(stage, options);
+    } catch (const std::runtime_error& e) {
+      if (reached > 0.0) {  // keep the fit that reached the previous amplitude, and say so
+        result.stopped = "no spring equilibrium under the fitted loads at %eps_G " +
+                         amplitude_label(amplitude) + "; fitted up to " + amplitude_label(reached) +
+                         " (" + e.what() + ")";
+        break;
+      }
+      throw std::runtime_error(
+          "calibration.amplitudes: the spring model finds no equilibrium under the fitted loads "
+          "at %eps_G " +
+          amplitude_label(amplitude) +
+          (reached > 0.0 ? " (fitted up to " + amplitude_label(reached) + ")" : "") +
+          ": its cells collapse before the solid's do; use smaller amplitudes or volume and "
+          "shear terms (" +
+          e.what() + ")");
+    }
+    reached = amplitude;
+    result.reached_amplitude = amplitude;
+    options.initial = result.fit.group_stiffness;
+  }
   result.fit_seconds = seconds_since(start);
 
   auto& network = result.model.network;
@@ -275,7 +314,16 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
     network.springs[s].stiffness = result.fit.spring_stiffness[s];
   for (size_t v = 0; v < network.volumes.size(); ++v)
     network.volumes[v].modulus = result.fit.volume_modulus[v];
-  result.fitted = evaluate_large_deformation(scaled, result.model, references);
+  analysis::Problem reached_cases = scaled;
+  const size_t fitted_cases =
+      per_amplitude *
+      static_cast<size_t>(std::find(large.amplitudes.begin(), large.amplitudes.end(), reached) -
+                          large.amplitudes.begin() + 1);
+  reached_cases.load_cases.resize(fitted_cases);
+  result.fitted = evaluate_large_deformation(
+      reached_cases, result.model,
+      std::vector<Eigen::VectorXd>(references.begin(),
+                                   references.begin() + static_cast<std::ptrdiff_t>(fitted_cases)));
   for (size_t c = 0; c < result.fitted.size(); ++c) result.fitted[c].load_factor = factors[c];
   return result;
 }

@@ -57,10 +57,10 @@ bool newton(const SpringNetwork& network, const FreeDofSet& dofs, const Eigen::V
   return r.norm() <= kAccept * scale && u.allFinite();
 }
 
-// From rest: the whole load, then 4 and 16 equal steps when Newton fails.
+// From rest: the whole load, then 4, 16 and 64 equal steps when Newton fails.
 bool solve_from_rest(const SpringNetwork& network, const FreeDofSet& dofs,
                      const Eigen::VectorXd& x0, const Eigen::VectorXd& force, Eigen::VectorXd& u) {
-  for (int steps : {1, 4, 16}) {
+  for (int steps : {1, 4, 16, 64}) {
     u = Eigen::VectorXd::Zero(force.size());
     bool ok = true;
     for (int s = 1; s <= steps && ok; ++s)

@@ -25,8 +25,9 @@ namespace isospring::fitting {
 
 struct LargeDeformationSettings {
   analysis::HyperelasticMaterial law = analysis::HyperelasticMaterial::kNeoHookean;
-  /// Target %eps_G of every fitted case (`calibration.amplitudes`), each > 0; every fitted case
-  /// is fitted once per amplitude.
+  /// Target %eps_G of every fitted case (`calibration.amplitudes`), each > 0, ascending; every
+  /// fitted case is fitted once per amplitude. The fit continues in amplitude: the cases up to
+  /// the first amplitude, then up to the second from there, and so on.
   std::vector<double> amplitudes = {2.0, 10.0, 20.0};
 };
 
@@ -54,6 +55,10 @@ struct LargeDeformationResult {
   DisplacementFitResult fit;   // the nonlinear fit
   /// Per fitted case and amplitude ("id@amplitude"), the model against its reference.
   std::vector<LargeDeformationCase> fitted;
+  /// The largest amplitude fitted: the last of `amplitudes` unless the spring model found no
+  /// equilibrium at a later one, when `stopped` says so and the fit up to this one is kept.
+  double reached_amplitude = 0.0;
+  std::string stopped;
   double reference_seconds = 0.0;  // linear and nonlinear IGA solves
   double fit_seconds = 0.0;        // linear start and nonlinear fit
 };
@@ -74,8 +79,9 @@ SpringModelOnProblem spring_model_of(const analysis::Problem& problem,
 /// Calibrates as described above: settings.fit_cases (empty: every case not in holdout_cases)
 /// are scaled to every amplitude; gamma, gamma_sweep, mesh, mass model, bounds and iterations
 /// come from `settings`; per-spring freedom, matrix approach and given references are refused.
-/// Throws nurbs::InputError naming the field for bad input (calibration.amplitudes entries <= 0,
-/// a finite-strain law in plane stress) and std::runtime_error when a solve fails.
+/// Throws nurbs::InputError naming the field for bad input (calibration.amplitudes entries <= 0
+/// or not ascending, a finite-strain law in plane stress) and std::runtime_error when a solve
+/// fails (an amplitude where the spring model finds no equilibrium names that amplitude).
 LargeDeformationResult calibrate_large_deformation(const analysis::Problem& problem,
                                                    const CalibrationSettings& settings,
                                                    const LargeDeformationSettings& large);

@@ -38,7 +38,7 @@ DisplacementFitResult fit_displacements_nonlinear(const DisplacementFitData& dat
 
 /// The nonlinear static equilibrium u of `network` under `force` (flat particle forces) with
 /// `constrained` DOFs (constrained_dofs: fixed particles plus extras) held at zero: Newton from
-/// `start` (empty: from rest with load stepping). False when it does not converge to
+/// `start` (empty: from rest with up to 64 load steps). False when it does not converge to
 /// |r| <= 1e-11 |f|.
 bool spring_equilibrium(const analysis::SpringNetwork& network, const Eigen::VectorXd& force,
                         const std::vector<int>& extra_constrained, Eigen::VectorXd& u,
