@@ -111,7 +111,7 @@ CaseDiscretization uniform_discretization(const std::vector<nurbs::Patch>& patch
 
 analysis::Material read_material(const Field& root) {
   const Field field = root.at("material");
-  field.expect_object({"E", "nu", "density"});
+  field.expect_object({"E", "nu", "density", "model"});
   analysis::Material material;
   material.youngs_modulus = field.at("E").number();
   if (!(material.youngs_modulus > 0))
@@ -129,6 +129,33 @@ analysis::Material read_material(const Field& root) {
       field.at("density").fail(" must be >= 0 (kg/m^3), got " + json(material.density).dump());
   }
   return material;
+}
+
+/// "material": "model": "linear" (default), "neo_hookean" or "svk"; the finite-strain laws need
+/// plane strain or a solid (plane stress would need the thickness stretch as an unknown).
+std::optional<analysis::HyperelasticMaterial> read_material_model(
+    const Field& root, analysis::Formulation formulation) {
+  const Field material = root.at("material");
+  if (!material.has("model")) return std::nullopt;
+  const Field field = material.at("model");
+  const std::string name = field.string();
+  std::optional<analysis::HyperelasticMaterial> law;
+  if (name == "neo_hookean") {
+    law = analysis::HyperelasticMaterial::kNeoHookean;
+  } else if (name == "svk") {
+    law = analysis::HyperelasticMaterial::kSaintVenantKirchhoff;
+  } else if (name != "linear") {
+    const std::string suggestion = case_json::closest_word(name, {"linear", "neo_hookean", "svk"});
+    field.fail(": unknown material model '" + name + "'" +
+               (suggestion.empty() ? "" : "; did you mean '" + suggestion + "'?") +
+               " Use \"linear\" (default), \"neo_hookean\" or \"svk\"");
+  }
+  if (law && formulation == analysis::Formulation::kPlaneStress)
+    field.fail(": '" + name +
+               "' needs plane strain or a solid; in plane stress the finite-strain law would need "
+               "the thickness stretch as an unknown. Set \"analysis\": {\"type\": "
+               "\"plane_strain\"} or use \"linear\"");
+  return law;
 }
 
 /// "analysis": "volumetric": "displacement" (default) or "bbar" (plane strain and solids).
@@ -373,6 +400,7 @@ Case build_case_from_json(const json& document, const fs::path& case_file,
   c.problem.material = read_material(root);
   c.problem.formulation = read_formulation(root, c.dimension, c.problem.material,
                                            c.problem.quadrature_points, c.problem.volumetric);
+  c.nonlinear_material = read_material_model(root, c.problem.formulation);
   if (root.has("analytic"))
     c.analytic = make_analytic_solution(root.at("analytic").json(), c.problem.material,
                                         c.problem.formulation, root.at("analytic").where());

@@ -3,6 +3,7 @@
 
 #include "isospring/fitting/load_suite.hpp"
 #include "isospring/io/report_case.hpp"
+#include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/calibrate_command.hpp"
 
 namespace isospring::workflows {
@@ -18,6 +19,13 @@ std::vector<std::string> calibrate_output_files(const std::vector<std::string>& 
 }
 
 CalibrateCommandResult run_calibrate(Case c, const Progress& progress) {
+  if (c.nonlinear_material)
+    throw nurbs::InputError(
+        c.file.filename().string() +
+        ": material.model: the calibrate command fits linear references; a finite-strain "
+        "calibration is the library call fitting::calibrate_large_deformation (docs/"
+        "calibration.md, large-deformation calibration). Set \"model\": \"linear\" to "
+        "calibrate here");
   CalibrationRequest request = read_calibration_settings(c.calibration, c.file.string());
   fitting::CalibrationSettings& settings = request.settings;
   settings.matrix_approach = request.matrix_approach;

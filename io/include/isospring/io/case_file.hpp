@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "isospring/analysis/nonlinear_elasticity.hpp"
 #include "isospring/analysis/problem.hpp"
 
 namespace isospring::io {
@@ -60,6 +61,10 @@ struct Case {
   std::vector<nurbs::Patch> geometry;  // exact geometry, before discretisation
   CaseDiscretization discretization;
   analysis::Problem problem;  // at `discretization`
+  /// `material.model`: empty for "linear" (the default, small-strain elasticity); otherwise the
+  /// hyperelastic law ("neo_hookean", "svk") of analysis::solve_static_nonlinear, refused in plane
+  /// stress (neither law is exact there at finite strain).
+  std::optional<analysis::HyperelasticMaterial> nonlinear_material;
   std::optional<AnalyticSolution> analytic;
   std::optional<CaseMeasurements> measurements;
   nlohmann::json calibration;  // `"calibration"` as written (null when absent); its users validate

@@ -1,0 +1,331 @@
+// Large-deformation calibration (large_deformation_calibration.hpp): scaled load cases,
+// finite-strain references, the linear start and the nonlinear fit, and the evaluation of a
+// spring model's nonlinear equilibrium against finite-strain references.
+#include "isospring/fitting/large_deformation_calibration.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "isospring/analysis/assembly.hpp"
+#include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/static_solver.hpp"
+#include "isospring/fitting/nonlinear_displacement_fit.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string amplitude_label(double amplitude) {
+  std::ostringstream out;
+  out << amplitude;
+  return out.str();
+}
+
+// Per particle one node carrying it (-1: none), to read a node-numbered displacement per particle.
+std::vector<int> node_of_particle(const std::vector<int>& particle_of_node, size_t particles) {
+  std::vector<int> node(particles, -1);
+  for (size_t a = 0; a < particle_of_node.size(); ++a)
+    if (node[static_cast<size_t>(particle_of_node[a])] < 0)
+      node[static_cast<size_t>(particle_of_node[a])] = static_cast<int>(a);
+  return node;
+}
+
+// %eps_G of the springs of `network` under the node displacement `u` times `factor`.
+double percent_eps_g(const analysis::SpringNetwork& network, const std::vector<int>& node_of,
+                     const Eigen::VectorXd& u, int dim, double factor) {
+  auto position = [&](int particle, double s) {
+    Eigen::Vector3d x = network.positions[static_cast<size_t>(particle)];
+    const int a = node_of[static_cast<size_t>(particle)];
+    if (a >= 0) x.head(dim) += s * u.segment(a * dim, dim);
+    return x;
+  };
+  double sum = 0.0;
+  for (const auto& spring : network.springs) {
+    const double rest = (position(spring.j, 0.0) - position(spring.i, 0.0)).norm();
+    sum += std::abs((position(spring.j, factor) - position(spring.i, factor)).norm() - rest) / rest;
+  }
+  return network.springs.empty() ? 0.0 : 100.0 * sum / static_cast<double>(network.springs.size());
+}
+
+// Held particle components that do not fix the whole particle (symmetry supports), as
+// calibrate() derives them from the problem's supports.
+std::vector<int> extra_constrained(const analysis::Problem& problem,
+                                   const std::vector<int>& particle_of_node,
+                                   const analysis::SpringNetwork& network) {
+  const analysis::DofMap dofs(problem);
+  const int dim = dofs.dofs_per_node();
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  std::vector<int> extra;
+  for (int d : constraints.dofs) {
+    const int particle = particle_of_node[static_cast<size_t>(d / dim)];
+    if (!network.fixed[static_cast<size_t>(particle)]) extra.push_back(particle * dim + d % dim);
+  }
+  std::sort(extra.begin(), extra.end());
+  extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+  return extra;
+}
+
+void check_settings(const analysis::Problem& problem, const CalibrationSettings& settings,
+                    const LargeDeformationSettings& large) {
+  if (large.amplitudes.empty())
+    throw nurbs::InputError(
+        "calibration.amplitudes: give at least one amplitude (target %eps_G in percent, e.g. "
+        "[2, 10, 20])");
+  for (size_t i = 0; i < large.amplitudes.size(); ++i)
+    if (!(large.amplitudes[i] > 0.0) || !std::isfinite(large.amplitudes[i]))
+      throw nurbs::InputError("calibration.amplitudes[" + std::to_string(i) +
+                              "] must be > 0 (a target %eps_G in percent), got " +
+                              amplitude_label(large.amplitudes[i]));
+  for (size_t i = 1; i < large.amplitudes.size(); ++i)
+    if (!(large.amplitudes[i] > large.amplitudes[i - 1]))
+      throw nurbs::InputError("calibration.amplitudes[" + std::to_string(i) +
+                              "] must be larger than the one before (ascending amplitudes: the "
+                              "fit continues from each to the next), got " +
+                              amplitude_label(large.amplitudes[i]));
+  if (problem.formulation == analysis::Formulation::kPlaneStress)
+    throw nurbs::InputError(
+        "material.model: a finite-strain law needs plane strain or a solid; set "
+        "\"analysis\": {\"type\": \"plane_strain\"} or calibrate linearly");
+  if (settings.per_spring || !settings.reference_displacements.empty() || settings.matrix_approach)
+    throw nurbs::InputError(
+        "calibration: the large-deformation calibration fits grouped stiffnesses to its own "
+        "finite-strain references; turn off per_spring and matrix_approach");
+}
+
+// The fitted cases scaled to every amplitude, in the order amplitude-major.
+analysis::Problem scaled_problem(const analysis::Problem& problem,
+                                 const CalibrationSettings& settings,
+                                 const LargeDeformationSettings& large,
+                                 std::vector<double>& factors) {
+  analysis::Problem fitted = problem;
+  fitted.load_cases.clear();
+  for (const auto& lc : problem.load_cases) {
+    const auto& ids = settings.fit_cases;
+    const bool held = std::find(settings.holdout_cases.begin(), settings.holdout_cases.end(),
+                                lc.id) != settings.holdout_cases.end();
+    if (ids.empty() ? !held : std::find(ids.begin(), ids.end(), lc.id) != ids.end())
+      fitted.load_cases.push_back(lc);
+  }
+  if (fitted.load_cases.empty())
+    throw nurbs::InputError("calibration: no load case left to fit; list some in fit_cases");
+  analysis::Problem scaled = fitted;
+  scaled.load_cases.clear();
+  for (double amplitude : large.amplitudes) {
+    const std::vector<double> f = load_factors_for_eps_g(fitted, settings.mesh, amplitude);
+    for (size_t c = 0; c < fitted.load_cases.size(); ++c) {
+      const auto& lc = fitted.load_cases[c];
+      scaled.load_cases.push_back(
+          scaled_load_case(lc, f[c], lc.id + "@" + amplitude_label(amplitude)));
+      factors.push_back(f[c]);
+    }
+  }
+  return scaled;
+}
+
+}  // namespace
+
+analysis::LoadCase scaled_load_case(const analysis::LoadCase& load_case, double factor,
+                                    const std::string& id) {
+  analysis::LoadCase out = load_case;
+  out.id = id;
+  for (auto& t : out.tractions) {
+    t.value *= factor;
+    if (t.function) {
+      auto f = t.function;
+      t.function = [f, factor](const Eigen::Vector3d& x, const Eigen::Vector3d& n) {
+        return Eigen::Vector3d(factor * f(x, n));
+      };
+    }
+  }
+  for (auto& p : out.pressures) p.value *= factor;
+  for (auto& p : out.point_loads) p.force *= factor;
+  out.body_force *= factor;
+  out.gravity *= factor;
+  return out;
+}
+
+std::vector<double> load_factors_for_eps_g(const analysis::Problem& problem,
+                                           const SpringMeshOptions& mesh_options, double percent) {
+  const analysis::StaticResult linear = analysis::solve_static(problem);
+  const SpringMesh mesh = build_spring_mesh(problem, mesh_options);
+  const std::vector<int> node_of =
+      node_of_particle(particle_of_node(problem, mesh), mesh.network.positions.size());
+  const int dim = mesh.network.dimension;
+  std::vector<double> factors;
+  for (const auto& lc : linear.load_cases) {
+    auto eps = [&](double s) {
+      return percent_eps_g(mesh.network, node_of, lc.displacement, dim, s);
+    };
+    if (!(eps(1.0) > 0.0) || !std::isfinite(eps(1.0)))
+      throw std::runtime_error("calibration: load case " + lc.id +
+                               " deforms nothing; it cannot be scaled to an amplitude");
+    // Each spring's ||d + s Delta| - L0| is convex in s and zero at s = 0: non-decreasing.
+    double lo = 0.0, hi = 1.0;
+    while (eps(hi) < percent) hi *= 2.0;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (eps(mid) < percent ? lo : hi) = mid;
+    }
+    factors.push_back(0.5 * (lo + hi));
+  }
+  return factors;
+}
+
+SpringModelOnProblem spring_model_of(const analysis::Problem& problem,
+                                     const CalibrationResult& calibration) {
+  SpringModelOnProblem model;
+  model.network = calibration.mesh.network;
+  model.particle_of_node = particle_of_node(problem, calibration.mesh);
+  model.extra_constrained = extra_constrained(problem, model.particle_of_node, model.network);
+  return model;
+}
+
+std::vector<Eigen::VectorXd> finite_strain_references(const analysis::Problem& problem,
+                                                      analysis::HyperelasticMaterial law) {
+  analysis::NonlinearOptions options;
+  options.material = law;
+  std::vector<Eigen::VectorXd> references;
+  for (auto& result : analysis::solve_static_nonlinear(problem, options))
+    references.push_back(std::move(result.displacement));
+  return references;
+}
+
+std::vector<LargeDeformationCase> evaluate_large_deformation(
+    const analysis::Problem& problem, const SpringModelOnProblem& model,
+    const std::vector<Eigen::VectorXd>& references) {
+  const analysis::DofMap dofs(problem);
+  const int dim = dofs.dofs_per_node();
+  const auto particles = model.network.positions.size();
+  const std::vector<int> node_of = node_of_particle(model.particle_of_node, particles);
+  if (references.size() != problem.load_cases.size())
+    throw std::invalid_argument("evaluate_large_deformation: one reference per load case");
+  std::vector<LargeDeformationCase> cases;
+  for (size_t c = 0; c < problem.load_cases.size(); ++c) {
+    const Eigen::VectorXd node_load = analysis::assemble_load(problem, dofs, problem.load_cases[c]);
+    Eigen::VectorXd force = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(particles) * dim);
+    for (size_t a = 0; a < model.particle_of_node.size(); ++a)
+      force.segment(model.particle_of_node[a] * dim, dim) +=
+          node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
+    LargeDeformationCase out;
+    out.id = problem.load_cases[c].id;
+    out.percent_eps_g = percent_eps_g(model.network, node_of, references[c], dim, 1.0);
+    Eigen::VectorXd u;
+    out.solved = spring_equilibrium(model.network, force, model.extra_constrained, u);
+    if (out.solved) {
+      std::vector<Eigen::Vector3d> ref, mine;
+      for (size_t a = 0; a < model.particle_of_node.size(); ++a) {
+        Eigen::Vector3d r = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+        r.head(dim) = references[c].segment(static_cast<Eigen::Index>(a) * dim, dim);
+        m.head(dim) = u.segment(model.particle_of_node[a] * dim, dim);
+        ref.push_back(r);
+        mine.push_back(m);
+      }
+      out.control = error_metrics(ref, mine);
+    }
+    cases.push_back(std::move(out));
+  }
+  return cases;
+}
+
+LargeDeformationResult calibrate_large_deformation(const analysis::Problem& problem,
+                                                   const CalibrationSettings& settings,
+                                                   const LargeDeformationSettings& large) {
+  check_settings(problem, settings, large);
+  LargeDeformationResult result;
+  auto start = std::chrono::steady_clock::now();
+  std::vector<double> factors;
+  const analysis::Problem scaled = scaled_problem(problem, settings, large, factors);
+  if (settings.progress)
+    settings.progress("finite-strain IGA references: " + std::to_string(scaled.load_cases.size()) +
+                      " scaled load cases");
+  const std::vector<Eigen::VectorXd> references = finite_strain_references(scaled, large.law);
+  result.reference_seconds = seconds_since(start);
+
+  start = std::chrono::steady_clock::now();
+  CalibrationSettings linear = settings;
+  linear.fit_cases.clear();
+  linear.holdout_cases.clear();
+  linear.reference_displacements = references;
+  linear.field_metrics = false;
+  result.start = calibrate(scaled, linear);
+  result.model = spring_model_of(scaled, result.start);
+
+  DisplacementFitData data;
+  data.network = result.model.network;
+  data.constrained_dofs = result.model.extra_constrained;
+  data.particle_of_node = result.model.particle_of_node;
+  data.loads = result.start.particle_loads;
+  data.references = references;
+  DisplacementFitOptions options;
+  options.grouping = result.start.grouping;
+  options.initial = result.start.fit_result.group_stiffness;
+  options.min_stiffness_ratio = settings.min_stiffness_ratio;
+  options.max_iterations = settings.max_iterations;
+  if (settings.iteration)
+    options.on_iteration = [&settings](int it, double cost) {
+      settings.iteration("large-deformation fit", it, cost);
+    };
+  // Continuation in amplitude: the cases up to each amplitude in turn, each fit starting from
+  // the previous one's stiffnesses, so that every fit starts where its loads have an
+  // equilibrium (a large amplitude may have none at the linear start: cells collapse).
+  const size_t per_amplitude = references.size() / large.amplitudes.size();
+  double reached = 0.0;
+  for (size_t k = 0; k < large.amplitudes.size(); ++k) {
+    const double amplitude = large.amplitudes[k];  // ascending (check_settings)
+    DisplacementFitData stage = data;
+    stage.loads.resize((k + 1) * per_amplitude);
+    stage.references.resize((k + 1) * per_amplitude);
+    if (settings.progress)
+      settings.progress("large-deformation fit (nonlinear springs) up to %eps_G " +
+                        amplitude_label(amplitude));
+    try {
+      result.fit = fit_displacements_nonlinear(stage, options);
+    } catch (const std::runtime_error& e) {
+      if (reached > 0.0) {  // keep the fit that reached the previous amplitude, and say so
+        result.stopped = "no spring equilibrium under the fitted loads at %eps_G " +
+                         amplitude_label(amplitude) + "; fitted up to " + amplitude_label(reached) +
+                         " (" + e.what() + ")";
+        break;
+      }
+      throw std::runtime_error(
+          "calibration.amplitudes: the spring model finds no equilibrium under the fitted loads "
+          "at %eps_G " +
+          amplitude_label(amplitude) +
+          (reached > 0.0 ? " (fitted up to " + amplitude_label(reached) + ")" : "") +
+          ": its cells collapse before the solid's do; use smaller amplitudes or volume and "
+          "shear terms (" +
+          e.what() + ")");
+    }
+    reached = amplitude;
+    result.reached_amplitude = amplitude;
+    options.initial = result.fit.group_stiffness;
+  }
+  result.fit_seconds = seconds_since(start);
+
+  auto& network = result.model.network;
+  for (size_t s = 0; s < network.springs.size(); ++s)
+    network.springs[s].stiffness = result.fit.spring_stiffness[s];
+  for (size_t v = 0; v < network.volumes.size(); ++v)
+    network.volumes[v].modulus = result.fit.volume_modulus[v];
+  analysis::Problem reached_cases = scaled;
+  const size_t fitted_cases =
+      per_amplitude *
+      static_cast<size_t>(std::find(large.amplitudes.begin(), large.amplitudes.end(), reached) -
+                          large.amplitudes.begin() + 1);
+  reached_cases.load_cases.resize(fitted_cases);
+  result.fitted = evaluate_large_deformation(
+      reached_cases, result.model,
+      std::vector<Eigen::VectorXd>(references.begin(),
+                                   references.begin() + static_cast<std::ptrdiff_t>(fitted_cases)));
+  for (size_t c = 0; c < result.fitted.size(); ++c) result.fitted[c].load_factor = factors[c];
+  return result;
+}
+
+}  // namespace isospring::fitting

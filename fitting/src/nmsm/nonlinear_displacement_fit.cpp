@@ -1,0 +1,322 @@
+// The displacement objective with the spring network's nonlinear equilibrium as its response
+// (nonlinear_displacement_fit.hpp), driven by Ceres' Levenberg-Marquardt.
+#include "isospring/fitting/nonlinear_displacement_fit.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/SparseCholesky>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "isospring/analysis/spring_mechanics.hpp"
+#include "isospring/analysis/spring_static.hpp"
+#include "isospring/nurbs/error.hpp"
+
+namespace isospring::fitting {
+
+namespace {
+
+using analysis::FreeDofSet;
+using analysis::SpringNetwork;
+using Ldlt = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>;
+
+constexpr int kMaxGroups = 64;
+// Newton stops at this relative residual (or when it no longer decreases) and succeeds at
+// kAccept: the fit's finite-difference-free Jacobian assumes an equilibrium, and 1e-10 of the
+// load is far below the 1e-4 of a displacement that %e_rms resolves.
+constexpr double kTarget = 1e-13, kAccept = 1e-10;
+
+Eigen::VectorXd free_residual(const SpringNetwork& network, const FreeDofSet& dofs,
+                              const Eigen::VectorXd& x0, const Eigen::VectorXd& force,
+                              const Eigen::VectorXd& u) {
+  return dofs.restrict(Eigen::VectorXd(force + analysis::spring_forces(network, x0 + u)));
+}
+
+// Newton with backtracking from u (updated in place); true when |r| <= kAccept |f|.
+bool newton(const SpringNetwork& network, const FreeDofSet& dofs, const Eigen::VectorXd& x0,
+            const Eigen::VectorXd& force, Eigen::VectorXd& u) {
+  const double scale = std::max(dofs.restrict(force).norm(), 1e-300);
+  Eigen::VectorXd r = free_residual(network, dofs, x0, force, u);
+  Ldlt solver;
+  for (int it = 0; it < 50 && r.norm() > kTarget * scale; ++it) {
+    solver.compute(dofs.restrict(analysis::tangent_stiffness(network, x0 + u)));
+    if (solver.info() != Eigen::Success) break;
+    const Eigen::VectorXd delta = dofs.expand(solver.solve(r));
+    if (!delta.allFinite()) break;
+    double t = 1.0;
+    Eigen::VectorXd trial = free_residual(network, dofs, x0, force, u + delta);
+    while (!(trial.norm() < r.norm()) && t > 1e-4) {
+      t *= 0.5;
+      trial = free_residual(network, dofs, x0, force, u + t * delta);
+    }
+    if (!(trial.norm() < r.norm())) break;  // no progress: roundoff or a limit point
+    u += t * delta;
+    r = trial;
+  }
+  return r.norm() <= kAccept * scale && u.allFinite();
+}
+
+// From rest: the whole load, then 4, 16 and 64 equal steps when Newton fails.
+bool solve_from_rest(const SpringNetwork& network, const FreeDofSet& dofs,
+                     const Eigen::VectorXd& x0, const Eigen::VectorXd& force, Eigen::VectorXd& u) {
+  for (int steps : {1, 4, 16, 64}) {
+    u = Eigen::VectorXd::Zero(force.size());
+    bool ok = true;
+    for (int s = 1; s <= steps && ok; ++s)
+      ok = newton(network, dofs, x0, force * (static_cast<double>(s) / steps), u);
+    if (ok) return true;
+  }
+  return false;
+}
+
+void check_options(const DisplacementFitOptions& options) {
+  if (options.grouping.num_groups() > kMaxGroups)
+    throw nurbs::InputError("calibration: the large-deformation fit takes at most " +
+                            std::to_string(kMaxGroups) + " stiffness groups, got " +
+                            std::to_string(options.grouping.num_groups()) +
+                            "; use a larger gamma (per-spring freedom is fitted linearly only)");
+  if (options.regularization > 0.0)
+    throw nurbs::InputError(
+        "calibration: the large-deformation fit has no regularisation; it fits grouped "
+        "stiffnesses only");
+}
+
+// The prepared nonlinear objective: the network with one sub-network per group (its forces are
+// the group's f_g), free DOFs, residual scales and every case's last equilibrium.
+class NonlinearModel {
+ public:
+  NonlinearModel(const DisplacementFitData& data, const Grouping& grouping)
+      : data_(data),
+        grouping_(grouping),
+        dim_(data.network.dimension),
+        rows_(static_cast<int>(data.particle_of_node.size()) * data.network.dimension),
+        dofs_(static_cast<int>(data.network.positions.size()) * data.network.dimension,
+              analysis::constrained_dofs(data.network, data.constrained_dofs)),
+        network_(data.network),
+        x0_(analysis::flat_positions(data.network)) {
+    if (data.loads.empty() || data.loads.size() != data.references.size())
+      throw nurbs::InputError("calibration: give at least one load case with a reference");
+    if (grouping.group_of_spring.size() != data.network.springs.size() ||
+        grouping.group_of_volume.size() != data.network.volumes.size())
+      throw nurbs::InputError("calibration: the stiffness grouping does not cover every term");
+    group_networks_.resize(static_cast<size_t>(grouping.num_groups()));
+    for (auto& g : group_networks_) {
+      g.positions = data.network.positions;
+      g.dimension = dim_;
+      g.fixed = data.network.fixed;
+    }
+    for (size_t s = 0; s < data.network.springs.size(); ++s)
+      group_networks_[grouping.group_of_spring[s]].springs.push_back(data.network.springs[s]);
+    for (size_t v = 0; v < data.network.volumes.size(); ++v)
+      group_networks_[grouping.group_of_volume[v]].volumes.push_back(data.network.volumes[v]);
+    const int nodes = static_cast<int>(data.particle_of_node.size());
+    for (size_t c = 0; c < data.loads.size(); ++c) {
+      if (data.loads[c].size() != x0_.size() || data.references[c].size() != rows_)
+        throw nurbs::InputError("calibration: load case " + std::to_string(c) +
+                                " has loads or reference displacements of the wrong size");
+      double o_max = 0.0;
+      for (int a = 0; a < nodes; ++a)
+        o_max = std::max(o_max, data.references[c].segment(a * dim_, dim_).norm());
+      if (!(o_max > 0.0) || !data.references[c].allFinite())
+        throw nurbs::InputError("calibration: load case " + std::to_string(c) +
+                                " has a zero or non-finite reference displacement");
+      scale_.push_back(1.0 / (o_max * std::sqrt(static_cast<double>(nodes))));
+    }
+    last_.resize(data.loads.size());
+  }
+
+  int num_residuals() const { return static_cast<int>(data_.loads.size()) * rows_; }
+  int num_parameters() const { return grouping_.num_groups(); }
+
+  bool evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
+                Eigen::MatrixXd* jacobian) {
+    if (!theta.allFinite() || !set_stiffness(theta)) return false;
+    residuals.resize(num_residuals());
+    if (jacobian) jacobian->setZero(num_residuals(), num_parameters());
+    for (size_t c = 0; c < data_.loads.size(); ++c) {
+      Eigen::VectorXd u = last_[c].size() ? last_[c] : Eigen::VectorXd();
+      if (!(u.size() && newton(network_, dofs_, x0_, data_.loads[c], u)) &&
+          !solve_from_rest(network_, dofs_, x0_, data_.loads[c], u))
+        return false;
+      last_[c] = u;
+      const auto row0 = static_cast<Eigen::Index>(c) * rows_;
+      for (int a = 0; a < rows_ / dim_; ++a)
+        residuals.segment(row0 + a * dim_, dim_) =
+            scale_[c] * (u.segment(data_.particle_of_node[a] * dim_, dim_) -
+                         data_.references[c].segment(a * dim_, dim_));
+      if (jacobian && !add_jacobian(c, u, *jacobian)) return false;
+    }
+    return residuals.allFinite();
+  }
+
+ private:
+  bool set_stiffness(const Eigen::VectorXd& theta) {
+    const Eigen::VectorXd k = theta.array().exp();
+    if (!k.allFinite() || !(k.minCoeff() > 0.0)) return false;
+    for (size_t s = 0; s < network_.springs.size(); ++s)
+      network_.springs[s].stiffness = k[grouping_.group_of_spring[s]];
+    for (size_t v = 0; v < network_.volumes.size(); ++v)
+      network_.volumes[v].modulus = k[grouping_.group_of_volume[v]];
+    for (int g = 0; g < num_parameters(); ++g) {
+      for (auto& s : group_networks_[g].springs) s.stiffness = k[g];
+      for (auto& v : group_networks_[g].volumes) v.modulus = k[g];
+    }
+    return true;
+  }
+
+  // du/dtheta_g = K_T^-1 f_g at the equilibrium u of case c, into that case's rows.
+  bool add_jacobian(size_t c, const Eigen::VectorXd& u, Eigen::MatrixXd& jacobian) const {
+    const Eigen::VectorXd x = x0_ + u;
+    Ldlt solver(dofs_.restrict(analysis::tangent_stiffness(network_, x)));
+    if (solver.info() != Eigen::Success) return false;
+    const auto row0 = static_cast<Eigen::Index>(c) * rows_;
+    for (int g = 0; g < num_parameters(); ++g) {
+      const Eigen::VectorXd du = dofs_.expand(
+          solver.solve(dofs_.restrict(analysis::spring_forces(group_networks_[g], x))));
+      if (!du.allFinite()) return false;
+      for (int a = 0; a < rows_ / dim_; ++a)
+        jacobian.col(g).segment(row0 + a * dim_, dim_) =
+            scale_[c] * du.segment(data_.particle_of_node[a] * dim_, dim_);
+    }
+    return true;
+  }
+
+  const DisplacementFitData& data_;
+  const Grouping& grouping_;
+  int dim_, rows_;
+  FreeDofSet dofs_;
+  SpringNetwork network_;
+  std::vector<SpringNetwork> group_networks_;
+  Eigen::VectorXd x0_;
+  std::vector<double> scale_;
+  std::vector<Eigen::VectorXd> last_;  // per case: the last equilibrium (warm start)
+};
+
+class NonlinearCost : public ceres::CostFunction {
+ public:
+  explicit NonlinearCost(NonlinearModel& model) : model_(model) {
+    set_num_residuals(model.num_residuals());
+    for (int g = 0; g < model.num_parameters(); ++g) mutable_parameter_block_sizes()->push_back(1);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    Eigen::VectorXd theta(model_.num_parameters());
+    for (int g = 0; g < theta.size(); ++g) theta[g] = parameters[g][0];
+    if (!model_.evaluate(theta, r_, jacobians ? &j_ : nullptr)) return false;
+    Eigen::Map<Eigen::VectorXd>(residuals, r_.size()) = r_;
+    if (jacobians)
+      for (int g = 0; g < theta.size(); ++g)
+        if (jacobians[g]) Eigen::Map<Eigen::VectorXd>(jacobians[g], r_.size()) = j_.col(g);
+    return true;
+  }
+
+ private:
+  NonlinearModel& model_;
+  mutable Eigen::VectorXd r_;
+  mutable Eigen::MatrixXd j_;
+};
+
+class Reporter : public ceres::IterationCallback {
+ public:
+  explicit Reporter(const std::function<void(int, double)>& report) : report_(report) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    report_(summary.iteration, summary.cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(int, double)>& report_;
+};
+
+}  // namespace
+
+bool spring_equilibrium(const analysis::SpringNetwork& network, const Eigen::VectorXd& force,
+                        const std::vector<int>& extra_constrained, Eigen::VectorXd& u,
+                        const Eigen::VectorXd& start) {
+  const FreeDofSet dofs(static_cast<int>(force.size()),
+                        analysis::constrained_dofs(network, extra_constrained));
+  const Eigen::VectorXd x0 = analysis::flat_positions(network);
+  if (start.size() == force.size()) {
+    u = start;
+    if (newton(network, dofs, x0, force, u)) return true;
+  }
+  return solve_from_rest(network, dofs, x0, force, u);
+}
+
+bool nonlinear_displacement_residuals(const DisplacementFitData& data, const Grouping& grouping,
+                                      const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
+                                      Eigen::MatrixXd* jacobian) {
+  NonlinearModel model(data, grouping);
+  return model.evaluate(theta, residuals, jacobian);
+}
+
+DisplacementFitResult fit_displacements_nonlinear(const DisplacementFitData& data,
+                                                  const DisplacementFitOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(options);
+  const Grouping& grouping = options.grouping;
+  const int groups = grouping.num_groups();
+  std::vector<double> k0 = options.initial;
+  if (k0.empty()) k0 = fit_displacements(data, options).group_stiffness;
+  if (static_cast<int>(k0.size()) != groups)
+    throw nurbs::InputError("calibration: the initial stiffnesses do not match the groups");
+  const double k_max = *std::max_element(k0.begin(), k0.end());
+  const double k_min = *std::min_element(k0.begin(), k0.end());
+  if (!(k_min > 0.0) || !std::isfinite(k_max))
+    throw nurbs::InputError("calibration: initial stiffnesses must be positive and finite");
+  // The linear fit's floor (displacement_fit.hpp): never above a starting value.
+  const double log_floor = std::log(std::min(options.min_stiffness_ratio * k_max, k_min));
+
+  NonlinearModel model(data, grouping);
+  std::vector<double> theta;
+  for (double k : k0) theta.push_back(std::log(k));
+  ceres::Problem problem;
+  std::vector<double*> blocks;
+  for (auto& t : theta) blocks.push_back(&t);
+  problem.AddResidualBlock(new NonlinearCost(model), nullptr, blocks);
+  for (double* b : blocks) problem.SetParameterLowerBound(b, 0, log_floor);
+  ceres::Solver::Options solver_options;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.num_threads = 1;  // the model's warm starts are not thread-safe
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  Reporter reporter(options.on_iteration);
+  if (options.on_iteration) solver_options.callbacks.push_back(&reporter);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+
+  DisplacementFitResult result;
+  result.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.cost = summary.final_cost;
+  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  result.message = summary.message;
+  for (int g = 0; g < groups; ++g) {
+    result.group_stiffness.push_back(std::exp(theta[g]));
+    if (theta[g] <= log_floor + 1e-9) ++result.groups_at_lower_bound;
+  }
+  for (int g : grouping.group_of_spring)
+    result.spring_stiffness.push_back(result.group_stiffness[g]);
+  for (int g : grouping.group_of_volume) result.volume_modulus.push_back(result.group_stiffness[g]);
+  Eigen::VectorXd r;
+  if (!model.evaluate(Eigen::Map<Eigen::VectorXd>(theta.data(), groups), r, nullptr))
+    throw std::runtime_error(
+        "calibration: the fitted spring network has no equilibrium under a fitted load");
+  const int rows = static_cast<int>(data.particle_of_node.size()) * data.network.dimension;
+  const int dim = data.network.dimension;
+  for (size_t c = 0; c < data.references.size(); ++c) {
+    const auto block = r.segment(static_cast<Eigen::Index>(c) * rows, rows);
+    result.percent_e_rms.push_back(100.0 * block.norm());
+    double worst = 0.0;
+    for (int a = 0; a < rows / dim; ++a)
+      worst = std::max(worst, block.segment(a * dim, dim).norm());
+    result.percent_e_max.push_back(100.0 * worst *
+                                   std::sqrt(static_cast<double>(data.particle_of_node.size())));
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace isospring::fitting
