@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -13,6 +14,12 @@
 namespace isospring::analysis {
 
 namespace {
+
+std::string scientific(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
 
 // The options with the modal-derivative forces appended to the load shapes.
 ReducedModelOptions with_derivatives(const SpringNetwork& network, double dt,
@@ -48,10 +55,9 @@ std::vector<Eigen::VectorXd> modal_derivative_forces(const SpringNetwork& networ
     // A step moving no particle by more than 1e-4 of the shortest spring: central differences
     // are then accurate to ~1e-8 relative, far below what the span needs.
     const double h = 1e-4 * spacing / largest;
-    const Eigen::SparseMatrix<double> dk =
-        (tangent_stiffness(network, rest + h * vectors.col(j)) -
-         tangent_stiffness(network, rest - h * vectors.col(j))) /
-        (2.0 * h);
+    const Eigen::SparseMatrix<double> dk = (tangent_stiffness(network, rest + h * vectors.col(j)) -
+                                            tangent_stiffness(network, rest - h * vectors.col(j))) /
+                                           (2.0 * h);
     for (Eigen::Index i = 0; i <= j; ++i) forces.push_back(-(dk * vectors.col(i)));
   }
   return forces;
@@ -94,23 +100,23 @@ void CorotatedReducedModel::reset() {
 }
 
 Eigen::VectorXd CorotatedReducedModel::static_coordinates(const Eigen::VectorXd& reduced_force,
-                                                          int load_steps,
-                                                          double tolerance) const {
+                                                          int load_steps, double tolerance) const {
   const int r = size();
   const Eigen::VectorXd none;
   Eigen::VectorXd q = Eigen::VectorXd::Zero(r);
   const double scale = std::max(reduced_force.norm(), 1e-300);
   // The coordinates' natural size: the linear static response to the whole load.
-  const double h = 1e-6 * std::max(reduced_force.cwiseQuotient(linear_.eigenvalues()).norm(), 1e-12);
+  const double h =
+      1e-6 * std::max(reduced_force.cwiseQuotient(linear_.eigenvalues()).norm(), 1e-12);
   for (int step = 1; step <= load_steps; ++step) {
     const Eigen::VectorXd g = (static_cast<double>(step) / load_steps) * reduced_force;
     Eigen::VectorXd residual = g + elastic_force(q, none);
     for (int iteration = 0; residual.norm() > tolerance * scale; ++iteration) {
       if (iteration == 50)
-        throw std::runtime_error("corotated reduced model: Newton did not reach the static state "
-                                 "(relative residual " +
-                                 std::to_string(residual.norm() / scale) + " at load step " +
-                                 std::to_string(step) + ")");
+        throw std::runtime_error(
+            "corotated reduced model: Newton did not reach the static state "
+            "(relative residual " +
+            scientific(residual.norm() / scale) + " at load step " + std::to_string(step) + ")");
       Eigen::MatrixXd jacobian(r, r);
       for (int k = 0; k < r; ++k) {
         Eigen::VectorXd plus = q, minus = q;

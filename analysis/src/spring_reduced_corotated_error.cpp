@@ -48,9 +48,10 @@ void static_errors(const SpringNetwork& network, const CorotatedReducedModel& mo
   options.tolerance = 1e-9;
   const SpringSolveResult full = solve_spring_newton(network, force, options);
   if (!full.converged)
-    throw std::runtime_error("large_rotation_error: the full network's Newton solve did not "
-                             "converge (relative residual " +
-                             scientific(full.relative_residual) + "); use more load steps");
+    throw std::runtime_error(
+        "large_rotation_error: the full network's Newton solve did not "
+        "converge (relative residual " +
+        scientific(full.relative_residual) + "); use more load steps");
   const Eigen::VectorXd& u = full.displacement;
   error.static_o_max = largest_particle_norm(u, dim);
   error.rotation_degrees =
@@ -72,8 +73,7 @@ double percent_e_rms(const Eigen::VectorXd& u, const Eigen::VectorXd& u_ref, int
   return o_max > 0.0 ? 100.0 * std::sqrt((u - u_ref).squaredNorm() / particles) / o_max : 0.0;
 }
 
-LargeRotationError large_rotation_error(const SpringNetwork& network,
-                                        CorotatedReducedModel& model,
+LargeRotationError large_rotation_error(const SpringNetwork& network, CorotatedReducedModel& model,
                                         const Eigen::VectorXd& force, int steps, int load_steps) {
   LargeRotationError error;
   error.steps = steps;

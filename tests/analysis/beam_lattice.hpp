@@ -41,7 +41,8 @@ inline SpringNetwork beam_lattice(int nx, int ny, int nz, double k, double mass)
 }
 
 // Load on the particles of the end face x = nx - 1: `bend` along -y on each, and a torque about
-// the face's centre line (axis x): each particle pushed along x_hat x (p - centre) scaled by `twist`.
+// the face's centre line (axis x): each particle pushed along x_hat x (p - centre) scaled by
+// `twist`.
 inline Eigen::VectorXd beam_tip_load(const SpringNetwork& net, double bend, double twist) {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(net.positions.size()) * 3);
   double x_max = -1e300, y_max = 0.0, z_max = 0.0;

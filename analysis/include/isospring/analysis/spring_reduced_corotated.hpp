@@ -71,7 +71,8 @@ class CorotatedReducedModel {
   /// Static equilibrium g + g_el(q, 0) = 0 by Newton's method (Jacobian by central differences
   /// in the r coordinates, backtracking on |residual|), the load applied in `load_steps` equal
   /// increments. Returns q; throws std::runtime_error when Newton stalls above `tolerance`
-  /// (relative to |g|).
+  /// (relative to |g|; the force is evaluated at X + Phi q, so its round-off is ~1e-16 |X| / |u|
+  /// relative: a tiny load needs a looser tolerance).
   Eigen::VectorXd static_coordinates(const Eigen::VectorXd& reduced_force, int load_steps = 10,
                                      double tolerance = 1e-10) const;
 
@@ -110,12 +111,12 @@ struct LargeRotationError {
   double static_best = 0.0;
   int steps = 0;
 };
-LargeRotationError large_rotation_error(const SpringNetwork& network,
-                                        CorotatedReducedModel& model,
+LargeRotationError large_rotation_error(const SpringNetwork& network, CorotatedReducedModel& model,
                                         const Eigen::VectorXd& force, int steps,
                                         int load_steps = 20);
 
-/// %e_rms of u against u_ref (flat, `dimension` components per particle) with o_max = max |u_ref,i|.
+/// %e_rms of u against u_ref (flat, `dimension` components per particle) with o_max = max
+/// |u_ref,i|.
 double percent_e_rms(const Eigen::VectorXd& u, const Eigen::VectorXd& u_ref, int dimension);
 
 }  // namespace isospring::analysis
