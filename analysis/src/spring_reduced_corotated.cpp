@@ -90,8 +90,16 @@ void CorotatedReducedModel::step(const Eigen::VectorXd& reduced_force) {
   const double dt = linear_.dt();
   const Eigen::VectorXd rhs = dt * (reduced_force + elastic_force(q_, qdot_) -
                                     dt * linear_.eigenvalues().cwiseProduct(qdot_));
+  const Eigen::VectorXd q0 = q_, qdot0 = qdot_;
   qdot_.noalias() += linear_.step_inverse() * rhs;
-  q_ += dt * qdot_;
+  // Further chord iterations towards backward Euler, v1 = v0 + dt (g + g_el(q0 + dt v1, v1)),
+  // with the same (rest) matrix.
+  for (int k = 1; k < iterations_; ++k) {
+    const Eigen::VectorXd residual =
+        qdot_ - qdot0 - dt * (reduced_force + elastic_force(q0 + dt * qdot_, qdot_));
+    qdot_.noalias() -= linear_.step_inverse() * residual;
+  }
+  q_ = q0 + dt * qdot_;
 }
 
 void CorotatedReducedModel::reset() {

@@ -3,6 +3,7 @@
 // unit spacing, every particle to its 13 forward neighbours (cell edges, face and body
 // diagonals: the NMSM topology of a regular net), stiffness `k` L0, masses `mass`, face x = 0
 // fixed, 5 % damping ratio.
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "isospring/analysis/spring_mechanics.hpp"

@@ -181,6 +181,19 @@ TEST(CorotatedReducedModel, TwistTo37DegreesAgainstTheFullNetwork) {
   expect_large_rotation("twist", beam_tip_load(beam().net, 0.0, 120.0), 0.5);
 }
 
+TEST(CorotatedReducedModel, Explore) {
+  Beam& b = beam();
+  const int iterations = std::getenv("IT") ? std::atoi(std::getenv("IT")) : 1;
+  b.model.set_iterations(iterations);
+  for (double bend : {4.0, 32.0}) {
+    const LargeRotationError e = large_rotation_error(b.net, b.model, beam_tip_load(b.net, bend, 0.0), 300);
+    std::cout << "bend " << bend << " it " << iterations << " dyn lin " << e.dynamic_linear << " corot " << e.dynamic_corotated << "\n";
+  }
+  const LargeRotationError e = large_rotation_error(b.net, b.model, beam_tip_load(b.net, 0.0, 120.0), 300);
+  std::cout << "twist it " << iterations << " dyn lin " << e.dynamic_linear << " corot " << e.dynamic_corotated << "\n";
+  b.model.set_iterations(1);
+}
+
 TEST(CorotatedReducedModel, BadInputIsNamed) {
   const SpringNetwork net = beam_lattice(4, 2, 2, 1e3, 1e-3);
   EXPECT_THROW(CorotatedReducedModel(net, 1e-3, {{4, {}}, -1}), nurbs::InputError);

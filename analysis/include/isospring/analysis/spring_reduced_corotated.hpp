@@ -26,6 +26,7 @@
 // projects the force back, O(n r) (plus O(n) polar decompositions and block products), against
 // the linear model's O(r^2). Reading one particle's displacement stays O(r).
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 #include "isospring/analysis/spring_corotation.hpp"
@@ -63,6 +64,11 @@ class CorotatedReducedModel {
 
   /// One step under the reduced external force g (ReducedSpringModel::reduce_force).
   void step(const Eigen::VectorXd& reduced_force);
+  /// Force evaluations per step: 1 is the linearly implicit step above; k > 1 adds k - 1 chord
+  /// iterations of backward Euler with the same matrix, v1 -= A^-1 (v1 - v0 - dt (g +
+  /// g_el(q0 + dt v1, v1))), which converge at a rate ~ the rotation for the stiff directions.
+  void set_iterations(int iterations) { iterations_ = std::max(1, iterations); }
+  int iterations() const { return iterations_; }
   void reset();
   const Eigen::VectorXd& coordinates() const { return q_; }
   const Eigen::VectorXd& velocities() const { return qdot_; }
@@ -81,6 +87,7 @@ class CorotatedReducedModel {
   CorotatedForces corotation_;
   Eigen::VectorXd rest_;
   Eigen::VectorXd q_, qdot_;
+  int iterations_ = 1;
   // Step scratch (no allocation per step after the first).
   mutable Eigen::VectorXd x_, v_, f_;
   mutable std::vector<Eigen::Matrix3d> rotations_;
