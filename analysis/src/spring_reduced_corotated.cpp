@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -94,9 +95,20 @@ void CorotatedReducedModel::step(const Eigen::VectorXd& reduced_force) {
   qdot_.noalias() += linear_.step_inverse() * rhs;
   // Further chord iterations towards backward Euler, v1 = v0 + dt (g + g_el(q0 + dt v1, v1)),
   // with the same (rest) matrix.
+  // At large rotation the chord iteration can diverge (its rate grows with the rotation): an
+  // iterate whose residual grew is dropped for the one before.
+  Eigen::VectorXd previous = qdot_;
+  double previous_norm = std::numeric_limits<double>::infinity();
   for (int k = 1; k < iterations_; ++k) {
     const Eigen::VectorXd residual =
         qdot_ - qdot0 - dt * (reduced_force + elastic_force(q0 + dt * qdot_, qdot_));
+    const double norm = residual.norm();
+    if (!(norm <= previous_norm)) {
+      if (k > 1) qdot_ = previous;
+      break;
+    }
+    previous = qdot_;
+    previous_norm = norm;
     qdot_.noalias() -= linear_.step_inverse() * residual;
   }
   q_ = q0 + dt * qdot_;

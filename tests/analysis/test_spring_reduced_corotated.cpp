@@ -155,43 +155,51 @@ TEST(CorotatedReducedModel, SmallDeformationLimitIsTheLinearModel) {
   EXPECT_LT((corotated - linear).norm(), 1e-5 * linear.norm());
 }
 
-void expect_large_rotation(const char* name, const Eigen::VectorXd& force, double dynamic_factor) {
+// Static and motion errors of both models at one load; the corotated model steps with
+// `iterations` force evaluations per step.
+LargeRotationError measure(const char* name, const Eigen::VectorXd& force, int iterations) {
   Beam& b = beam();
+  b.model.set_iterations(iterations);
   const LargeRotationError e = large_rotation_error(b.net, b.model, force, 300);
+  b.model.set_iterations(1);
   std::cout << name << ": rotation " << e.rotation_degrees << " deg, static %e_rms linear "
             << e.static_linear << " corotated " << e.static_corotated << " (basis limit "
             << e.static_best << "), motion %e_rms linear " << e.dynamic_linear << " corotated "
-            << e.dynamic_corotated << ", o_max " << e.static_o_max << " / " << e.dynamic_o_max
-            << " m\n";
-  EXPECT_GT(e.rotation_degrees, 30.0) << name;
-  EXPECT_LT(e.rotation_degrees, 60.0) << name;
-  // Measured 1.4 % / 1.1 % against the linear model's 23 % / 18 %.
-  EXPECT_LT(e.static_corotated, 2.0) << name;
-  EXPECT_LT(e.static_corotated, 0.1 * e.static_linear) << name;
-  EXPECT_LT(e.dynamic_corotated, dynamic_factor * e.dynamic_linear) << name;
+            << e.dynamic_corotated << " (" << iterations << " evaluations a step), o_max "
+            << e.static_o_max << " / " << e.dynamic_o_max << " m\n";
+  return e;
 }
 
 TEST(CorotatedReducedModel, BendingTo47DegreesAgainstTheFullNetwork) {
-  // Measured motion 15 % against 27 %: the frozen rest Jacobian takes the rotation-dependent part
-  // of the force explicitly, which the stiff modal-derivative directions resolve poorly at 1 ms.
-  expect_large_rotation("bending", beam_tip_load(beam().net, 32.0, 0.0), 0.7);
+  const LargeRotationError e = measure("bending", beam_tip_load(beam().net, 32.0, 0.0), 3);
+  EXPECT_GT(e.rotation_degrees, 30.0);
+  EXPECT_LT(e.rotation_degrees, 60.0);
+  // Measured: static 1.4 % against 23 %, motion 14 % against 27 %.
+  EXPECT_LT(e.static_corotated, 2.0);
+  EXPECT_LT(e.static_corotated, 0.1 * e.static_linear);
+  EXPECT_LT(e.dynamic_corotated, 0.6 * e.dynamic_linear);
 }
 
 TEST(CorotatedReducedModel, TwistTo37DegreesAgainstTheFullNetwork) {
-  expect_large_rotation("twist", beam_tip_load(beam().net, 0.0, 120.0), 0.5);
+  const LargeRotationError e = measure("twist", beam_tip_load(beam().net, 0.0, 120.0), 3);
+  EXPECT_GT(e.rotation_degrees, 30.0);
+  EXPECT_LT(e.rotation_degrees, 60.0);
+  // Measured: static 1.1 % against 18 %, motion 4.7 % against 14 %.
+  EXPECT_LT(e.static_corotated, 2.0);
+  EXPECT_LT(e.static_corotated, 0.1 * e.static_linear);
+  EXPECT_LT(e.dynamic_corotated, 0.4 * e.dynamic_linear);
 }
 
-TEST(CorotatedReducedModel, Explore) {
-  Beam& b = beam();
-  const int iterations = std::getenv("IT") ? std::atoi(std::getenv("IT")) : 1;
-  b.model.set_iterations(iterations);
-  for (double bend : {4.0, 32.0}) {
-    const LargeRotationError e = large_rotation_error(b.net, b.model, beam_tip_load(b.net, bend, 0.0), 300);
-    std::cout << "bend " << bend << " it " << iterations << " dyn lin " << e.dynamic_linear << " corot " << e.dynamic_corotated << "\n";
-  }
-  const LargeRotationError e = large_rotation_error(b.net, b.model, beam_tip_load(b.net, 0.0, 120.0), 300);
-  std::cout << "twist it " << iterations << " dyn lin " << e.dynamic_linear << " corot " << e.dynamic_corotated << "\n";
-  b.model.set_iterations(1);
+TEST(CorotatedReducedModel, ChordIterationsTameTheStiffDirectionsAt8Degrees) {
+  // One evaluation a step rings in the stiff modal-derivative directions here (measured 7.1 %
+  // against the linear model's 2.5 %); three (two chord iterations of backward Euler) do not
+  // (measured 0.32 %).
+  const Eigen::VectorXd force = beam_tip_load(beam().net, 4.0, 0.0);
+  const LargeRotationError one = measure("bending 8 degrees", force, 1);
+  const LargeRotationError three = measure("bending 8 degrees", force, 3);
+  EXPECT_GT(one.dynamic_corotated, one.dynamic_linear);
+  EXPECT_LT(three.dynamic_corotated, 0.2 * three.dynamic_linear);
+  EXPECT_LT(three.static_corotated, 0.1 * three.static_linear);
 }
 
 TEST(CorotatedReducedModel, BadInputIsNamed) {
