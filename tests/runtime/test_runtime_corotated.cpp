@@ -66,6 +66,12 @@ TEST(RuntimeCorotated, StepsAndForcesAsTheAnalysisModel) {
   const Eigen::VectorXd linear_product =
       -(linear.eigenvalues().cwiseProduct(q)) - linear.damping() * qdot;
   EXPECT_LE((df - linear_product).norm(), 1e-10 * linear_product.norm());
+  // No call allocates (operator new counted around a step, forces and a product).
+  const long before = allocation_count();
+  isospring_model_reduced_step(m.get(), g.data(), q.data(), qdot.data());
+  isospring_model_forces(m.get(), q.data(), qdot.data(), f.data());
+  isospring_model_force_jvp(m.get(), q.data(), qdot.data(), q.data(), qdot.data(), df.data());
+  EXPECT_EQ(allocation_count(), before);
   // At rest the corotated energy is zero.
   EXPECT_LE(std::abs(isospring_model_forces(m.get(), zero.data(), nullptr, f0.data())), 1e-20);
 }
