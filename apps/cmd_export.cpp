@@ -58,6 +58,9 @@ void setup_export(CLI::App& app) {
                   "reduced: lowest natural modes in the basis (the model's load cases and gravity "
                   "join it as static shapes)")
       ->check(CLI::Range(1, 100000));
+  cmd->add_flag("--corotated", options->run.corotated,
+                "reduced: the corotated model for large rotations (modal derivatives join the "
+                "basis; O(n r) per step; docs/reduced_model.md)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
   cmd->footer(
       "mjcf: free particles are bodies with slide joints, fixed ones sites in the world, springs\n"

@@ -2,6 +2,7 @@
 #include "isospring/io/export_reduced.hpp"
 
 #include <cmath>
+#include <memory>
 
 #include "isospring/nurbs/error.hpp"
 
@@ -45,7 +46,14 @@ ReducedExport export_reduced_model(const SpringModel& model, const ReducedExport
   if (options.load_shapes)
     for (const auto& load : loads)
       if (load.second.norm() > 0.0) reduction.load_shapes.push_back(load.second);
-  analysis::ReducedSpringModel reduced(model.network, options.timestep, reduction);
+  std::unique_ptr<analysis::CorotatedReducedModel> corotated;
+  if (options.corotated)
+    corotated = std::make_unique<analysis::CorotatedReducedModel>(
+        model.network, options.timestep,
+        analysis::CorotatedModelOptions{reduction, options.derivative_modes});
+  analysis::ReducedSpringModel reduced =
+      corotated ? corotated->linear()
+                : analysis::ReducedSpringModel(model.network, options.timestep, reduction);
 
   ReducedExport out;
   out.basis_size = reduced.size();
@@ -77,6 +85,10 @@ ReducedExport export_reduced_model(const SpringModel& model, const ReducedExport
   d["damping"] = matrix_rows(reduced.damping());
   d["step_inverse"] = matrix_rows(reduced.step_inverse());
   d["basis"] = matrix_rows(reduced.basis());
+  if (corotated) {
+    d["corotation"] = corotation_document(corotated->corotation());
+    d["corotation"]["derivative_modes"] = options.derivative_modes;
+  }
   nlohmann::json errors = nlohmann::json::array();
   for (const ReducedLoadError& e : out.errors)
     errors.push_back(

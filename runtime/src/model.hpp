@@ -1,6 +1,7 @@
 #pragma once
 // The runtime's model: flat arrays laid out for one pass per term kind (runtime.h). Private to
 // the library; the C API in runtime.cpp wraps it.
+#include <Eigen/Core>
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -72,6 +73,17 @@ struct Model {
   std::vector<double> damping;       // C_r, row-major
   std::vector<double> step_inverse;  // (I + dt C_r + dt^2 Lambda)^-1, row-major
   std::vector<double> scratch;       // basis_size: the step's right-hand side
+
+  // Corotated reduced model (corotation.hpp): empty corot_offsets for the linear one. Particle
+  // i's neighbours are corot_columns[corot_offsets[i] .. corot_offsets[i + 1]); d x d blocks
+  // row-major at the same positions; the row sums, rest inverses and scratch per particle.
+  std::vector<int> corot_offsets, corot_columns;
+  std::vector<double> corot_stiffness, corot_damping;
+  std::vector<double> corot_row_stiffness, corot_row_damping, corot_rest_inverse;
+  // Scratch of the evaluations: a corotated model must not be evaluated from several threads.
+  mutable std::vector<double> corot_x, corot_v, corot_f, corot_g;
+  mutable std::vector<Eigen::Matrix3d> corot_rotations;
+  bool corotated() const { return !corot_offsets.empty(); }
 
   size_t state_size() const {
     return kind == 1 ? basis_size : particles * static_cast<size_t>(dimension);

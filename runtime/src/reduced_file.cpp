@@ -1,5 +1,6 @@
 // The reduced model document ("isospring.reduced_spring_model", version 1,
 // docs/reduced_model.md) into the runtime's arrays.
+#include "corotation.hpp"
 #include "json_fields.hpp"
 
 namespace isospring::runtime {
@@ -53,6 +54,10 @@ void read_reduced(const json& document, const JsonFields& fields, Model& model) 
   read_matrix(document, "step_inverse", r, r, fields, model.step_inverse);
   read_matrix(document, "basis", model.particles * dim, r, fields, model.basis);
   model.scratch.assign(r, 0.0);
+  if (document.contains("corotation")) {
+    read_corotation(document["corotation"], fields, model);
+    model.corot_g.assign(r, 0.0);
+  }
 }
 
 }  // namespace isospring::runtime

@@ -10,6 +10,7 @@
 #include <new>
 #include <sstream>
 
+#include "corotation.hpp"
 #include "json_fields.hpp"
 #include "model.hpp"
 
@@ -166,6 +167,7 @@ double isospring_model_forces(const isospring_model* m, const double* x, const d
   if (model.kind == ISOSPRING_MODEL_NETWORK)
     return isospring::runtime::network_forces(model, x, v, f);
   if (!(model.mask & ISOSPRING_TERM_REDUCED)) return 0.0;
+  if (model.corotated()) return isospring::runtime::corotated_reduced_force(model, x, v, f);
   // f = -Lambda q - C_r qdot, E = 1/2 q^T Lambda q.
   double energy = 0.0;
   for (size_t i = 0; i < n; ++i) {
@@ -189,6 +191,10 @@ void isospring_model_force_jvp(const isospring_model* m, const double* x, const 
     return;
   }
   if (!(model.mask & ISOSPRING_TERM_REDUCED)) return;
+  if (model.corotated()) {
+    isospring::runtime::corotated_reduced_jvp(model, x, dx, v ? dv : nullptr, df);
+    return;
+  }
   for (size_t i = 0; i < n; ++i) {
     double sum = dx ? model.eigenvalues[i] * dx[i] : 0.0;
     if (v && dv)
@@ -234,7 +240,13 @@ void isospring_model_reduced_step(isospring_model* m, const double* g, double* q
   const double dt = model.timestep;
   // rhs = dt (g - Lambda q - C_r qdot - dt Lambda qdot); qdot += A^-1 rhs; q += dt qdot.
   double* rhs = model.scratch.data();
-  for (size_t i = 0; i < r; ++i) {
+  if (model.corotated()) {
+    // The corotated forces replace -Lambda q - C_r qdot (docs/reduced_model.md).
+    isospring::runtime::corotated_reduced_force(model, q, qdot, model.corot_g.data());
+    for (size_t i = 0; i < r; ++i)
+      rhs[i] = dt * (g[i] + model.corot_g[i] - dt * model.eigenvalues[i] * qdot[i]);
+  }
+  for (size_t i = 0; i < r && !model.corotated(); ++i) {
     double damping = 0.0;
     for (size_t j = 0; j < r; ++j) damping += model.damping[i * r + j] * qdot[j];
     const double lambda = model.eigenvalues[i];

@@ -1,10 +1,12 @@
 // `isospring export` end to end: every format from one model.json, read back (json exactly,
 // VTK with VTK's reader, MJCF/SOFA by their element counts), and the exit codes for bad input.
 #include <gtest/gtest.h>
+
 #include <unistd.h>  // getpid: CTest runs tests in parallel processes
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkXMLPolyDataReader.h>
+#include "../analysis/beam_lattice.hpp"
 
 #include <cstdlib>
 #include <fstream>
@@ -94,6 +96,17 @@ TEST_F(ExportCommand, WritesEveryFormat) {
   EXPECT_EQ(reduced.at("timestep"), 1e-3);
   const nlohmann::json report = nlohmann::json::parse(read(dir_ / "reduced.json.report.json"));
   EXPECT_EQ(report.at("basis_size"), 3);
+  // --corotated (on a solid beam: its modal derivatives need a supported, non-flat network):
+  // the corotation object, one neighbour list per particle.
+  write_model_json(dir_ / "beam.json", analysis::beam_lattice(3, 2, 2, 1e3, 1e-3),
+                   {{"case", "beam"}});
+  ASSERT_EQ(
+      run("export " + (dir_ / "beam.json").string() +
+          " -q --format reduced --corotated --modes 4 -o " + (dir_ / "corotated.json").string()),
+      0);
+  const nlohmann::json corotated = nlohmann::json::parse(read(dir_ / "corotated.json"));
+  EXPECT_EQ(corotated.at("corotation").at("neighbours").size(), 12u);
+  EXPECT_FALSE(reduced.contains("corotation"));
 }
 
 TEST_F(ExportCommand, BadInputExitsWithStatusOne) {

@@ -62,6 +62,7 @@ void write_reduced(const ExportCommandOptions& options, ExportCommandResult& r) 
   ReducedExportOptions o;
   o.modes = options.modes;
   o.timestep = options.timestep > 0.0 ? options.timestep : 1e-3;
+  o.corotated = options.corotated;
   r.reduced = export_reduced_model(r.model, o, {{"source", options.input}});
   write_file_atomically(options.output, r.reduced->document.dump() + "\n");
 }

@@ -19,8 +19,9 @@
 // O(n r).
 //
 // K is rest_stiffness(network): springs, cell and strain-point terms, linearised at rest. Limit:
-// linear about the rest state (rotations must stay small: no corotation); reduction_error
-// measures what that costs against the full nonlinear network.
+// linear about the rest state (rotations must stay small); reduction_error measures what that
+// costs against the full nonlinear network. CorotatedReducedModel (spring_reduced_corotated.hpp)
+// is the large-rotation variant.
 #include <Eigen/Core>
 #include <vector>
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "isospring/analysis/spring_reduced_corotated.hpp"
 #include "isospring/analysis/spring_reduced_model.hpp"
 #include "isospring/io/model_file.hpp"
 
@@ -18,6 +19,11 @@ struct ReducedExportOptions {
   double timestep = 1e-3;   // [s]: 1 kHz
   bool load_shapes = true;  // the model's load cases (and its gravity) join the basis
   int error_steps = 200;    // steps of the error run against the full network, per load
+  /// The corotated model (analysis/spring_reduced_corotated.hpp): the basis gains the modal
+  /// derivatives of the `derivative_modes` lowest vectors and the document a "corotation" object
+  /// (docs/reduced_model.md). `errors` stay those of the linear step on the same basis.
+  bool corotated = false;
+  int derivative_modes = 6;
 };
 
 /// The reduced model's error on one of the model's loads (reduction_error against the full
@@ -39,5 +45,10 @@ struct ReducedExport {
 /// that cannot be reduced (see ReducedSpringModel).
 ReducedExport export_reduced_model(const SpringModel& model, const ReducedExportOptions& options,
                                    const nlohmann::json& provenance = nlohmann::json::object());
+
+/// The "corotation" object of a corotated reduced document: per particle its neighbours and the
+/// rest stiffness and damping blocks, their row sums and the neighbourhood's rest inverse
+/// (analysis::CorotatedForces' storage).
+nlohmann::json corotation_document(const analysis::CorotatedForces& corotation);
 
 }  // namespace isospring::io

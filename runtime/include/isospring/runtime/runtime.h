@@ -12,6 +12,12 @@
  *   point volume     E = 1/2 kappa |V0| (det F - 1)^2, F = sum_a x_a (dR_a/dX)^T
  *   point shear      E = mu |V0| |dev G|^2, G = 1/2 (F^T F - I)
  *   reduced model    E = 1/2 q^T Lambda q, damping -C_r qdot (in the model's own coordinates q)
+ *   corotated        the network's rest stiffness and damping in each particle's shape-matched
+ *   reduced model    frame, projected: g = Phi^T f_corot(X + Phi q, Phi qdot), exactly zero for
+ *                    rigid motions; E = 1/2 sum_i l_i . sum_j K_ij l_j (l: displacements in
+ *                    particle i's frame; f is not exactly its gradient); the Jacobian-vector
+ *                    product is taken at frozen rotations. A reduced file with a "corotation"
+ *                    object (`isospring export --format reduced --corotated`); O(n r) per call.
  *
  * (definitions: analysis/spring_network.hpp, spring_volume.hpp, spring_strain_point.hpp,
  * spring_reduced_model.hpp). Everything is allocated by the load; no call after it allocates.
@@ -19,7 +25,8 @@
  * State vectors are flat arrays of isospring_model_state_size() doubles: for a network, particle
  * q's component c at q * dimension + c (absolute positions x, velocities v); for a reduced model
  * the reduced coordinates q and their rates. Evaluation functions read the model only, so one
- * loaded model may be evaluated from several threads at once; isospring_model_set_terms and
+ * loaded model may be evaluated from several threads at once (except a corotated reduced model,
+ * whose evaluations use its scratch); isospring_model_set_terms and
  * isospring_model_reduced_step change the model (its scratch), so they must not run concurrently
  * with anything else on the same model.
  */

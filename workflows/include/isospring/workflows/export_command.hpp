@@ -17,10 +17,11 @@ namespace isospring::workflows {
 
 struct ExportCommandOptions {
   std::string input, output;
-  std::string format;     // an export_formats() name; empty: from the output's extension
-  std::string gravity;    // "gx,gy,gz" for mjcf and sofa; empty: io::engine_gravity's default
-  double timestep = 0.0;  // mjcf and sofa: 0 = automatic; reduced: 0 = 1e-3 s
-  int modes = 32;         // reduced: lowest natural modes in the basis
+  std::string format;      // an export_formats() name; empty: from the output's extension
+  std::string gravity;     // "gx,gy,gz" for mjcf and sofa; empty: io::engine_gravity's default
+  double timestep = 0.0;   // mjcf and sofa: 0 = automatic; reduced: 0 = 1e-3 s
+  int modes = 32;          // reduced: lowest natural modes in the basis
+  bool corotated = false;  // reduced: the corotated model (docs/reduced_model.md, large rotation)
 };
 
 struct ExportCommandResult {
