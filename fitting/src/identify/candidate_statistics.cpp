@@ -23,12 +23,14 @@ Eigen::Index setup_rows(const std::vector<Eigen::VectorXd>& weights) {
 NewColumnProjection project_on_new_columns(const Setup& setup, const Model& model,
                                            const Eigen::VectorXd& theta, Eigen::Index first_new,
                                            const std::vector<Eigen::VectorXd>& weights,
-                                           const std::vector<Eigen::VectorXd>* model_error) {
+                                           const std::vector<Eigen::VectorXd>* model_error,
+                                           bool linearised) {
   NewColumnProjection out;
   const Eigen::Index total = theta.size();
   ModelEvaluation eval;
   try {
-    eval = model.forward->evaluate(theta, true);
+    eval = linearised ? model.forward->evaluate_linearised(theta, &out.series_ratio)
+                      : model.forward->evaluate(theta, true);
   } catch (const std::exception&) {
     return out;
   }
@@ -86,18 +88,19 @@ void ScoreTest::widen(double allowance) {
 
 ScoreTest score_test(const Setup& setup, const Model& candidate, const Fit& current,
                      const Eigen::VectorXd& neutral, const std::vector<Eigen::VectorXd>& weights,
-                     double allowance) {
+                     double allowance, bool linearised) {
   ScoreTest out;
   const Eigen::Index p = current.theta.size();
   if (neutral.size() != candidate.forward->num_parameters() - p) return out;
   Eigen::VectorXd theta(candidate.forward->num_parameters());
   theta << current.theta, neutral;
   const NewColumnProjection projection =
-      project_on_new_columns(setup, candidate, theta, p, weights, nullptr);
+      project_on_new_columns(setup, candidate, theta, p, weights, nullptr, linearised);
   if (!projection.done) return out;
   const int q = projection.rank;
   const int d2 = current.rows - static_cast<int>(p) - q;
   out.reduction = projection.residual;
+  out.series_ratio = projection.series_ratio;
   if (d2 <= 0 || !(projection.rss - out.reduction > 0.0)) return out;
   out.q = q, out.d2 = d2, out.rss = projection.rss;
   if (projection.step.size() == neutral.size()) {

@@ -63,10 +63,13 @@ constexpr int kMaxChordSteps = 12;
 // holds the nonlinear caches' locks throughout.
 class ForwardModel::NonlinearEvaluation {
  public:
-  NonlinearEvaluation(const ForwardModel& model, const Eigen::VectorXd& theta, bool with_jacobian)
+  NonlinearEvaluation(const ForwardModel& model, const Eigen::VectorXd& theta, bool with_jacobian,
+                      bool linearised, double* series)
       : m_(model),
         theta_(theta),
         with_jacobian_(with_jacobian),
+        linearised_(linearised),
+        series_(series),
         nf_(static_cast<int>(model.free_dofs_.size())),
         nls_(static_cast<size_t>(model.num_load_cases_)),
         cache_(*model.nonlinear_cache_),
@@ -75,8 +78,11 @@ class ForwardModel::NonlinearEvaluation {
 
   ModelEvaluation run() {
     evaluate_coefficients();
+    if (linearised_ && (w_index_ < 0 || w_ != 0.0))
+      throw std::logic_error("ForwardModel::evaluate_linearised: needs the blend weight at w = 0");
     factorise_linear_stiffness();
     solve_linear();
+    if (linearised_) return linearised_at_zero_weight(series_);
     prepare_caches();
     return solve_load_cases();
   }
@@ -89,6 +95,8 @@ class ForwardModel::NonlinearEvaluation {
   void solve_linear();
   void prepare_caches();
   ModelEvaluation solve_load_cases();
+  ModelEvaluation linearised_at_zero_weight(double* series) const;
+  Eigen::VectorXd second_order_term(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const;
   void solve_load_case(size_t lc, ModelEvaluation& out);
   Eigen::VectorXd newton_start(size_t lc, bool factorised,
                                const analysis::TangentSolver*& borrowed);
@@ -114,8 +122,10 @@ class ForwardModel::NonlinearEvaluation {
   const ForwardModel& m_;
   const Eigen::VectorXd& theta_;
   const bool with_jacobian_;
-  const int nf_;      // free DOFs
-  const size_t nls_;  // load cases
+  const bool linearised_;  // evaluate_linearised: no Newton, du/dw to first order at w = 0
+  double* const series_;   // evaluate_linearised's second_order_ratio, or null
+  const int nf_;           // free DOFs
+  const size_t nls_;       // load cases
   NonlinearCache& cache_;
   FactorizationCache& shared_;
   analysis::TangentSolver& linear_solver_;  // the linear K_ff at theta (the tangent at u = 0)
@@ -475,12 +485,83 @@ void ForwardModel::NonlinearEvaluation::predict(size_t lc, Eigen::VectorXd u, co
   out.displacements[lc] = std::move(u);
 }
 
-ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta,
-                                                 bool with_jacobian) const {
+// At w = 0 the blend's prediction is the linear one; its derivative in w is u_nl - u_lin, which
+// needs a Newton solve per load case. To first order in the nonlinearity it is the solution of
+// K v = -sum_k e_k n_k(u_lin): one evaluation of the nonlinear force at the linear solution and
+// one back-substitution with the linear factor that the linear solution used (v vanishes on the
+// supports: u_nl and u_lin share their prescribed values).
+ModelEvaluation ForwardModel::NonlinearEvaluation::linearised_at_zero_weight(double* series) const {
+  double first_norm = 0.0, second_norm = 0.0;
+  ModelEvaluation out;
+  out.predictions.resize(nls_), out.jacobians.resize(nls_), out.displacements.resize(nls_);
+  for (size_t lc = 0; lc < nls_; ++lc) {
+    const Eigen::VectorXd& u = u_linear_[lc];
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = m_.observations_[lc].operator_;
+    Eigen::MatrixXd jac;
+    if (with_jacobian_) {
+      Eigen::VectorXd nonlinear_force = Eigen::VectorXd::Zero(m_.num_dofs_);
+      for (size_t t = 0; t < m_.terms_.nonlinear.size(); ++t) {
+        std::vector<Eigen::VectorXd> parts;
+        m_.terms_.nonlinear[t].evaluate(u, e_[t], parts, nullptr);
+        for (size_t k = 0; k < parts.size(); ++k) nonlinear_force += e_[t][k] * parts[k];
+      }
+      Eigen::MatrixXd du = du_linear_[lc];  // its column w is zero: u_lin does not depend on w
+      du.col(w_index_) = -solve_free(linear_solver_, nonlinear_force).col(0);
+      jac = h * du;
+      if (series) {
+        const Eigen::VectorXd second = second_order_term(u, du.col(w_index_));
+        first_norm += (h * du.col(w_index_)).squaredNorm();
+        second_norm += (h * second).squaredNorm();
+      }
+    }
+    Eigen::VectorXd y = h * u;
+    m_.add_offsets(static_cast<int>(lc), theta_, with_jacobian_, y, jac);
+    out.predictions[lc] = std::move(y);
+    out.jacobians[lc] = std::move(jac);
+    out.displacements[lc] = u;
+  }
+  if (series) *series = first_norm > 0.0 ? std::sqrt(second_norm / first_norm) : 0.0;
+  return out;
+}
+
+// The switched-on model's solution is a series in w, u(w) = u_lin + w v + w^2 v_2 + ..., and
+// the blend's column is its sum at w = 1. Its second term: differentiating
+// K u' + n(u) + w Dn(u) u' = 0 once more at w = 0 gives K v_2 = -Dn(u_lin) v. The directional
+// derivative Dn(u_lin) v is a central difference of the nonlinear force (a polynomial of degree
+// 3 in u: the difference's error is its cubic part times eps^2, with eps = 1e-3 |u| / |v|), so
+// no tangent is assembled.
+Eigen::VectorXd ForwardModel::NonlinearEvaluation::second_order_term(
+    const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
+  const double v_norm = v.norm();
+  if (!(v_norm > 0.0)) return Eigen::VectorXd::Zero(u.size());
+  const double eps = 1e-3 * std::max(u.norm(), v_norm) / v_norm;
+  auto nonlinear_force = [&](const Eigen::VectorXd& at) {
+    Eigen::VectorXd force = Eigen::VectorXd::Zero(m_.num_dofs_);
+    for (size_t t = 0; t < m_.terms_.nonlinear.size(); ++t) {
+      std::vector<Eigen::VectorXd> parts;
+      m_.terms_.nonlinear[t].evaluate(at, e_[t], parts, nullptr);
+      for (size_t k = 0; k < parts.size(); ++k) force += e_[t][k] * parts[k];
+    }
+    return force;
+  };
+  const Eigen::VectorXd directional =
+      (nonlinear_force(u + eps * v) - nonlinear_force(u - eps * v)) / (2.0 * eps);
+  return -solve_free(linear_solver_, directional).col(0);
+}
+
+ModelEvaluation ForwardModel::evaluate_nonlinear(const Eigen::VectorXd& theta, bool with_jacobian,
+                                                 bool linearised, double* series) const {
   if (!nonlinear_cache_) throw std::logic_error("ForwardModel: nonlinear cache missing");
   const std::lock_guard<std::mutex> solver_lock(nonlinear_cache_->solver_mutex);
   const std::lock_guard<std::mutex> shared_lock(linear_cache_->nonlinear_mutex);
-  return NonlinearEvaluation(*this, theta, with_jacobian).run();
+  return NonlinearEvaluation(*this, theta, with_jacobian, linearised, series).run();
+}
+
+ModelEvaluation ForwardModel::evaluate_linearised(const Eigen::VectorXd& theta,
+                                                  double* second_order_ratio) const {
+  if (terms_.nonlinear.empty() || terms_.nonlinear_weight < 0)
+    throw std::logic_error("ForwardModel::evaluate_linearised: the model has no blend weight");
+  return evaluate_nonlinear(theta, true, true, second_order_ratio);
 }
 
 }  // namespace isospring::fitting

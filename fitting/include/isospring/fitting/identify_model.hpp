@@ -120,6 +120,21 @@ class ForwardModel {
   /// K(theta) is not positive definite (parameters outside the physical range) or, with nonlinear
   /// terms, when Newton does not converge.
   ModelEvaluation evaluate(const Eigen::VectorXd& theta, bool with_jacobian) const;
+  /// The screen of a blended large-deformation model (ModelTerms::nonlinear_weight) at w = 0,
+  /// without Newton: the linear predictions and their exact Jacobian in every parameter but w,
+  /// and for w the first-order change dy/dw = -H K^-1 sum_k e_k n_k(u_lin), one back-substitution
+  /// per load case with the linear factor. It is the exact derivative at w = 0 of the model
+  /// K u + w sum_k e_k n_k(u) = f (the nonlinear force switched on gradually), and differs from
+  /// the blend's u_nl - u_lin = -K^-1 sum_k e_k n_k(u_nl) by n_k(u_nl) - n_k(u_lin), of third
+  /// order in the displacement. That difference is small only while the series of the
+  /// switched-on model's solution in w converges fast at w = 1, which a slender body in bending
+  /// leaves already at small rotations (the linear solution's spurious stretching makes
+  /// n_k(u_lin) large). `second_order_ratio` (when not null) receives the ratio of that series'
+  /// second term, -H K^-1 Dn(u_lin) v, to its first, H v, over all load cases (observation-space
+  /// norms): the column is trustworthy only where it is small. Throws std::logic_error without a
+  /// blend weight or at w != 0.
+  ModelEvaluation evaluate_linearised(const Eigen::VectorXd& theta,
+                                      double* second_order_ratio = nullptr) const;
 
  private:
   // Load case l's nodal force at theta and, when with_jacobian, its derivative (columns: the
@@ -132,7 +147,8 @@ class ForwardModel {
                    Eigen::MatrixXd& jac) const;
   // evaluate() with nonlinear terms (identify_model_nonlinear.cpp), whose stages are those of
   // a NonlinearEvaluation.
-  ModelEvaluation evaluate_nonlinear(const Eigen::VectorXd& theta, bool with_jacobian) const;
+  ModelEvaluation evaluate_nonlinear(const Eigen::VectorXd& theta, bool with_jacobian,
+                                     bool linearised = false, double* series = nullptr) const;
   class NonlinearEvaluation;
   // The last converged nonlinear solution per load case: Newton's start at the next theta (a
   // least-squares solver evaluates nearby parameters, often the same ones twice).
