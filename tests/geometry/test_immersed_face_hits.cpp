@@ -109,8 +109,8 @@ bool confirmed_crossing(const CadSolid& solid, const TopoDS_Face& face, const gp
 // B-spline faces: every hit of IntCurvesFace found again (parameter within `tolerance`, the same
 // transition). A hit IntCurvesFace did not report must be a confirmed crossing; returns how many.
 long compare_within(const CadSolid& solid, const TopoDS_Face& face, const gp_Lin& line,
-                    const std::vector<Hit>& expected, const std::vector<Hit>& got, double tolerance,
-                    const std::string& where) {
+                    const std::vector<Hit>& expected, const std::vector<Hit>& got, double size,
+                    double tolerance, const std::string& where) {
   std::vector<bool> matched(got.size(), false);
   for (const Hit& e : expected) {
     bool found = false;
