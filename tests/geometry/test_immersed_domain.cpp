@@ -256,10 +256,15 @@ TEST(ImmersedCad, ExamplePartsMatchOpenCascade) {
 
 TEST(ImmersedCad, FreeformPartMatchesOpenCascade) {
   // gmsh's t20 nut (tests/data/parts/SOURCE.md): every one of its 21 faces a trimmed B-spline,
-  // so every line-face hit goes through the B-spline path (immersed_cad_spline_hits.hpp).
+  // so every line-face hit goes through the B-spline path (immersed_cad_spline_hits.hpp). With
+  // the defaults the volume is 6.2e-6 and the centroid 2.3e-6 off: its chamfers cross cells
+  // obliquely and 1,038 pieces stop at max_depth 4 above the Gauss-order tolerance (the domain's
+  // warning); the hits are IntCurvesFace's (tests/geometry/test_immersed_face_hits.cpp), whose
+  // own run gives the same volume to 2e-7 on a coarser grid (6 cells, no bisection). So 1e-5.
   const CadSolid part =
       read_cad_solid(fs::path(ISOSPRING_SOURCE_DIR) / "tests/data/parts/gmsh_t20_data.step");
-  expect_matches_occt(part);
+  const Errors e = expect_matches_occt(part, {}, 1e-5);
+  EXPECT_LT(e.area, 1e-9);  // the boundary points do not depend on the cut cells
 }
 
 TEST(ImmersedCad, CadQueryBodiesMatchTheirClosedForms) {
