@@ -6,6 +6,7 @@
 #include <BndLib_Add2dCurve.hxx>
 #include <Bnd_Box2d.hxx>
 #include <Geom2dAdaptor_Curve.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAdaptor_Curve.hxx>
 #include <Geom_Line.hxx>
 #include <IntCurveSurface_HInter.hxx>
@@ -45,19 +46,37 @@ double uv_tolerance(const TopoDS_Face& face, const BRepAdaptor_Surface& surface,
 FaceLineIntersector::FaceLineIntersector(const TopoDS_Face& face, double tolerance)
     : face_(face), full_intersector_(face, tolerance, true, true) {
   surface_ = new BRepAdaptor_Surface(face, true);
-  analytic_ = is_analytic(surface_->GetType());
-  if (!analytic_) return;
+  const GeomAbs_SurfaceType type = surface_->GetType();
+  const bool spline = type == GeomAbs_BSplineSurface || type == GeomAbs_BezierSurface;
+  if (!is_analytic(type) && !spline) return;
   BRepTools::UVBounds(face, u0_, u1_, v0_, v1_);
-  if (!(u1_ > u0_ && v1_ > v0_)) {
-    analytic_ = false;
-    return;
+  if (!(u1_ > u0_ && v1_ > v0_)) return;
+  path_ = spline ? Path::kSpline : Path::kAnalytic;
+  if (spline) {
+    spline_ = std::make_unique<SplineLineHits>(*surface_, u0_, u1_, v0_, v1_);
+    if (!spline_->usable()) {
+      path_ = Path::kFull;
+      return;
+    }
   }
   const double uv_tol = uv_tolerance(face, *surface_, tolerance);
   classifier_ = std::make_unique<BRepTopAdaptor_FClass2d>(face, uv_tol);
+  // IntCurvesFace's own classification of a hit: the smallest of the tolerances first.
+  tolerance_3d_ = BRep_Tool::Tolerance(face);
+  double smallest = tolerance_3d_;
+  for (TopExp_Explorer e(face, TopAbs_EDGE); e.More(); e.Next()) {
+    const double t = BRep_Tool::Tolerance(TopoDS::Edge(e.Current()));
+    smallest = std::min(smallest, t);
+    tolerance_3d_ = std::max(tolerance_3d_, t);
+  }
+  const double smallest_uv =
+      std::max({surface_->UResolution(smallest), surface_->VResolution(smallest), tolerance});
+  two_tolerances_ = uv_tol > smallest_uv;
+  tight_classifier_ = std::make_unique<BRepTopAdaptor_FClass2d>(face, smallest_uv);
   nu_ = nv_ = kBins;
   bins_.assign(static_cast<size_t>(nu_) * static_cast<size_t>(nv_), Bin::kUnknown);
   mark_trimming_curves();
-  if (analytic_) label_regions();
+  if (path_ != Path::kFull) label_regions();
   std::vector<Bin>().swap(bins_);
 }
 
@@ -116,7 +135,7 @@ void FaceLineIntersector::mark_trimming_curves() {
     const Handle(Geom2d_Curve) curve =
         BRep_Tool::CurveOnSurface(TopoDS::Edge(e.Current()), forward, first, last);
     if (curve.IsNull() || !std::isfinite(first) || !std::isfinite(last)) {
-      analytic_ = false;  // no trimming curve to box: every line takes the full path
+      path_ = Path::kFull;  // no trimming curve to box: every line takes the full path
       return;
     }
     const Geom2dAdaptor_Curve adaptor(curve, first, last);
@@ -129,7 +148,7 @@ void FaceLineIntersector::mark_trimming_curves() {
       double x0, y0, x1, y1;
       box.Get(x0, y0, x1, y1);
       if (!(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(x1) && std::isfinite(y1))) {
-        analytic_ = false;
+        path_ = Path::kFull;
         return;
       }
       if (x1 + margin < u0_ || x0 - margin > u1_ || y1 + margin < v0_ || y0 - margin > v1_)
@@ -171,30 +190,63 @@ void FaceLineIntersector::perform_full(const gp_Lin& line, double w0, double w1,
   }
 }
 
-void FaceLineIntersector::perform(const gp_Lin& line, double w0, double w1,
-                                  std::vector<FaceHit>& hits) {
-  if (!analytic_) return perform_full(line, w0, w1, hits);
+// The hits of the line with the face's untrimmed surface (over its UV box for B-splines), or
+// false when they are left to IntCurvesFace_Intersector.
+bool FaceLineIntersector::surface_hits(const gp_Lin& line, double w0, double w1) {
+  surface_hits_.clear();
+  if (path_ == Path::kSpline) return spline_->intersect(line, w0, w1, surface_hits_);
   // The surface intersection exactly as IntCurvesFace_Intersector does it for these surfaces.
   IntCurveSurface_HInter intersection;
   const Handle(GeomAdaptor_Curve) curve = new GeomAdaptor_Curve(new Geom_Line(line));
   intersection.Perform(curve, surface_);
-  if (!intersection.IsDone()) return perform_full(line, w0, w1, hits);
-  const size_t start = hits.size();
-  const bool reversed = face_.Orientation() == TopAbs_REVERSED;
+  if (!intersection.IsDone()) return false;
   for (int i = 1; i <= intersection.NbPoints(); ++i) {
     const IntCurveSurface_IntersectionPoint& point = intersection.Point(i);
     if (point.W() < w0 || point.W() > w1) continue;
-    const Bin state = bin_state(point.U(), point.V());
-    if (state == Bin::kBoundary) {
-      hits.resize(start);
-      return perform_full(line, w0, w1, hits);
+    // The transition as a signed cosine: In (against the normal) < 0 < Out; 0 a tangent.
+    const double cosine = point.Transition() == IntCurveSurface_In    ? -1.0
+                          : point.Transition() == IntCurveSurface_Out ? 1.0
+                                                                      : 0.0;
+    surface_hits_.push_back({point.U(), point.V(), point.W(), cosine});
+  }
+  return true;
+}
+
+// Is the hit on the face? IntCurvesFace_Intersector's test (with UseBToler): the point-in-face
+// test with the smallest UV tolerance of the face and its edges; if that says OUT, the test with
+// the largest, and if that says ON, ON only when an edge's 3D curve comes within the largest 3D
+// tolerance. Classifiers are built once per face (IntCurvesFace builds the second one per line).
+bool FaceLineIntersector::on_face(const SurfaceHit& hit, const gp_Lin& line) {
+  const gp_Pnt2d uv(hit.u, hit.v);
+  TopAbs_State state = tight_classifier_->Perform(uv);
+  if (state == TopAbs_OUT && two_tolerances_) {
+    state = classifier_->Perform(uv);
+    if (state == TopAbs_ON) {
+      state = TopAbs_OUT;
+      const gp_Pnt point = line.Location().Translated(hit.w * gp_Vec(line.Direction()));
+      for (TopExp_Explorer e(face_, TopAbs_EDGE); e.More() && state == TopAbs_OUT; e.Next()) {
+        double first = 0.0, last = 0.0;
+        const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(e.Current()), first, last);
+        if (curve.IsNull()) continue;  // a degenerate edge has no 3D curve
+        GeomAPI_ProjectPointOnCurve projection(point, curve, first, last);
+        if (projection.NbPoints() > 0 && projection.LowerDistance() <= tolerance_3d_)
+          state = TopAbs_ON;
+      }
     }
-    if (state == Bin::kOut) continue;
-    int net = point.Transition() == IntCurveSurface_In    ? 1
-              : point.Transition() == IntCurveSurface_Out ? -1
-                                                          : 0;
+  }
+  return state == TopAbs_IN || state == TopAbs_ON;
+}
+
+void FaceLineIntersector::perform(const gp_Lin& line, double w0, double w1,
+                                  std::vector<FaceHit>& hits) {
+  if (path_ == Path::kFull || !surface_hits(line, w0, w1)) return perform_full(line, w0, w1, hits);
+  const bool reversed = face_.Orientation() == TopAbs_REVERSED;
+  for (const SurfaceHit& point : surface_hits_) {
+    const Bin state = bin_state(point.u, point.v);
+    if (state == Bin::kOut || (state == Bin::kBoundary && !on_face(point, line))) continue;
+    int net = point.cosine < 0.0 ? 1 : point.cosine > 0.0 ? -1 : 0;
     if (reversed) net = -net;
-    hits.push_back({point.W(), net});
+    hits.push_back({point.w, net});
   }
   ++fast_;
 }

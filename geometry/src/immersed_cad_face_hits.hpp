@@ -1,6 +1,6 @@
 #pragma once
 // Where a line meets one trimmed face of a B-rep: OpenCascade's IntCurvesFace_Intersector, made
-// fast for analytic faces without changing its answer.
+// fast for analytic and B-spline faces without changing its answer.
 //
 // IntCurvesFace_Intersector intersects the line with the face's untrimmed surface
 // (IntCurveSurface_HInter, in closed form for planes, cylinders, cones, spheres and tori) and then
@@ -9,12 +9,17 @@
 // classification is nearly all of the cost. Here the face's UV box is cut into bins; a bin that
 // no trimming curve comes near (the curves' bounding boxes, piece by piece, enlarged by the edges'
 // UV tolerance) lies wholly inside or wholly outside the face, so its state is that of its centre,
-// classified once by the same classifier. A line whose hits all fall in such bins is answered
-// from the surface intersection alone; any other line (a hit near a trimming curve, a hit outside
-// the UV box, a face that is not analytic) goes to IntCurvesFace_Intersector itself. Bins that
-// touch (share a side) and are both free of trimming curves have the same state, so the free bins
-// are grouped into connected regions and one centre per region is classified, the first time a
-// hit lands in it.
+// classified once by the same classifier. A hit in any other bin (near a trimming curve, or
+// outside the UV box) is classified as IntCurvesFace_Intersector classifies it (the same two
+// classifiers and edge test, built once per face instead of once per line), so on these faces
+// the answer is IntCurvesFace's bit for bit. Bins that touch (share a side) and are both free of
+// trimming curves have the same state, so the free bins are grouped into connected regions and
+// one centre per region is classified, the first time a hit lands in it.
+//
+// On B-spline and Bezier faces IntCurvesFace's surface intersection is a polyhedral pre-search
+// that costs more than the classification; there the untrimmed hits come from Bezier subdivision
+// and Newton's method (immersed_cad_spline_hits.hpp), the same to round-off, and a line it cannot
+// certify goes to IntCurvesFace_Intersector itself, as does every line on other faces.
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <IntCurvesFace_Intersector.hxx>
@@ -24,6 +29,8 @@
 #include <cstdint>
 #include <memory>
 #include <vector>
+
+#include "immersed_cad_spline_hits.hpp"
 
 namespace isospring::geometry::detail {
 
@@ -43,20 +50,30 @@ class FaceLineIntersector {
 
   /// Lines answered without IntCurvesFace's classification so far, and lines sent to it.
   long fast_lines() const { return fast_; }
+  /// The B-spline path's surface (null on other faces).
+  const SplineLineHits* spline() const { return path_ == Path::kSpline ? spline_.get() : nullptr; }
   long full_lines() const { return full_; }
 
  private:
   enum class Bin : unsigned char { kUnknown, kIn, kOut, kBoundary };
+  enum class Path : unsigned char { kFull, kAnalytic, kSpline };
   void mark_trimming_curves();
   void label_regions();
   Bin bin_state(double u, double v);
   void perform_full(const gp_Lin& line, double w0, double w1, std::vector<FaceHit>& hits);
+  bool surface_hits(const gp_Lin& line, double w0, double w1);
+  bool on_face(const SurfaceHit& hit, const gp_Lin& line);
 
   TopoDS_Face face_;
   IntCurvesFace_Intersector full_intersector_;
-  bool analytic_ = false;
+  Path path_ = Path::kFull;
   Handle(BRepAdaptor_Surface) surface_;
-  std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // for bin centres
+  std::unique_ptr<SplineLineHits> spline_;               // on B-spline and Bezier faces
+  std::vector<SurfaceHit> surface_hits_;                 // of the current line (reused memory)
+  std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // bin centres; the largest tolerance
+  std::unique_ptr<BRepTopAdaptor_FClass2d> tight_classifier_;  // the smallest tolerance
+  bool two_tolerances_ = false;  // the largest UV tolerance exceeds the smallest
+  double tolerance_3d_ = 0.0;    // the largest of the face's and its edges'
   double u0_ = 0.0, u1_ = 0.0, v0_ = 0.0, v1_ = 0.0;
   int nu_ = 0, nv_ = 0;
   std::vector<Bin> bins_;              // kBoundary or kUnknown (free) per bin, while labelling

@@ -200,6 +200,12 @@ bool SolidProbe::near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d&
   for (size_t f = 0; f < shape_.faces.size(); ++f) {
     if ((face_min_[f].array() > hi.array()).any() || (face_max_[f].array() < lo.array()).any())
       continue;
+    if (const SplineLineHits* spline = intersectors_[f]->spline()) {
+      // The convex hulls of its Bezier pieces bound a B-spline face (see may_meet).
+      const Eigen::Vector3d margin = Eigen::Vector3d::Constant(merge_);
+      if (spline->may_meet(lo - margin, hi + margin)) return true;
+      continue;
+    }
     ++distances_;
     BRepExtrema_DistShapeShape distance(vertex, shape_.faces[f], Extrema_ExtFlag_MIN);
     if (!distance.IsDone() || distance.Value() <= radius) return true;

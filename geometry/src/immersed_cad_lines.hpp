@@ -38,7 +38,9 @@ class SolidProbe {
   std::vector<double> crossings(const Eigen::Vector3d& point, int axis, double lo, double hi);
 
   /// Could a face meet the box [lo, hi]? (A face whose bounding box meets it and whose exact
-  /// distance from the box centre is within the half-diagonal; conservative.)
+  /// distance from the box centre is within the half-diagonal; a B-spline face whose Bezier
+  /// pieces' hulls meet it, as OpenCascade's distance to such a face can miss its interior;
+  /// conservative.)
   bool near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
   /// Is the point inside the solid (OpenCascade's classifier)?

@@ -4,7 +4,8 @@
 // The part is embedded in an affine B-spline box (its bounding box plus a margin, or a box the
 // user gives). Background cells are classified on the exact B-rep: a block of cells that no face
 // comes near (OpenCascade's exact distance from the block's centre to every face whose bounding
-// box meets the block, against the block's half-diagonal) lies wholly inside or outside, decided
+// box meets the block, against the block's half-diagonal; for B-spline faces, whether the boxes of
+// their Bezier pieces' control nets meet the block) lies wholly inside or outside, decided
 // by OpenCascade's solid classifier at its centre; otherwise it is halved until single cells
 // remain, which are cut. No Boolean operation touches the part.
 //
@@ -12,7 +13,8 @@
 // (IntCurvesFace_Intersector, whose transitions say where a line enters and leaves the part; on
 // planes, cylinders, cones, spheres and tori its answer is reproduced from the closed-form
 // surface intersection and a per-face grid of UV bins that no trimming curve meets, which
-// replaces its point-in-face test wherever that test cannot change), dimension by dimension:
+// replaces its point-in-face test wherever that test cannot change, and on B-spline faces from
+// Bezier subdivision and Newton's method with the same bins), dimension by dimension:
 // the outer interval of a cell is split where the cell's edges along it cross the boundary, each
 // outer Gauss abscissa's middle interval where the lines through the cell's two faces normal to the
 // line direction cross it, and along every Gauss line the inside intervals are exact. So the rule
