@@ -12,6 +12,7 @@
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/workflows/calibrate_command.hpp"
+#include "isospring/workflows/immersed_refusals.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -29,6 +30,7 @@ void run_calibrate(const CalibrateOptions& options) {
   const std::filesystem::path out_dir =
       output_folder(options.output, {options.case_file}, workflows::calibrate_output_files());
   progress("reading " + options.case_file);
+  workflows::refuse_immersed_case(options.case_file, "calibrate");
   io::Case c = io::read_case_file(options.case_file, solve_limits(0));
   if (options.max_step_us > 0.0) {
     if (c.calibration.is_null()) c.calibration = nlohmann::json::object();

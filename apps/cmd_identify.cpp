@@ -16,6 +16,7 @@
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/workflows/identify_command.hpp"
+#include "isospring/workflows/immersed_refusals.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -34,6 +35,7 @@ void run(IdentifyFlags flags) {
   const std::filesystem::path out_dir =
       output_folder(flags.output, {flags.case_file}, workflows::identify_output_files());
   progress("reading " + flags.case_file);
+  workflows::refuse_immersed_case(flags.case_file, "identify");
   const io::Case c = io::read_case_file(flags.case_file, solve_limits(0));
   std::vector<std::string> ids;
   for (const auto& load : c.problem.load_cases) ids.push_back(load.id);

@@ -30,6 +30,7 @@ inline std::filesystem::path write_sphere_octant(const std::filesystem::path& di
                                     .Shape())
           .Shape();
   STEPControl_Controller::Init();
+  Interface_Static::SetCVal("xstep.cascade.unit", "M");  // the shape is in metres
   Interface_Static::SetCVal("write.step.unit", "M");
   STEPControl_Writer writer;
   const std::filesystem::path file = dir / "sphere_octant.step";
