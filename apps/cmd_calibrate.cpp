@@ -27,10 +27,10 @@ struct CalibrateOptions {
 void run_calibrate(const CalibrateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("calibrate", options.quiet);
+  workflows::refuse_immersed_case(options.case_file, "calibrate");  // before any folder is made
   const std::filesystem::path out_dir =
       output_folder(options.output, {options.case_file}, workflows::calibrate_output_files());
   progress("reading " + options.case_file);
-  workflows::refuse_immersed_case(options.case_file, "calibrate");
   io::Case c = io::read_case_file(options.case_file, solve_limits(0));
   if (options.max_step_us > 0.0) {
     if (c.calibration.is_null()) c.calibration = nlohmann::json::object();

@@ -32,10 +32,10 @@ struct IdentifyFlags {
 
 void run(IdentifyFlags flags) {
   const io::Progress progress("identify", flags.quiet);
+  workflows::refuse_immersed_case(flags.case_file, "identify");  // before any folder is made
   const std::filesystem::path out_dir =
       output_folder(flags.output, {flags.case_file}, workflows::identify_output_files());
   progress("reading " + flags.case_file);
-  workflows::refuse_immersed_case(flags.case_file, "identify");
   const io::Case c = io::read_case_file(flags.case_file, solve_limits(0));
   std::vector<std::string> ids;
   for (const auto& load : c.problem.load_cases) ids.push_back(load.id);

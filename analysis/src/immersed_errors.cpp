@@ -51,8 +51,8 @@ ErrorNorms immersed_error_norms(const geometry::ImmersedDomain& domain,
                                 const std::function<Matrix3d(const Vector3d&)>& exact_stress,
                                 int inside_points) {
   const int degree = domain.background.degree(0);
-  const nurbs::GaussRule rule = nurbs::gauss_legendre(inside_points > 0 ? inside_points
-                                                                         : degree + 3);
+  const nurbs::GaussRule rule =
+      nurbs::gauss_legendre(inside_points > 0 ? inside_points : degree + 3);
   double l2 = 0, l2_norm = 0, energy = 0, energy_norm = 0;
   std::vector<Vector3d> points;
   std::vector<double> weights;

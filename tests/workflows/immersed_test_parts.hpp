@@ -26,8 +26,8 @@ inline std::filesystem::path write_sphere_octant(const std::filesystem::path& di
       BRepAlgoAPI_Cut(BRepPrimAPI_MakeSphere(ro).Shape(), BRepPrimAPI_MakeSphere(ri).Shape())
           .Shape();
   const TopoDS_Shape octant =
-      BRepAlgoAPI_Common(shell, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), ro * 1.5, ro * 1.5, ro * 1.5)
-                                    .Shape())
+      BRepAlgoAPI_Common(shell,
+                         BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), ro * 1.5, ro * 1.5, ro * 1.5).Shape())
           .Shape();
   STEPControl_Controller::Init();
   Interface_Static::SetCVal("xstep.cascade.unit", "M");  // the shape is in metres
@@ -54,21 +54,22 @@ inline nlohmann::json sphere_octant_case(const std::string& step, double ri, dou
         {{"face", {{"plane", {{"point", {0, 0, 0}}, {"normal", normal}}}}}, {"symmetry", true}});
   }
   const double e = 1e-6 * ro;
-  return {{"name", "sphere_octant"},
-          {"geometry",
-           {{"type", "immersed"},
-            {"file", step},
-            {"cells", {cells, cells, cells}},
-            {"degree", degree}}},
-          {"material", {{"E", 1e5}, {"nu", 0.3}, {"density", 1000.0}}},
-          {"boundary", boundary},
-          {"load_cases",
-           {{{"id", "pressure"},
-             {"pressures",
-              {{{"face", {{"box", {{"min", {-e, -e, -e}}, {"max", {ri + e, ri + e, ri + e}}}}}},
-                {"value", P}}}}}}},
-          {"analytic",
-           {{"type", "hollow_sphere"}, {"inner_radius", ri}, {"outer_radius", ro}, {"pressure", P}}}};
+  return {
+      {"name", "sphere_octant"},
+      {"geometry",
+       {{"type", "immersed"},
+        {"file", step},
+        {"cells", {cells, cells, cells}},
+        {"degree", degree}}},
+      {"material", {{"E", 1e5}, {"nu", 0.3}, {"density", 1000.0}}},
+      {"boundary", boundary},
+      {"load_cases",
+       {{{"id", "pressure"},
+         {"pressures",
+          {{{"face", {{"box", {{"min", {-e, -e, -e}}, {"max", {ri + e, ri + e, ri + e}}}}}},
+            {"value", P}}}}}}},
+      {"analytic",
+       {{"type", "hollow_sphere"}, {"inner_radius", ri}, {"outer_radius", ro}, {"pressure", P}}}};
 }
 
 /// A fresh temporary folder, removed with its content at the end of the scope.

@@ -36,8 +36,7 @@ TEST(StudyImmersed, HollowSphereOctantConvergesAtOptimalRates) {
   EXPECT_EQ(r.analytic_type, "hollow_sphere");
   for (const StudyRow& row : r.rows)
     std::printf("p=%d cells=%d dofs=%d  L2 %.3e  energy %.3e  W %.10g  %.2f s\n", row.degree,
-                row.elements, row.dofs, row.l2, row.energy, row.quantity,
-                row.assembly + row.solve);
+                row.elements, row.dofs, row.l2, row.energy, row.quantity, row.assembly + row.solve);
   const StudyReport report = study_report(r);
   const auto& entry = report.json.at("degrees").at(0);
   const double l2_rate = entry.at("fitted_rate"), energy_rate = entry.at("fitted_energy_rate");

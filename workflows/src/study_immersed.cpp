@@ -187,8 +187,8 @@ StudyCommandResult run_study_immersed(const ImmersedCase& c, const StudyCommandO
         check_finest_fits(c, level0, part_volume, p, options.levels, options.limits);
       }
       row.level = level;
-      progress("  " + std::to_string(row.elements) + " cells along x, " +
-               std::to_string(row.dofs) + " DOFs" +
+      progress("  " + std::to_string(row.elements) + " cells along x, " + std::to_string(row.dofs) +
+               " DOFs" +
                (c.analytic ? ", relative L2 error " + format_number(row.l2, 3) : std::string()));
       r.rows.push_back(row);
     }

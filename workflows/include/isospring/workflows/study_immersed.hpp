@@ -18,8 +18,7 @@ namespace isospring::workflows {
 /// Solves every level of every degree. Throws nurbs::InputError naming the option for bad
 /// options (--quantity displacement, which takes a patch point, has no immersed meaning) and
 /// when the finest level's estimated solve would not fit options.limits.
-StudyCommandResult run_study_immersed(const io::ImmersedCase& c,
-                                      const StudyCommandOptions& options,
+StudyCommandResult run_study_immersed(const io::ImmersedCase& c, const StudyCommandOptions& options,
                                       const io::Progress& progress);
 
 }  // namespace isospring::workflows
