@@ -12,6 +12,7 @@
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/workflows/calibrate_command.hpp"
+#include "isospring/workflows/immersed_refusals.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -26,6 +27,7 @@ struct CalibrateOptions {
 void run_calibrate(const CalibrateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const io::Progress progress("calibrate", options.quiet);
+  workflows::refuse_immersed_case(options.case_file, "calibrate");  // before any folder is made
   const std::filesystem::path out_dir =
       output_folder(options.output, {options.case_file}, workflows::calibrate_output_files());
   progress("reading " + options.case_file);

@@ -10,6 +10,7 @@
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/workflows/export_calculix_command.hpp"
+#include "isospring/workflows/immersed_refusals.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -22,6 +23,7 @@ struct ExportCalculixOptions {
 void run_export_calculix(const ExportCalculixOptions& options) {
   const io::Progress progress("export-calculix", options.quiet);
   // Both output checks before the case is read: a bad deck name costs no work.
+  workflows::refuse_immersed_case(options.run.case_file, "export-calculix");
   workflows::check_calculix_output(options.run.output);
   check_output_file(options.run.output, input_files(options.run.case_file));
   const workflows::ExportCalculixCommandResult r =

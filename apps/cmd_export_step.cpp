@@ -8,6 +8,7 @@
 #include "command.hpp"
 #include "file_report.hpp"
 #include "isospring/workflows/export_step_command.hpp"
+#include "isospring/workflows/immersed_refusals.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -18,6 +19,7 @@ struct ExportStepOptions {
 };
 
 void run_export_step(const ExportStepOptions& options) {
+  workflows::refuse_immersed_case(options.run.input, "export-step");
   check_output_file(options.run.output, input_files(options.run.input));
   const workflows::ExportStepCommandResult r = workflows::run_export_step(options.run);
   FileReport report("export-step", options.run.input, options.run.output);

@@ -16,6 +16,7 @@
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/workflows/identify_command.hpp"
+#include "isospring/workflows/immersed_refusals.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -31,6 +32,7 @@ struct IdentifyFlags {
 
 void run(IdentifyFlags flags) {
   const io::Progress progress("identify", flags.quiet);
+  workflows::refuse_immersed_case(flags.case_file, "identify");  // before any folder is made
   const std::filesystem::path out_dir =
       output_folder(flags.output, {flags.case_file}, workflows::identify_output_files());
   progress("reading " + flags.case_file);

@@ -8,17 +8,22 @@
 // Rates are least-squares fits over the last three levels (benchmarks.md). Writes report.json,
 // report.md, study.csv and convergence.png (gnuplot; skipped with a warning when missing).
 // The work is workflows::run_study and workflows::write_study_outputs
-// (isospring/workflows/study_command.hpp).
+// (isospring/workflows/study_command.hpp); on an immersed case workflows::run_study_immersed
+// refines the background grid instead (isospring/workflows/study_immersed.hpp).
 #include <cmath>
 #include <memory>
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/immersed_case.hpp"
+#include "isospring/io/json_text.hpp"
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/study_command.hpp"
+#include "isospring/workflows/study_immersed.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -37,15 +42,23 @@ void run_study(StudyOptions options) {
   const std::vector<std::string> outputs = workflows::study_output_files();
   const std::filesystem::path out_dir = output_folder(options.output, {options.case_file}, outputs);
   options.run.limits = solve_limits(0);
-  const io::Case c = io::read_case_file(options.case_file, options.run.limits);
-  io::check_outputs_spare_inputs(case_inputs(c), in_folder(out_dir, outputs));
   if (!options.degrees.empty())
     for (double p : parse_number_list(options.degrees, "--degrees")) {
       if (p != std::floor(p) || p < 1 || p > 10)
         throw nurbs::InputError("--degrees: " + std::to_string(p) + " is not a degree 1..10");
       options.run.degrees.push_back(static_cast<int>(p));
     }
-  const workflows::StudyCommandResult result = workflows::run_study(c, options.run, progress);
+  workflows::StudyCommandResult result;
+  if (io::is_immersed_case(io::parse_json_text(io::read_text_file(options.case_file, "case file"),
+                                               options.case_file, "case file"))) {
+    const io::ImmersedCase c = io::read_immersed_case(options.case_file);
+    io::check_outputs_spare_inputs(input_files(options.case_file), in_folder(out_dir, outputs));
+    result = workflows::run_study_immersed(c, options.run, progress);
+  } else {
+    const io::Case c = io::read_case_file(options.case_file, options.run.limits);
+    io::check_outputs_spare_inputs(case_inputs(c), in_folder(out_dir, outputs));
+    result = workflows::run_study(c, options.run, progress);
+  }
   workflows::write_study_outputs(out_dir, result, progress);
   progress("wrote " + (out_dir / "report.json").string() + ", report.md, study.csv");
 }
@@ -55,7 +68,8 @@ void setup_study(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "study", "Refinement study of a case: errors, observed convergence rates and timings");
   cmd->footer(
-      "Level l has the case's elements x 2^l per direction, at each degree (k-refinement).\n"
+      "Level l has the case's elements x 2^l per direction, at each degree (k-refinement);\n"
+      "on an immersed case the background grid's cells x 2^l, the part immersed again.\n"
       "Errors: relative L2 and energy norms against the case's \"analytic\" solution. A scalar\n"
       "(--quantity) is followed at every level; with 3+ levels the last three give a Richardson\n"
       "extrapolation q* = q3 + (q3 - q2) / (2^r - 1) with observed order\n"

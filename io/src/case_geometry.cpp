@@ -285,8 +285,8 @@ Patches build(const nlohmann::json& geometry, const std::filesystem::path& case_
   const std::string type = geometry.at("type").get<std::string>();
   if (type == "immersed")
     throw InputError(prefix +
-                     "type 'immersed' is run by `isospring analyze` (and Python's "
-                     "analyze_immersed) only (the immersed path, docs/immersed.md); study, "
+                     "type 'immersed' is run by `isospring analyze` and `isospring study` (and "
+                     "Python's analyze_immersed) only (the immersed path, docs/immersed.md); "
                      "calibrate, identify and the exports take body-fitted geometry: a "
                      "\"cad\" geometry of a part `isospring import` makes volumes of, or a "
                      "geometry type listed in docs/case-files.md");

@@ -157,7 +157,7 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
   const Field root(document, label, "");
   // "faces" is the list `isospring import` writes for the user to choose from; not read here.
   root.expect_object({"schema_version", "name", "description", "units", "geometry", "material",
-                      "boundary", "load_cases", "faces", "output"});
+                      "boundary", "load_cases", "faces", "output", "analytic"});
   ImmersedCase c;
   c.file = case_file;
   c.raw = document;
@@ -174,6 +174,9 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
   std::set<std::string> ids;
   for (const Field& item : root.at("load_cases").elements(false))
     c.load_cases.push_back(read_load_case(item, c, chooser, ids));
+  if (root.has("analytic"))  // a solid: only the 3D closed forms apply
+    c.analytic = make_analytic_solution(root.at("analytic").json(), c.material,
+                                        analysis::Formulation::kSolid, root.at("analytic").where());
   return c;
 }
 

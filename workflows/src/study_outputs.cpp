@@ -1,6 +1,8 @@
 // The files of `isospring study`: the reports, study.csv and convergence.png (see
 // study_command.hpp).
 #include <unistd.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 
@@ -14,6 +16,14 @@ namespace {
 
 void plot(const std::filesystem::path& out_dir, const std::vector<StudyRow>& rows, bool analytic,
           const Progress& progress) {
+  // One level (or only exact levels) leaves no point on a log scale: nothing to plot, and
+  // gnuplot would fail on the empty data.
+  if (std::none_of(rows.begin(), rows.end(), [](const StudyRow& r) { return r.error() > 0; })) {
+    progress(
+        "convergence.png not written: no level has a nonzero error to plot (give --levels 2 "
+        "or more)");
+    return;
+  }
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
     progress.warn("gnuplot is not installed; skipping convergence.png (install gnuplot-nox)");
     return;

@@ -21,11 +21,13 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "isospring/analysis/immersed.hpp"
 #include "isospring/geometry/immersed_cad.hpp"
+#include "isospring/io/case_file.hpp"
 
 namespace isospring::io {
 
@@ -50,6 +52,9 @@ struct ImmersedCase {
   std::vector<analysis::ImmersedSupport> supports;
   std::vector<ImmersedLoadCase> load_cases;
   bool write_cells = false;  // "output": {"cells": true}: also the background cells (cells.vtu)
+  /// `"analytic"`: a 3D closed form the part reproduces (as in body-fitted cases, e.g.
+  /// hollow_sphere); `study` measures its errors against it.
+  std::optional<AnalyticSolution> analytic;
 };
 
 /// True when the document's "geometry" is {"type": "immersed", ...}.
