@@ -18,13 +18,22 @@ std::vector<double> graded_ticks(double a, double b, int base_cells,
     ticks.back() = b;
     return ticks;
   }
-  const auto size = [&](double x) {
-    double s = base;
-    for (const GradingPlane& p : mine)
-      s = std::min(s, p.smallest + (p.ratio - 1.0) * std::abs(x - p.at));
-    return s;
+  // Cells per unit length. A cell that starts at distance d from a plane and holds one unit of
+  // (r - 1) / ln(r) / (s + (r - 1) x) ends where s + (r - 1) x has grown by the factor r: its
+  // length is s + (r - 1) d, so the cells form the progression s, s r, s r^2, ... Where that size
+  // reaches the base length H the density stays at its value there, (r - 1) / ln(r) / H: cells of
+  // H ln(r) / (r - 1) (0.81 H for r = 1.5), so the progression never jumps (for r -> 1 the
+  // factor tends to 1).
+  const auto density = [&](double x) {
+    double rho = 1.0 / base;
+    for (const GradingPlane& p : mine) {
+      const double per_cell = p.ratio > 1.0 + 1e-12 ? (p.ratio - 1.0) / std::log(p.ratio) : 1.0;
+      const double size = p.smallest + (p.ratio - 1.0) * std::abs(x - p.at);
+      rho = std::max(rho, per_cell / std::min(size, base));
+    }
+    return rho;
   };
-  // The density 1 / s integrated by the midpoint rule on samples a hundred times finer than the
+  // The density integrated by the midpoint rule on samples a hundred times finer than the
   // smallest cell: the knots need not be exact, only increasing and near the requested lengths.
   double smallest = base;
   for (const GradingPlane& p : mine) smallest = std::min(smallest, p.smallest);
@@ -34,7 +43,7 @@ std::vector<double> graded_ticks(double a, double b, int base_cells,
   std::vector<double> cumulative(static_cast<size_t>(samples) + 1, 0.0);
   for (long k = 0; k < samples; ++k)
     cumulative[static_cast<size_t>(k) + 1] =
-        cumulative[static_cast<size_t>(k)] + dx / size(a + (static_cast<double>(k) + 0.5) * dx);
+        cumulative[static_cast<size_t>(k)] + dx * density(a + (static_cast<double>(k) + 0.5) * dx);
   const double total = cumulative.back();
   const int cells = std::max(1, static_cast<int>(std::ceil(total - 1e-9)));
   ticks.push_back(a);

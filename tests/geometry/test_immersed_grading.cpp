@@ -27,28 +27,33 @@ namespace {
 
 using nurbs::InputError;
 
-// Cells graded towards x = 0 on [0, 1] (base length 0.1) have lengths 0.01 * 1.5^n up to 0.1.
-// Their number is the integral of 1 / s rounded up, in closed form
-// ln(H / s) / (r - 1) + (1 - d) / H with d = (H - s) / (r - 1) where s reaches H.
+// Cells graded towards x = 0 on [0, 1] (base length 0.1) have lengths 0.01 * 1.5^n, then
+// 0.1 ln(1.5) / 0.5. Their number is the density's integral rounded up, in closed form
+// (r - 1) / ln(r) (ln(H / s) / (r - 1) + (1 - d_H) / H), d_H = (H - s) / (r - 1).
 TEST(GradedTicks, FollowTheGeometricProgression) {
   const double s = 0.01, r = 1.5, H = 0.1;
   const std::vector<double> t = detail::graded_ticks(0.0, 1.0, 10, {{0, 0.0, s, r}}, 0);
-  const double d = (H - s) / (r - 1);
-  const double integral = std::log(H / s) / (r - 1) + (1.0 - d) / H;
+  const double d_t = (H - s) / (r - 1);
+  const double integral = (r - 1) / std::log(r) * (std::log(H / s) / (r - 1) + (1.0 - d_t) / H);
   ASSERT_EQ(static_cast<int>(t.size()) - 1, static_cast<int>(std::ceil(integral)));
   EXPECT_EQ(t.front(), 0.0);
   EXPECT_EQ(t.back(), 1.0);
-  // Each cell holds integral / cells of 1 / s (<= 1): as long as s asks for, up to that share.
+  // Each cell holds `share` (<= 1) of the integral: near the plane the progression by r (up to
+  // the midpoint rule's error), then cells of at most H.
   const double share = integral / (static_cast<double>(t.size()) - 1);
   for (size_t i = 1; i < t.size(); ++i) {
     const double length = t[i] - t[i - 1];
     ASSERT_GT(length, 0.0);
     EXPECT_LE(length, H * (1 + 1e-9));
-    if (i > 1) EXPECT_LE(length / (t[i - 1] - t[i - 2]), r * (1 + 1e-3));
+    if (i < 2) continue;
+    const double growth = length / (t[i - 1] - t[i - 2]);
+    EXPECT_LE(growth, r * (1 + 1e-4));
+    if (t[i] < d_t) {
+      EXPECT_NEAR(growth, std::pow(r, share), 1e-4);
+    }
   }
-  // The first cell [0, t1] holds `share` of the integral: ln(1 + (r - 1) t1 / s) / (r - 1) =
-  // share (up to the midpoint rule on samples a hundredth of s).
-  EXPECT_NEAR(t[1], s * (std::exp((r - 1) * share) - 1) / (r - 1), 1e-4 * s);
+  // The first cell [0, t1] holds `share`: ln(1 + (r - 1) t1 / s) / ln(r) = share.
+  EXPECT_NEAR(t[1], s * (std::pow(r, share) - 1) / (r - 1), 1e-4 * s);
 }
 
 TEST(GradedTicks, TwoPlanesAndAnUngradedAxis) {
