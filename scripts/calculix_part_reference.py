@@ -6,11 +6,14 @@ OpenCascade reader, second-order tetrahedra, C3D10), the nodes of the clamped fa
 surface tag = the face's 0-based index + 1, the order OpenCascade's explorer gives, which is
 the numbering of `isospring info`; the face's area is written so that a reader can check it)
 are held in x, y and z, gravity acts on every element (*DLOAD GRAV), and CalculiX solves it.
-The mesh is refined (h divided by `refine`) until the largest nodal displacement and the strain
-energy (sum of CalculiX's element energies ELSE) change by less than `tolerance` (0.2 %)
-between the last two meshes, or until the next mesh would exceed `max_nodes`; each part's
-converged values, mesh sizes, DOFs and whole history go to OUT.json (written atomically).
-Nothing of isospring is used.
+The mesh is graded towards the clamped face and its outline (where the stresses are singular),
+all sizes in proportion to h, and refined (h divided by `refine`, default 1.4) until the
+Richardson limits fitted to the last three meshes (f = f_inf + C h^q, q observed) of the largest
+nodal displacement and of the strain energy (sum of CalculiX's element energies ELSE) lie within
+`tolerance` (0.2 %) of the last mesh's values, or until the next mesh would exceed `max_nodes`.
+Each part's reference (the limits, or the last mesh when none converged), its estimated error,
+mesh sizes, DOFs and whole history go to OUT.json (written atomically). Nothing of isospring is
+used.
 
 Units: SI throughout (gmsh reads the STEP file in metres).
 

@@ -19,6 +19,7 @@
 
 #include "../../geometry/src/cad_solid_shape.hpp"
 #include "../../geometry/src/immersed_grading.hpp"
+#include "isospring/analysis/immersed.hpp"
 #include "isospring/geometry/immersed_cad.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -186,6 +187,61 @@ TEST(ImmersedGrading, AffineBoxPartitionOfUnityAndMeasures) {
   EXPECT_NEAR(graded.area, exact.area, 1e-6 * exact.area);
   EXPECT_NEAR((graded.centroid - exact.centroid).norm(), 0.0, 1e-6 * std::cbrt(exact.volume));
   EXPECT_NEAR(uniform.volume, exact.volume, 1e-6 * exact.volume);
+}
+
+// The face of `solid` lying in the plane x[axis] = at.
+int face_in_plane(const CadSolid& solid, int axis, double at) {
+  const auto& shape = solid.shape();
+  for (size_t k = 0; k < shape.faces.size(); ++k) {
+    Bnd_Box box;
+    BRepBndLib::AddOptimal(shape.faces[k], box, false, false);
+    double lo[3], hi[3];
+    box.Get(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (std::abs(lo[axis] - at) < 1e-9 && std::abs(hi[axis] - at) < 1e-9)
+      return shape.face_index[k];
+  }
+  return -1;
+}
+
+// The analysis on a graded grid: a block in uniaxial tension (symmetry on x = 0, y = 0, z = 0,
+// traction sigma on x = a) has the linear solution u = sigma / E (x, -nu y, -nu z); Nitsche's
+// method and the ghost penalty are consistent, so a graded grid (with a margin, so that every
+// face cuts cells) must reproduce it and its energy sigma^2 V / (2 E) to round-off.
+TEST(ImmersedGrading, LinearSolutionIsReproducedOnAGradedGrid) {
+  const double a = 0.1, b = 0.06, c = 0.04, sigma = 1e6, E = 2e11, nu = 0.3;
+  const CadSolid solid = detail::make_cad_solid(BRepPrimAPI_MakeBox(a, b, c).Shape(), "block");
+  ImmersionOptions immersion;
+  immersion.cell_size = 0.02;
+  immersion.margin = 0.0037;
+  immersion.grading = grading_towards_face(solid, face_in_plane(solid, 0, 0.0), 0.004, 1.5);
+  const ImmersedDomain domain = immerse_solid(solid, immersion);
+  ASSERT_GT(domain.background.knots(0).num_elements(), 6);
+
+  analysis::ImmersedOptions options;
+  options.material.youngs_modulus = E;
+  options.material.poisson_ratio = nu;
+  for (int axis = 0; axis < 3; ++axis) {
+    analysis::ImmersedSupport symmetry;
+    symmetry.face = face_in_plane(solid, axis, 0.0);
+    symmetry.symmetry = true;
+    options.supports.push_back(symmetry);
+  }
+  analysis::ImmersedTraction pull;
+  pull.face = face_in_plane(solid, 0, a);
+  pull.value = Eigen::Vector3d(sigma, 0, 0);
+  options.tractions.push_back(pull);
+  const analysis::ImmersedResult result = analysis::solve_immersed(domain, options);
+
+  const double volume = a * b * c;
+  EXPECT_NEAR(result.strain_energy, sigma * sigma * volume / (2 * E),
+              1e-9 * sigma * sigma * volume / (2 * E));
+  const double scale = sigma / E * a;
+  for (const Eigen::Vector3d x : {Eigen::Vector3d(0.001, 0.002, 0.003),
+                                  Eigen::Vector3d(0.05, 0.03, 0.02), Eigen::Vector3d(a, b, c)}) {
+    const Eigen::Vector3d exact = sigma / E * Eigen::Vector3d(x.x(), -nu * x.y(), -nu * x.z());
+    EXPECT_NEAR((analysis::evaluate_immersed(domain, result, x).displacement - exact).norm(), 0.0,
+                1e-9 * scale);
+  }
 }
 
 }  // namespace
