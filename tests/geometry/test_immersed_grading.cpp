@@ -238,8 +238,8 @@ TEST(ImmersedGrading, LinearSolutionIsReproducedOnAGradedGrid) {
   EXPECT_NEAR(result.strain_energy, sigma * sigma * volume / (2 * E),
               1e-8 * sigma * sigma * volume / (2 * E));
   const double scale = sigma / E * a;
-  for (const Eigen::Vector3d x : {Eigen::Vector3d(0.001, 0.002, 0.003),
-                                  Eigen::Vector3d(0.05, 0.03, 0.02), Eigen::Vector3d(a, b, c)}) {
+  for (const Eigen::Vector3d& x : {Eigen::Vector3d(0.001, 0.002, 0.003),
+                                   Eigen::Vector3d(0.05, 0.03, 0.02), Eigen::Vector3d(a, b, c)}) {
     const Eigen::Vector3d exact = sigma / E * Eigen::Vector3d(x.x(), -nu * x.y(), -nu * x.z());
     EXPECT_NEAR((analysis::evaluate_immersed(domain, result, x).displacement - exact).norm(), 0.0,
                 1e-5 * scale);

@@ -80,8 +80,9 @@ SolidMeasures measure_quadrature(const ImmersedDomain& domain);
 
 /// Background cells graded towards the plane x[axis] = at: the cells next to it are `smallest` long
 /// (m) along `axis` and each further one `ratio` times longer, until they reach the grid's base
-/// cell length (from `cells` or `cell_size`). Several planes may grade one axis; each axis keeps
-/// its knots where the closest plane asks for the smallest cells.
+/// cell length H (from `cells` or `cell_size`); from there on an axis's cells are
+/// H ln(ratio) / (ratio - 1) long, so that the growth never exceeds `ratio`. Several planes may
+/// grade one axis; each point takes the smallest cells any plane asks for there.
 struct GradingPlane {
   int axis = 0;           // 0, 1, 2 for x, y, z
   double at = 0.0;        // the plane's coordinate (m)
