@@ -6,11 +6,14 @@ OpenCascade reader, second-order tetrahedra, C3D10), the nodes of the clamped fa
 surface tag = the face's 0-based index + 1, the order OpenCascade's explorer gives, which is
 the numbering of `isospring info`; the face's area is written so that a reader can check it)
 are held in x, y and z, gravity acts on every element (*DLOAD GRAV), and CalculiX solves it.
-The mesh is refined (h divided by `refine`) until the largest nodal displacement and the strain
-energy (sum of CalculiX's element energies ELSE) change by less than `tolerance` (0.2 %)
-between the last two meshes, or until the next mesh would exceed `max_nodes`; each part's
-converged values, mesh sizes, DOFs and whole history go to OUT.json (written atomically).
-Nothing of isospring is used.
+The mesh is graded towards the clamped face and its outline (where the stresses are singular),
+all sizes in proportion to h, and refined (h divided by `refine`, default 1.4) until the
+Richardson limits fitted to the last three meshes (f = f_inf + C h^q, q observed) of the largest
+nodal displacement and of the strain energy (sum of CalculiX's element energies ELSE) lie within
+`tolerance` (0.2 %) of the last mesh's values, or until the next mesh would exceed `max_nodes`.
+Each part's reference (the limits, or the last mesh when none converged), its estimated error,
+mesh sizes, DOFs and whole history go to OUT.json (written atomically). Nothing of isospring is
+used.
 
 Units: SI throughout (gmsh reads the STEP file in metres).
 
@@ -31,7 +34,7 @@ GMSH_TO_C3D10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
 C3D10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
 
 
-def mesh_part(step, h, clamp_face, clamp_refine):
+def mesh_part(step, h, clamp_face, part):
     """Nodes {tag: xyz}, C3D10 connectivity, clamped node tags and the clamped face's area."""
     gmsh.clear()
     gmsh.option.setString("Geometry.OCCTargetUnit", "M")
@@ -40,21 +43,46 @@ def mesh_part(step, h, clamp_face, clamp_refine):
     volumes = gmsh.model.getEntities(3)
     if len(volumes) != 1:
         raise SystemExit("%s: %d solids, expected one" % (step, len(volumes)))
+    clamp_refine = part.get("clamp_refine", 3.0)
+    edge_refine = part.get("edge_refine", 10.0)
+    fields = []
+
+    def refine_near(dim, tags, size, distance_max):
+        """Element size `size` at the entities, growing linearly to h over `distance_max`."""
+        distance = gmsh.model.mesh.field.add("Distance")
+        gmsh.model.mesh.field.setNumbers(distance, "SurfacesList" if dim == 2 else "CurvesList",
+                                         tags)
+        gmsh.model.mesh.field.setNumber(distance, "NumPointsPerCurve",
+                                        max(20, int(10 * edge_refine)))
+        threshold = gmsh.model.mesh.field.add("Threshold")
+        gmsh.model.mesh.field.setNumber(threshold, "InField", distance)
+        gmsh.model.mesh.field.setNumber(threshold, "SizeMin", size)
+        gmsh.model.mesh.field.setNumber(threshold, "SizeMax", h)
+        gmsh.model.mesh.field.setNumber(threshold, "DistMin", size / 2)
+        gmsh.model.mesh.field.setNumber(threshold, "DistMax", distance_max)
+        fields.append((threshold, size / h))
+
+    # The clamp's edges are singular (a clamped face meeting a free one: the stress grows like a
+    # negative power of the distance from them). The mesh is graded towards those edges
+    # (elements `edge_refine` times smaller there, growing linearly to h over 3 h) and is
+    # `clamp_refine` times finer over the clamped face, so that the error of the singularity
+    # falls with h like the rest. All sizes scale with h (the curvature rule too), so the meshes
+    # of a refinement sequence are alike and the error behaves like C h^q (Richardson).
+    edges = [abs(tag) for _, tag in
+             gmsh.model.getBoundary([(2, clamp_face + 1)], combined=False, oriented=False)]
+    refine_near(2, [clamp_face + 1], h / clamp_refine, 4 * h)
+    refine_near(1, edges, h / edge_refine, 3 * h)
+    smallest = gmsh.model.mesh.field.add("Min")
+    gmsh.model.mesh.field.setNumbers(smallest, "FieldsList", [f for f, _ in fields])
+    gmsh.model.mesh.field.setAsBackgroundMesh(smallest)
     gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-    # The clamp's edges are singular (a clamped face meeting a free one): elements there are
-    # `clamp_refine` times smaller, growing to h over 4 h, so that the energy converges sooner.
-    distance = gmsh.model.mesh.field.add("Distance")
-    gmsh.model.mesh.field.setNumbers(distance, "SurfacesList", [clamp_face + 1])
-    threshold = gmsh.model.mesh.field.add("Threshold")
-    gmsh.model.mesh.field.setNumber(threshold, "InField", distance)
-    gmsh.model.mesh.field.setNumber(threshold, "SizeMin", h / clamp_refine)
-    gmsh.model.mesh.field.setNumber(threshold, "SizeMax", h)
-    gmsh.model.mesh.field.setNumber(threshold, "DistMin", h / clamp_refine)
-    gmsh.model.mesh.field.setNumber(threshold, "DistMax", 4 * h)
-    gmsh.model.mesh.field.setAsBackgroundMesh(threshold)
-    gmsh.option.setNumber("Mesh.MeshSizeMin", h / 20.0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 12)  # elements per 2 pi of curvature
+    gmsh.option.setNumber("Mesh.MeshSizeMin", h / (2 * edge_refine))
+    # Elements per 2 pi of curvature, in proportion to 1 / h from the part's first mesh size.
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", round(12 * part["h_m"] / h))
     gmsh.option.setNumber("Mesh.ElementOrder", 2)
+    # Midside nodes on the straight edges (`straight_midside`) where gmsh cannot untangle the
+    # curved ones (t20's B-spline nut): a geometric error of order h^2 that refinement removes.
+    gmsh.option.setNumber("Mesh.SecondOrderLinear", 1 if part.get("straight_midside") else 0)
     gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)  # untangle curved elements
     # gmsh's untangling of curved elements can fail on one mesh and succeed on a slightly
     # different one: retry with the sizes 3 % smaller.
@@ -68,8 +96,9 @@ def mesh_part(step, h, clamp_face, clamp_refine):
             gmsh.model.mesh.clear()
             h *= 0.97
             gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-            gmsh.model.mesh.field.setNumber(threshold, "SizeMin", h / clamp_refine)
-            gmsh.model.mesh.field.setNumber(threshold, "SizeMax", h)
+            for f, fraction in fields:
+                gmsh.model.mesh.field.setNumber(f, "SizeMin", fraction * h)
+                gmsh.model.mesh.field.setNumber(f, "SizeMax", h)
     tags, coords, _ = gmsh.model.mesh.getNodes()
     nodes = {int(t): (coords[3 * i], coords[3 * i + 1], coords[3 * i + 2])
              for i, t in enumerate(tags)}
@@ -144,15 +173,27 @@ def read_results(path):
 
 
 def solve(part, step, h, work):
-    start = time.time()
-    nodes, tets, clamped, area, h = mesh_part(step, h, part["clamp_face"],
-                                              part.get("clamp_refine", 3.0))
-    mesh_seconds = time.time() - start
-    deck = os.path.join(work, "part.inp")
-    write_deck(deck, nodes, tets, clamped, part)
-    start = time.time()
-    subprocess.run(["ccx", "-i", "part"], cwd=work, check=True, stdout=subprocess.DEVNULL)
-    ccx_seconds = time.time() - start
+    """One mesh and its CalculiX solution. CalculiX refuses a mesh with a curved element that
+    gmsh left inverted (nonpositive Jacobian); such a mesh is made again with the sizes 3 %
+    smaller (a different mesh), up to three times."""
+    for attempt in range(4):
+        start = time.time()
+        nodes, tets, clamped, area, h = mesh_part(step, h, part["clamp_face"], part)
+        mesh_seconds = time.time() - start
+        deck = os.path.join(work, "part.inp")
+        write_deck(deck, nodes, tets, clamped, part)
+        start = time.time()
+        run = subprocess.run(["ccx", "-i", "part"], cwd=work, capture_output=True, text=True)
+        ccx_seconds = time.time() - start
+        if run.returncode == 0:
+            break
+        errors = [line for line in run.stdout.splitlines() if "ERROR" in line.upper()]
+        print("%s: CalculiX failed on h %.4g m (%s); meshing again 3 %% finer" %
+              (part["name"], h, errors[0].strip() if errors else "exit %d" % run.returncode),
+              flush=True)
+        if attempt == 3:
+            raise SystemExit("%s: CalculiX failed on four meshes" % part["name"])
+        h *= 0.97
     largest, node, vector, energy = read_results(os.path.join(work, "part.dat"))
     return {"h_m": h, "nodes": len(nodes), "dofs": 3 * len(nodes), "tets": len(tets),
             "clamped_nodes": len(clamped), "clamp_face_area_m2": area,
@@ -161,9 +202,38 @@ def solve(part, step, h, work):
             "mesh_seconds": mesh_seconds, "ccx_seconds": ccx_seconds}
 
 
+def richardson(runs, key):
+    """The limit of runs[-3:]'s values under f(h) = f_inf + C h^q (q from the three meshes).
+
+    Returns (f_inf, q, |f_last / f_inf - 1|) or None when the three values do not converge
+    monotonically (changes of one sign, shrinking) with a rate between 0.3 and 8."""
+    (h0, f0), (h1, f1), (h2, f2) = [(r["h_m"], r[key]) for r in runs[-3:]]
+    d1, d2 = f1 - f0, f2 - f1
+    if d1 == 0 or d2 == 0 or (d1 > 0) != (d2 > 0) or abs(d2) >= abs(d1):
+        return None
+
+    def ratio(q):  # (f1 - f0) / (f2 - f1) predicted by the model, increasing in q
+        return (h0 ** q - h1 ** q) / (h1 ** q - h2 ** q)
+
+    lo, hi = 0.3, 8.0
+    if not ratio(lo) <= d1 / d2 <= ratio(hi):
+        return None
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ratio(mid) < d1 / d2 else (lo, mid)
+    q = 0.5 * (lo + hi)
+    c = d2 / (h2 ** q - h1 ** q)
+    limit = f2 - c * h2 ** q
+    return limit, q, abs(f2 / limit - 1)
+
+
 def converge(part, folder):
+    """Meshes refined by `refine` until the Richardson limits of the last three meshes (largest
+    displacement and energy) lie within `tolerance` of the last mesh's values, i.e. the last
+    mesh's estimated error is below it; or until the next mesh would exceed `max_nodes`."""
     step = os.path.join(folder, part["file"])
     h, runs = part["h_m"], []
+    tolerance = part.get("tolerance", 0.002)
     while True:
         with tempfile.TemporaryDirectory() as work:
             runs.append(solve(part, step, h, work))
@@ -173,15 +243,23 @@ def converge(part, folder):
                r["mesh_seconds"], r["ccx_seconds"]), flush=True)
         if len(runs) >= 2:
             prev = runs[-2]
-            du = abs(r["max_displacement_m"] / prev["max_displacement_m"] - 1)
-            de = abs(r["strain_energy_J"] / prev["strain_energy_J"] - 1)
-            r["change_max_displacement"], r["change_strain_energy"] = du, de
-            if du < part.get("tolerance", 0.002) and de < part.get("tolerance", 0.002):
-                return runs, True
-        growth = part.get("refine", 1.4) ** 3
-        if r["nodes"] * growth > part.get("max_nodes", 150000):
+            r["change_max_displacement"] = abs(r["max_displacement_m"] / prev["max_displacement_m"] - 1)
+            r["change_strain_energy"] = abs(r["strain_energy_J"] / prev["strain_energy_J"] - 1)
+        if len(runs) >= 3:
+            u = richardson(runs, "max_displacement_m")
+            e = richardson(runs, "strain_energy_J")
+            if u and e:
+                r["richardson"] = {"max_displacement_m": u[0], "rate_max_displacement": u[1],
+                                   "error_max_displacement": u[2], "strain_energy_J": e[0],
+                                   "rate_strain_energy": e[1], "error_strain_energy": e[2]}
+                print("%s: Richardson |u| %.6e m (rate %.2f, last mesh off %.3f %%), energy "
+                      "%.6e J (rate %.2f, off %.3f %%)" % (part["name"], u[0], u[1], 100 * u[2],
+                                                           e[0], e[1], 100 * e[2]), flush=True)
+                if u[2] < tolerance and e[2] < tolerance:
+                    return runs, True
+        h = r["h_m"] / part.get("refine", 1.4)
+        if r["nodes"] * part.get("refine", 1.4) ** 3 > part.get("max_nodes", 150000):
             return runs, False
-        h /= part.get("refine", 1.4)
 
 
 def main():
@@ -198,13 +276,19 @@ def main():
             continue
         runs, converged = converge(part, folder)
         last = runs[-1]
+        # The reference is the Richardson limit where it exists (its error is well below the
+        # last mesh's, which `estimated_error` bounds), else the last mesh.
+        limit = last.get("richardson", last)
         results[part["name"]] = {
             "file": part["file"], "clamp_face": part["clamp_face"], "gravity_m_s2": part["gravity"],
             "material": part["material"], "converged": converged,
             "tolerance": part.get("tolerance", 0.002),
-            "max_displacement_m": last["max_displacement_m"],
-            "strain_energy_J": last["strain_energy_J"], "h_m": last["h_m"], "dofs": last["dofs"],
-            "history": runs}
+            "reference": "richardson" if "richardson" in last else "last mesh",
+            "max_displacement_m": limit["max_displacement_m"],
+            "strain_energy_J": limit["strain_energy_J"],
+            "estimated_error": max(last.get("richardson", {}).get("error_max_displacement", 1),
+                                   last.get("richardson", {}).get("error_strain_energy", 1)),
+            "h_m": last["h_m"], "dofs": last["dofs"], "history": runs}
         write_reference(out, results)
     gmsh.finalize()
 

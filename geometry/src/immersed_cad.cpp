@@ -4,6 +4,7 @@
 #include <Standard_Failure.hxx>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -14,6 +15,7 @@
 #include "immersed_cad_cells.hpp"
 #include "immersed_cad_faces.hpp"
 #include "immersed_cad_lines.hpp"
+#include "immersed_grading.hpp"
 #include "isospring/geometry/immersed_cad.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/quadrature.hpp"
@@ -24,12 +26,37 @@ using nurbs::InputError;
 
 namespace {
 
+// The background cells: per axis the cell boundaries (uniform, or graded towards planes).
 struct Grid {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero(), extent = Eigen::Vector3d::Ones();
   Eigen::Vector3i cells = Eigen::Vector3i::Ones();
-  Eigen::Vector3d h() const { return extent.cwiseQuotient(cells.cast<double>()); }
+  Eigen::Vector3d base = Eigen::Vector3d::Ones();  // cell lengths before grading
+  std::array<std::vector<double>, 3> ticks;        // cells[k] + 1 coordinates per axis
+  std::array<bool, 3> graded = {false, false, false};
   Eigen::Vector3d corner(const Eigen::Vector3i& index) const {
-    return origin + h().cwiseProduct(index.cast<double>());
+    Eigen::Vector3d x;
+    for (int k = 0; k < 3; ++k) x[k] = ticks[static_cast<size_t>(k)][static_cast<size_t>(index[k])];
+    return x;
+  }
+  // The edge lengths of cell `index`.
+  Eigen::Vector3d size(const Eigen::Vector3i& index) const {
+    return corner(index + Eigen::Vector3i::Ones()) - corner(index);
+  }
+  double smallest() const {
+    double h = 1e300;
+    for (const auto& t : ticks)
+      for (size_t i = 1; i < t.size(); ++i) h = std::min(h, t[i] - t[i - 1]);
+    return h;
+  }
+  // The cell holding x (clamped to the grid).
+  Eigen::Vector3i cell_of(const Eigen::Vector3d& x) const {
+    Eigen::Vector3i i;
+    for (int k = 0; k < 3; ++k) {
+      const auto& t = ticks[static_cast<size_t>(k)];
+      const long j = std::upper_bound(t.begin(), t.end(), x[k]) - t.begin() - 1;
+      i[k] = static_cast<int>(std::clamp<long>(j, 0, cells[k] - 1));
+    }
+    return i;
   }
   long index(const Eigen::Vector3i& i) const {
     return (static_cast<long>(i.z()) * cells.y() + i.y()) * cells.x() + i.x();
@@ -51,6 +78,12 @@ void check_options(const ImmersionOptions& o, const std::string& name) {
     throw InputError(where + "cells: give three positive counts, or none and a cell_size");
   if (!(std::isfinite(o.cell_size) && o.cell_size >= 0.0))
     throw InputError(where + "cell_size must be a positive length in m (or 0 with cells)");
+  for (const GradingPlane& p : o.grading)
+    if (p.axis < 0 || p.axis > 2 || !std::isfinite(p.at) || !(p.smallest > 0.0) ||
+        !(p.ratio >= 1.0 && p.ratio <= 10.0))
+      throw InputError(where +
+                       "grading: give each plane an axis 0..2, a coordinate, a smallest cell "
+                       "length > 0 (m) and a ratio in [1, 10]");
   if (!(std::isfinite(o.margin) && o.margin >= 0.0))
     throw InputError(where + "margin must be a length >= 0 in m");
   if (o.gauss != 0 && o.gauss < o.degree + 1)
@@ -91,22 +124,47 @@ Grid make_grid(const detail::SolidProbe& probe, const ImmersionOptions& o,
     for (int k = 0; k < 3; ++k)
       grid.cells[k] = std::max(1, static_cast<int>(std::ceil(grid.extent[k] / size - 1e-9)));
   }
+  grid.base = grid.extent.cwiseQuotient(grid.cells.cast<double>());
+  for (int k = 0; k < 3; ++k) {
+    grid.ticks[static_cast<size_t>(k)] = detail::graded_ticks(
+        grid.origin[k], grid.origin[k] + grid.extent[k], grid.cells[k], o.grading, k);
+    const int cells = static_cast<int>(grid.ticks[static_cast<size_t>(k)].size()) - 1;
+    grid.graded[static_cast<size_t>(k)] = std::any_of(
+        o.grading.begin(), o.grading.end(),
+        [&](const GradingPlane& p) { return p.axis == k && p.smallest < grid.base[k]; });
+    grid.cells[k] = cells;
+  }
   const double count = grid.cells.cast<double>().prod();
   if (count > 2e7)
     throw InputError(name + ": " + std::to_string(static_cast<long>(count)) +
                      " background cells are too many; give a larger cell_size or fewer cells");
-  if ((part.array() < grid.h().array()).all() || o.cell_size >= part.maxCoeff() ||
+  if ((part.array() < grid.base.array()).all() || o.cell_size >= part.maxCoeff() ||
       (grid.cells.array() == 1).all())
     throw InputError(name + ": the part " + vec(part) + " m is smaller than one cell " +
-                     vec(grid.h()) + " m in every direction; give a cell_size below " +
+                     vec(grid.base) + " m in every direction; give a cell_size below " +
                      std::to_string(part.maxCoeff()) + " m or more cells");
   return grid;
 }
 
-// Affine B-spline box: open uniform knots, control points at the Greville abscissae.
+// Affine B-spline box: open knots at the grid's cell boundaries (scaled to [0, 1]), control
+// points at the Greville abscissae. Greville points reproduce linear functions for any knots, so
+// the box maps [0, 1]^3 linearly onto the grid also when it is graded.
 nurbs::Patch background_patch(const Grid& grid, int degree) {
   std::vector<nurbs::KnotVector> knots;
-  for (int k = 0; k < 3; ++k) knots.push_back(nurbs::KnotVector::uniform(degree, grid.cells[k]));
+  for (int k = 0; k < 3; ++k) {
+    const auto& t = grid.ticks[static_cast<size_t>(k)];
+    if (!grid.graded[static_cast<size_t>(k)]) {
+      knots.push_back(nurbs::KnotVector::uniform(degree, grid.cells[k]));
+      continue;
+    }
+    std::vector<double> u(static_cast<size_t>(degree), 0.0);
+    for (double x : t) u.push_back((x - t.front()) / (t.back() - t.front()));
+    u.front() = 0.0;
+    u[static_cast<size_t>(degree)] = 0.0;
+    u.back() = 1.0;
+    u.insert(u.end(), static_cast<size_t>(degree), 1.0);
+    knots.emplace_back(degree, std::move(u), "immersed background grid");
+  }
   std::vector<Eigen::Vector3d> points;
   const auto greville = [&](int dir, int i) {
     double s = 0.0;
@@ -148,7 +206,7 @@ void classify(detail::SolidProbe& probe, const Grid& grid, const Eigen::Vector3i
 
 ImmersedCell tensor_cell(const Grid& grid, const Eigen::Vector3i& index, int n) {
   const nurbs::GaussRule rule = nurbs::gauss_legendre(n);
-  const Eigen::Vector3d lo = grid.corner(index), h = grid.h();
+  const Eigen::Vector3d lo = grid.corner(index), h = grid.size(index);
   ImmersedCell cell;
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
@@ -170,12 +228,8 @@ std::vector<std::vector<const BoundaryPoint*>> points_by_cell(const Grid& grid,
                                                               const ImmersedDomain& domain) {
   std::vector<std::vector<const BoundaryPoint*>> near(
       static_cast<size_t>(grid.cells.cast<long>().prod()));
-  const Eigen::Vector3d h = grid.h();
-  for (const BoundaryPoint& b : domain.boundary) {
-    Eigen::Vector3i i = ((b.point - grid.origin).cwiseQuotient(h)).array().floor().cast<int>();
-    i = i.cwiseMax(0).cwiseMin(grid.cells - Eigen::Vector3i::Ones());
-    near[static_cast<size_t>(grid.index(i))].push_back(&b);
-  }
+  for (const BoundaryPoint& b : domain.boundary)
+    near[static_cast<size_t>(grid.index(grid.cell_of(b.point)))].push_back(&b);
   return near;
 }
 
@@ -194,7 +248,6 @@ std::vector<detail::CutCellRule> cut_cell_rules(
   std::vector<detail::CutCellStats> per_thread(static_cast<size_t>(threads));
   std::vector<detail::CutCellRule> rules(cut.size());
   std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
-  const Eigen::Vector3d h = grid.h();
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
   for (long c = 0; c < static_cast<long>(cut.size()); ++c) {
     const int t = omp_get_thread_num();
@@ -202,10 +255,11 @@ std::vector<detail::CutCellRule> cut_cell_rules(
     detail::SolidProbe& mine = t == 0 ? probe : *copies[static_cast<size_t>(t - 1)];
     const Eigen::Vector3i& index = cut[static_cast<size_t>(c)];
     try {
-      const Eigen::Vector3d lo = grid.corner(index), hi = lo + h;
+      const Eigen::Vector3d lo = grid.corner(index),
+                            hi = grid.corner(index + Eigen::Vector3i::Ones());
       rules[static_cast<size_t>(c)] =
           detail::cut_cell_rule(mine, lo, hi, near[static_cast<size_t>(grid.index(index))],
-                                settings, h.prod(), per_thread[static_cast<size_t>(t)]);
+                                settings, (hi - lo).prod(), per_thread[static_cast<size_t>(t)]);
     } catch (...) {
       errors[static_cast<size_t>(t)] = std::current_exception();
     }
@@ -298,8 +352,7 @@ ImmersedDomain immerse(const CadSolid& solid, const ImmersionOptions& o, Immersi
 
   auto start = std::chrono::steady_clock::now();
   const int order = o.gauss > 0 ? o.gauss : o.degree + 2;
-  domain.boundary =
-      detail::face_quadrature(solid.shape(), order, grid.h().minCoeff(), domain.warnings);
+  domain.boundary = detail::face_quadrature(solid.shape(), order, grid.smallest(), domain.warnings);
   stats.boundary_seconds = seconds_since(start);
 
   start = std::chrono::steady_clock::now();

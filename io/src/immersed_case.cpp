@@ -29,10 +29,19 @@ std::array<bool, 3> read_components(const Field& field) {
   return fixed;
 }
 
+// "grading": {"face": i, "smallest": m, "ratio": r}: cells graded towards face i's outline.
+void read_grading(const Field& field, ImmersedCase& c) {
+  field.expect_object({"face", "smallest", "ratio"});
+  const int face = field.at("face").integer_within(0, c.cad->face_count() - 1);
+  const double smallest = field.at("smallest").at_least(0, true);
+  const double ratio = field.has("ratio") ? field.at("ratio").within(1, 10, false, false) : 1.5;
+  c.immersion.grading = geometry::grading_towards_face(*c.cad, face, smallest, ratio);
+}
+
 void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c) {
   const Field g = root.at("geometry");
-  g.expect_object(
-      {"type", "file", "solid", "cells", "cell_size", "degree", "margin", "gauss", "max_depth"});
+  g.expect_object({"type", "file", "solid", "cells", "cell_size", "degree", "margin", "gauss",
+                   "max_depth", "grading"});
   const Field file = g.at("file");
   c.part = case_file.parent_path() / file.string();
   if (!fs::is_regular_file(c.part))
@@ -60,6 +69,7 @@ void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c
     if (what.find("solid") == std::string::npos) file.fail(": " + what);
     (g.has("solid") ? g.at("solid") : g).fail(": " + what);
   }
+  if (g.has("grading")) read_grading(g.at("grading"), c);
 }
 
 analysis::Material read_material(const Field& root) {

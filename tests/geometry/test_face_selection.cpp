@@ -244,5 +244,27 @@ TEST(FaceSelection, CaseFileSelectorThatMatchesNothingIsNamed) {
   expect_refused(case_with({{"sphere", 1}}, 0), {"boundary[0].face", "sphere"});
 }
 
+// "grading" in the case file: the planes of grading_towards_face for that face.
+TEST(FaceSelection, CaseFileGradingGradesTowardsTheFace) {
+  const int clamp = select_faces(faces(), plane({0, 0, 0}, {1, 0, 0}))[0];
+  nlohmann::json c = case_with(clamp, 0);
+  c["geometry"]["grading"] = {{"face", clamp}, {"smallest", 0.002}, {"ratio", 1.4}};
+  const io::ImmersedCase read =
+      io::build_immersed_case(c, holed_block().parent_path() / "case.json");
+  const std::vector<GradingPlane> expected =
+      grading_towards_face(read_cad_solid(holed_block()), clamp, 0.002, 1.4);
+  ASSERT_EQ(read.immersion.grading.size(), 5u);  // x = 0; y = 0, kB; z = 0, kC
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(read.immersion.grading[i].axis, expected[i].axis);
+    EXPECT_EQ(read.immersion.grading[i].at, expected[i].at);
+    EXPECT_EQ(read.immersion.grading[i].smallest, 0.002);
+    EXPECT_EQ(read.immersion.grading[i].ratio, 1.4);
+  }
+  c["geometry"]["grading"] = {{"face", 99}, {"smallest", 0.002}};
+  expect_refused(c, {"geometry.grading.face"});
+  c["geometry"]["grading"] = {{"face", clamp}, {"smallest", 0.002}, {"ratio", 0.5}};
+  expect_refused(c, {"geometry.grading.ratio"});
+}
+
 }  // namespace
 }  // namespace isospring::geometry

@@ -42,6 +42,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "isospring/geometry/immersed_domain.hpp"
 
@@ -79,12 +80,26 @@ SolidMeasures measure_solid(const CadSolid& solid);
 /// area from the boundary points.
 SolidMeasures measure_quadrature(const ImmersedDomain& domain);
 
+/// Background cells graded towards the plane x[axis] = at: the cells next to it are `smallest` long
+/// (m) along `axis` and each further one `ratio` times longer, until they reach the grid's base
+/// cell length H (from `cells` or `cell_size`); from there on an axis's cells are
+/// H ln(ratio) / (ratio - 1) long, so that the growth never exceeds `ratio`. Several planes may
+/// grade one axis; each point takes the smallest cells any plane asks for there.
+struct GradingPlane {
+  int axis = 0;           // 0, 1, 2 for x, y, z
+  double at = 0.0;        // the plane's coordinate (m)
+  double smallest = 0.0;  // cell length at the plane (m), > 0
+  double ratio = 1.5;     // growth from one cell to the next, >= 1
+};
+
 struct ImmersionOptions {
   int degree = 2;  // of the background B-spline box, >= 1
   /// Cells per direction; when zero, from cell_size; when that is zero too, 10 cells along the
   /// longest side of the box and cells as close to cubes as the sides allow.
   Eigen::Vector3i cells = Eigen::Vector3i::Zero();
   double cell_size = 0.0;  // target cell edge (m), used when `cells` is zero
+  /// Knots clustered towards planes (e.g. those of grading_towards_face); empty: uniform.
+  std::vector<GradingPlane> grading;
   /// Added on every side of the part's bounding box (m); ignored with a user box.
   double margin = 0.0;
   /// A user box (axis-aligned, m) instead of the bounding box; it must contain the part. Used
@@ -117,6 +132,13 @@ struct ImmersionStats {
   long binned_face_lines = 0;  // of which every hit was classified by the face's UV bins
   int threads = 1;             // that integrated the cut cells
 };
+
+/// Grading planes through the bounding box of face `face` (its index as `isospring info` prints
+/// it): per axis one plane where the face is flat in that axis, else one at each end of its extent.
+/// So the cells are smallest along the face's outline, where a clamp's stresses are singular (a
+/// held face meeting a free one). Throws nurbs::InputError for a face index out of range.
+std::vector<GradingPlane> grading_towards_face(const CadSolid& solid, int face, double smallest,
+                                               double ratio);
 
 /// The immersed domain of `solid`. Throws nurbs::InputError naming the option and the fix for a
 /// degree below 1, no cells, a negative margin, a user box that does not contain the part, or a
