@@ -167,7 +167,7 @@ int generate(const fs::path& out, const std::set<std::string>& only) {
   for (const Dataset& d : datasets()) {
     if (!only.empty() && !only.count(d.name)) continue;
     const auto start = std::chrono::steady_clock::now();
-    const Specimen s = specimen(d.specimen, d.hidden);
+    const Specimen s = specimen(d);
     const fs::path folder = out / d.name, work = fs::temp_directory_path() / ("isg-" + d.name);
     fs::create_directories(folder);
     fs::remove_all(work);
