@@ -16,6 +16,16 @@
 //
 // Every level is solved with the material of the nominal fit (E, nu), so the estimate is in the
 // same units and scale as the measured displacements.
+//
+// Nearly incompressible materials: at nu >= bbar_from_poisson (0.4) every level of a solid or
+// plane-strain model, the case's own included, uses B-bar (analysis::Volumetric::kBbar, the
+// volumetric strain projected one degree lower). The displacement formulation locks there: its
+// error at low degree falls slowly with refinement (the suite's cantilever at nu = 0.45 needed
+// degree 3 on 40 x 8 x 8 elements, 15,609 DOFs, for a third of 0.2 % noise), while B-bar keeps
+// the convergence of a compressible material. 0.4 is where locking starts to cost DOFs on the
+// suite's cantilever (lambda / mu = 4; at nu = 0.3 it is 1.5 and both formulations need the same
+// level); B-bar costs ~3 x more per DOF to assemble and factorise (docs/limitations.md), so it
+// is not used where it saves nothing. The chosen level carries the formulation into the loop.
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
@@ -61,6 +71,9 @@ struct DiscretizationOptions {
   /// level chosen far inside the target is paid for many times over. Empty: none when `ladder`
   /// is given, knot_insertion_intermediate(problem) otherwise.
   DiscretizationLadder intermediate;
+  /// B-bar on every level (solids and plane strain) when the nominal fit's Poisson ratio is at
+  /// least this; above 0.5: never. A case that asks for B-bar itself keeps it whatever nu.
+  double bbar_from_poisson = 0.4;
 };
 
 struct DiscretizationLevel {
@@ -89,8 +102,12 @@ struct DiscretizationCheck {
   /// Per marker: the estimated discretisation error of the chosen level (model minus a finer
   /// one), used to widen the significance test when within_target is false.
   std::vector<Eigen::Vector3d> marker_error;
-  /// The problem of the chosen level (the input problem itself when chosen == 0).
+  /// The problem of the chosen level; empty when that is the input problem itself (level 0 in
+  /// the case's formulation).
   std::optional<analysis::Problem> chosen_problem;
+  /// The levels' formulation of the volumetric strain: "displacement" or "bbar", and why.
+  std::string volumetric = "displacement";
+  std::string volumetric_rule;
 };
 
 /// Runs the ladder. `youngs_modulus` / `poisson_ratio` replace the problem's material for the
