@@ -91,11 +91,14 @@ TEST(DiscretizationVolumetric, DISABLED_CantileverDofsTable) {
   for (const auto& [nu, dataset] :
        {std::pair{0.3, "cantilever_clean"}, std::pair{0.45, "cantilever_clean_nu045"},
         std::pair{0.49, "cantilever_clean_nu049"}}) {
+    // The dataset's noise; before its data exist, the nu = 0.3 dataset's (its largest
+    // displacement, the tip's bending deflection, changes by a few % with nu).
     nlohmann::json truth;
     std::ifstream in(kSuite / dataset / "truth.json");
     if (!in) {
-      std::printf("nu %.2f: %s/truth.json missing, skipped\n", nu, dataset);
-      continue;
+      std::printf("nu %.2f: %s/truth.json missing, the nu = 0.3 dataset's noise used\n", nu,
+                  dataset);
+      in = std::ifstream(kSuite / "cantilever_clean/truth.json");
     }
     in >> truth;
     const double noise = truth["noise_sigma"].get<double>();
@@ -109,9 +112,9 @@ TEST(DiscretizationVolumetric, DISABLED_CantileverDofsTable) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const auto& used = r.levels[static_cast<size_t>(r.chosen)];
-      std::printf("nu %.2f %-12s: %s, %d DOFs, error/noise %.3f%s (check %.0f s)\n", nu,
-                  r.volumetric.c_str(), used.description.c_str(), used.dofs, used.error_rms / noise,
-                  r.within_target ? "" : " NOT within target", seconds);
+      std::printf("nu %.2f %-12s: %s, %d DOFs, error/noise %.3f%s (check %.0f s, noise %.3g m)\n",
+                  nu, r.volumetric.c_str(), used.description.c_str(), used.dofs,
+                  used.error_rms / noise, r.within_target ? "" : " NOT within target", seconds);
       for (const auto& level : r.levels)
         std::printf("    level %d %s: %d DOFs, error/noise %.3f, %.1f s\n", level.level,
                     level.description.c_str(), level.dofs, level.error_rms / noise, level.seconds);
