@@ -114,7 +114,8 @@ TEST(DiscretizationVolumetric, DISABLED_CantileverDofsTable) {
       const auto& used = r.levels[static_cast<size_t>(r.chosen)];
       std::printf("nu %.2f %-12s: %s, %d DOFs, error/noise %.3f%s (check %.0f s, noise %.3g m)\n",
                   nu, r.volumetric.c_str(), used.description.c_str(), used.dofs,
-                  used.error_rms / noise, r.within_target ? "" : " NOT within target", seconds);
+                  used.error_rms / noise, r.within_target ? "" : " NOT within target", seconds,
+                  noise);
       for (const auto& level : r.levels)
         std::printf("    level %d %s: %d DOFs, error/noise %.3f, %.1f s\n", level.level,
                     level.description.c_str(), level.dofs, level.error_rms / noise, level.seconds);
