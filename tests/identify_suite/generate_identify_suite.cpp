@@ -268,6 +268,10 @@ int table(const fs::path& data_dir, const std::string& isospring, const fs::path
   std::printf("|---|---|---|---|---|---|---|\n");
   for (const Dataset& d : datasets()) {
     const fs::path folder = data_dir / d.name, out = work / d.name;
+    if (!fs::exists(folder / "truth.json")) {
+      std::printf("| %s | (not generated) | | | | | |\n", d.name.c_str());
+      continue;
+    }
     json truth;
     std::ifstream(folder / "truth.json") >> truth;
     const std::string command = isospring + " identify " + (folder / "case.json").string() +
