@@ -1,6 +1,7 @@
 // identify's discretisation check on nearly incompressible materials: the rule that puts every
-// level on B-bar from nu = 0.48 (reported in the check), and a generator of the DOFs the suite's
-// cantilever needs for a third of 0.2 % noise at nu = 0.3 / 0.45 / 0.49 with and without it.
+// level on B-bar from a given nu (off by default; reported in the check), and a generator of the
+// DOFs the suite's cantilever needs for a third of 0.2 % noise at nu = 0.3 / 0.45 / 0.49 with and
+// without it.
 #include <gtest/gtest.h>
 
 #include <chrono>
