@@ -6,22 +6,17 @@
 #include <vector>
 
 #include "assembly_structure.hpp"
+#include "bbar_lame_parts.hpp"
 #include "dense_products.hpp"
 #include "isospring/analysis/elasticity.hpp"
-#include "isospring/nurbs/error.hpp"
+#include "volumetric_projection.hpp"
 
 namespace isospring::analysis {
 
 std::vector<LameStiffness> assemble_lame_stiffness(const Problem& problem, const DofMap& dofs,
                                                    const std::vector<SpatialWeight>& weights,
                                                    int threads) {
-  // The split K = lambda K_lambda + mu K_mu is the displacement formulation's; a B-bar problem
-  // would silently lose its projection here.
-  if (problem.volumetric == Volumetric::kBbar)
-    throw nurbs::InputError(
-        "analysis.volumetric: \"bbar\" is supported by analyze and the spring calibration's "
-        "reference, not by stiffness parameters fitted per Lame parameter (identify); use "
-        "\"displacement\" (the default) for this case");
+  detail::check_volumetric(problem);  // before the assembly: B-bar in plane stress is an error
   const detail::AssemblyStructure structure(problem, dofs);
   const int dim = structure.dofs_per_node;
   const double thickness = thickness_factor(problem);
@@ -89,6 +84,12 @@ std::vector<LameStiffness> assemble_lame_stiffness(const Problem& problem, const
   for (size_t k = 0; k < nw; ++k) {
     out[k].lambda_part = upper[2 * k].selfadjointView<Eigen::Upper>();
     out[k].mu_part = upper[2 * k + 1].selfadjointView<Eigen::Upper>();
+  }
+  // B-bar: the displacement parts above turned into the projected ones (bbar_lame_parts.hpp).
+  if (problem.volumetric == Volumetric::kBbar) {
+    const std::vector<Eigen::SparseMatrix<double>> volumetric =
+        detail::bbar_weighted_volumetric(problem, dofs, structure, weights);
+    for (size_t k = 0; k < nw; ++k) detail::make_bbar_lame_parts(volumetric[k], out[k]);
   }
   return out;
 }

@@ -13,6 +13,8 @@ nlohmann::json discretization_json(const fitting::DiscretizationCheck& check, do
                    {"chosen_level", check.chosen},
                    {"within_target", check.within_target},
                    {"budget_exhausted", check.budget_exhausted},
+                   {"volumetric", check.volumetric},
+                   {"volumetric_rule", check.volumetric_rule},
                    {"f_test_allowance", allowance}};
   // A level without an estimate has NaN errors; write_json_report writes them as null.
   j["levels"] = nlohmann::json::array();
@@ -52,7 +54,8 @@ void add_discretization(MarkdownReport& md, const fitting::DiscretizationCheck& 
            "the weighted discretisation error (" +
            format_number(allowance, 4) + "), so no effect is added to absorb it.";
   md.paragraph(what + " Noise " + format_number(check.noise, 3) + " m, target " +
-               format_number(check.target, 3) + " m rms.");
+               format_number(check.target, 3) +
+               " m rms. Volumetric strain: " + check.volumetric_rule + ".");
   std::vector<std::vector<std::string>> rows;
   for (const auto& level : check.levels)
     rows.push_back(

@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "isospring/analysis/dof_map.hpp"
-#include "isospring/analysis/lame_stiffness.hpp"
 #include "isospring/analysis/nonlinear_elasticity.hpp"
 #include "isospring/analysis/post_processing.hpp"
 #include "isospring/analysis/static_solver.hpp"
@@ -160,19 +159,6 @@ TEST(BbarLame, LargeDeformationsRefuseBbar) {
     FAIL() << "B-bar was accepted by the large-deformation solver";
   } catch (const nurbs::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("linear elasticity only"), std::string::npos) << e.what();
-  }
-}
-
-// The Lame-split stiffness (identify's stiffness parameters) is the displacement formulation's:
-// a B-bar problem is refused there rather than fitted without its projection.
-TEST(BbarLame, LameSplitStiffnessRefusesBbar) {
-  const Problem problem = cylinder(kNearlyIncompressible, 2, 2, Volumetric::kBbar);
-  const DofMap dofs(problem);
-  try {
-    assemble_lame_stiffness(problem, dofs, {[](const Eigen::Vector3d&) { return 1.0; }});
-    FAIL() << "B-bar was accepted by the Lame-split stiffness";
-  } catch (const nurbs::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("analysis.volumetric"), std::string::npos) << e.what();
   }
 }
 

@@ -167,7 +167,7 @@ int generate(const fs::path& out, const std::set<std::string>& only) {
   for (const Dataset& d : datasets()) {
     if (!only.empty() && !only.count(d.name)) continue;
     const auto start = std::chrono::steady_clock::now();
-    const Specimen s = specimen(d.specimen, d.hidden);
+    const Specimen s = specimen(d);
     const fs::path folder = out / d.name, work = fs::temp_directory_path() / ("isg-" + d.name);
     fs::create_directories(folder);
     fs::remove_all(work);
@@ -268,6 +268,10 @@ int table(const fs::path& data_dir, const std::string& isospring, const fs::path
   std::printf("|---|---|---|---|---|---|---|\n");
   for (const Dataset& d : datasets()) {
     const fs::path folder = data_dir / d.name, out = work / d.name;
+    if (!fs::exists(folder / "truth.json")) {
+      std::printf("| %s | (not generated) | | | | | |\n", d.name.c_str());
+      continue;
+    }
     json truth;
     std::ifstream(folder / "truth.json") >> truth;
     const std::string command = isospring + " identify " + (folder / "case.json").string() +

@@ -1,6 +1,7 @@
 #include "identify_suite_datasets.hpp"
 
 #include <cmath>
+#include <tuple>
 
 namespace isospring::identify_suite {
 
@@ -110,6 +111,12 @@ Specimen specimen(const std::string& name, const Hidden& hidden) {
   return tube(hidden);
 }
 
+Specimen specimen(const Dataset& dataset) {
+  Specimen s = specimen(dataset.specimen, dataset.hidden);
+  if (dataset.poisson_ratio > 0.0) s.declared["material"]["nu"] = dataset.poisson_ratio;
+  return s;
+}
+
 std::vector<Dataset> datasets() {
   std::vector<Dataset> all;
   auto add = [&](std::string name, std::string specimen_name, std::vector<std::string> effects,
@@ -157,6 +164,41 @@ std::vector<Dataset> datasets() {
   add("tube_gravity", "tube", {"gravity"}, 2e-3, 32, gravity, "self-weight");
   add("tube_graded", "tube", {"stiffness_gradient"}, 2e-3, 33, graded,
       "E rises 40 % per tube length along z");
+
+  // Tissue-like: the cantilever at nu = 0.45 and 0.49 with every hidden effect of the suite (the
+  // graded modulus along its length too) and two pairs of effects, noise 0.2 %.
+  Hidden gravity_soft_clamp = soft_clamp;
+  gravity_soft_clamp.gravity = true;
+  Hidden frame_gravity = frame;
+  frame_gravity.gravity = true;
+  const std::vector<std::tuple<std::string, std::vector<std::string>, Hidden, std::string>> tissue =
+      {{"clean", {}, none, "nothing hidden"},
+       {"gravity", {"gravity"}, gravity, "self-weight"},
+       {"soft_clamp", {"support_compliance"}, soft_clamp, "3.3 mm slab at the clamp 4x softer"},
+       {"frame", {"rigid_offset"}, frame, "measuring frame moved 27 um, rotated 0.2 mrad"},
+       {"load_scale", {"load_scale"}, scaled, "tip_side's load 15 % above nominal"},
+       {"large_deformation",
+        {"geometric_nonlinearity"},
+        large,
+        "loads x6, large deformation (ccx NLGEOM)"},
+       {"graded", {"stiffness_gradient"}, graded, "E rises 40 % per length along x"},
+       {"gravity_soft_clamp",
+        {"gravity", "support_compliance"},
+        gravity_soft_clamp,
+        "self-weight and a 3.3 mm slab at the clamp 4x softer"},
+       {"frame_gravity",
+        {"gravity", "rigid_offset"},
+        frame_gravity,
+        "self-weight, measuring frame moved 27 um, rotated 0.2 mrad"}};
+  for (const auto& [nu, suffix, first_seed] :
+       {std::tuple{0.45, "_nu045", 41u}, std::tuple{0.49, "_nu049", 61u}}) {
+    unsigned seed = first_seed;
+    for (const auto& [effect, effects, hidden, note] : tissue) {
+      add("cantilever_" + effect + suffix, "cantilever", effects, 2e-3, seed++, hidden,
+          note + ", nu = " + (nu == 0.45 ? "0.45" : "0.49") + ", noise 0.2 %");
+      all.back().poisson_ratio = nu;
+    }
+  }
   return all;
 }
 

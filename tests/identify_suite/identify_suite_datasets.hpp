@@ -35,9 +35,13 @@ struct Dataset {
   unsigned seed = 1;
   Hidden hidden;
   std::string note;  // one line for the README
+  /// Poisson's ratio, declared and true alike; 0: the specimen's own (0.3 or 0.35). The
+  /// tissue-like datasets (soft tissue, gels, elastomers) use 0.45 and 0.49.
+  double poisson_ratio = 0.0;
 };
 
-/// The suite: 14 datasets on three specimens, clean ones at two noise levels.
+/// The suite: 14 datasets on three specimens, clean ones at two noise levels, and 18 tissue-like
+/// cantilever datasets (nu = 0.45 and 0.49: every hidden effect, and two pairs of effects).
 std::vector<Dataset> datasets();
 
 /// A specimen: its declared case, its true problem and where its markers are.
@@ -53,6 +57,9 @@ struct Specimen {
 };
 
 Specimen specimen(const std::string& name, const Hidden& hidden);
+
+/// The dataset's specimen, with its Poisson's ratio.
+Specimen specimen(const Dataset& dataset);
 
 /// The candidates every dataset's case offers (all six of identify's library).
 inline std::vector<std::string> candidate_effects() {

@@ -188,6 +188,28 @@ DiscretizationLadder knot_insertion_intermediate(const analysis::Problem& proble
 
 namespace {
 
+// The formulation of every level (DiscretizationOptions::bbar_from_poisson), recorded in `check`.
+analysis::Volumetric volumetric_rule(const analysis::Problem& problem, double poisson_ratio,
+                                     const DiscretizationOptions& options,
+                                     DiscretizationCheck& check) {
+  const std::string threshold = format(options.bbar_from_poisson);
+  analysis::Volumetric volumetric = problem.volumetric;
+  if (problem.volumetric == analysis::Volumetric::kBbar) {
+    check.volumetric_rule = "B-bar, as the case asks";
+  } else if (problem.formulation == analysis::Formulation::kPlaneStress) {
+    check.volumetric_rule = "displacement formulation: plane stress does not lock";
+  } else if (poisson_ratio >= options.bbar_from_poisson) {
+    volumetric = analysis::Volumetric::kBbar;
+    check.volumetric_rule = "B-bar: nu = " + format(poisson_ratio) + " >= " + threshold +
+                            ", where the displacement formulation locks";
+  } else {
+    check.volumetric_rule = "displacement formulation: nu = " + format(poisson_ratio) + " < " +
+                            threshold + " (B-bar from " + threshold + ")";
+  }
+  check.volumetric = volumetric == analysis::Volumetric::kBbar ? "bbar" : "displacement";
+  return volumetric;
+}
+
 // Errors against the finest level K solved so far: e_k = |u_K - u_k| + e_K (triangle
 // inequality), with e_K, the "tail", from the last two differences D = u_{j+1} - u_j as a
 // geometric series, r |D_{K-1}| / (1 - r) with r = |D_{K-1}| / |D_{K-2}|, or |D_{K-1}| itself
@@ -220,6 +242,7 @@ class LadderRun {
                       : options.ladder     ? DiscretizationLadder()
                                            : knot_insertion_intermediate(problem)),
         dim_(problem.formulation == analysis::Formulation::kSolid ? 3 : 2),
+        volumetric_(volumetric_rule(problem, poisson_ratio, options, check)),
         check_(std::move(check)) {
     for (size_t l = 0; l < problem.load_cases.size(); ++l)
       case_index_[problem.load_cases[l].id] = l;
@@ -236,7 +259,7 @@ class LadderRun {
     estimate_against_finest();
     settle();
     try_intermediate();
-    if (check_.chosen > 0)
+    if (check_.chosen > 0 || volumetric_ != problem_.volumetric)
       check_.chosen_problem = std::move(solved_problems_[static_cast<size_t>(check_.chosen)]);
     return std::move(check_);
   }
@@ -267,6 +290,7 @@ class LadderRun {
   const std::function<void(const std::string&)>& progress_;
   const DiscretizationLadder ladder_, intermediate_;
   const int dim_;
+  const analysis::Volumetric volumetric_;  // of every level (volumetric_rule)
   std::map<std::string, size_t> case_index_;
   double size_ = 0.0;  // the model's size, the scale of the geometry check's tolerance
   DiscretizationCheck check_;
@@ -281,6 +305,7 @@ void LadderRun::solve(analysis::Problem level_problem, const std::string& descri
   const auto start = std::chrono::steady_clock::now();
   level_problem.material.youngs_modulus = youngs_modulus_;
   level_problem.material.poisson_ratio = poisson_ratio_;
+  level_problem.volumetric = volumetric_;
   const analysis::StaticResult solution = analysis::solve_static(level_problem);
   level_problem.material = problem_.material;  // the chosen problem keeps the case's prior
   DiscretizationLevel row;

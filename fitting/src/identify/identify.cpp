@@ -163,6 +163,17 @@ void collect_candidates(const LoopInputs& in, const Setup& setup, const Nominal&
   const std::vector<std::string> names =
       in.options.candidates ? *in.options.candidates : effect_names();
   for (const std::string& name : names) {
+    // Large deformation is the displacement formulation's SVK (no F-bar): on a B-bar reference
+    // its remainder against the B-bar linear stiffness would not be O(|u|^2), so it is not
+    // offered rather than fitted as something else.
+    if (name == "geometric_nonlinearity" &&
+        setup.context.problem->volumetric == analysis::Volumetric::kBbar) {
+      out.unavailable.push_back(name +
+                                ": the reference uses B-bar (nearly incompressible material), "
+                                "and large deformation is implemented for the displacement "
+                                "formulation only");
+      continue;
+    }
     std::string why;
     auto effect = make_effect(name, setup.context, &why);
     if (effect)

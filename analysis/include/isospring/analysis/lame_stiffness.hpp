@@ -16,6 +16,11 @@ namespace isospring::analysis {
 ///   lambda_part[(a,i),(b,j)] = int w dR_a/dx_i dR_b/dx_j
 ///   mu_part[(a,i),(b,j)]     = int w (delta_ij grad R_a . grad R_b + dR_a/dx_j dR_b/dx_i)
 /// with a weight w(x), times the thickness in 2D. Quadrature as assemble_stiffness.
+/// Under Volumetric::kBbar (solids and plane strain) the parts are B-bar's, still linear in the
+/// Lame parameters: lambda_part = t C^T G_w C (the projected dilatation's, G_w the projection
+/// space's Gram weighted by w) and mu_part = the displacement mu part - 2/3 (the displacement
+/// lambda part - lambda_part); for w = 1, lambda lambda_part + mu mu_part is
+/// assemble_stiffness's B-bar matrix (derivation in analysis/src/bbar_lame_parts.hpp).
 struct LameStiffness {
   Eigen::SparseMatrix<double> lambda_part;
   Eigen::SparseMatrix<double> mu_part;

@@ -16,6 +16,18 @@
 //
 // Every level is solved with the material of the nominal fit (E, nu), so the estimate is in the
 // same units and scale as the measured displacements.
+//
+// Nearly incompressible materials: at nu >= bbar_from_poisson (off by default) every level of a
+// solid or plane-strain model, the case's own included, uses B-bar (analysis::Volumetric::kBbar,
+// the volumetric strain projected one degree lower), and the chosen level carries it into the loop.
+// Where the threshold comes from (DiscretizationVolumetric.DISABLED_CantileverDofsTable, the
+// suite's cantilever, a third of 0.2 % noise): at nu = 0.45 both formulations choose degree 3 on
+// 30 x 6 x 6 elements (8,019 DOFs, 0.30 / 0.29 x the noise), B-bar at 5x the check's time; at
+// nu = 0.49 the displacement formulation stays above the target within the DOF budget (0.37 x
+// the noise at 15,609 DOFs) and B-bar reaches it there (0.28 x). B-bar costs 3-10 x more per DOF
+// to assemble and factorise (its projection couples control points 3p - 2 apart), so it pays
+// only where the displacement formulation cannot reach the target; the clamped edges' singular
+// stresses, not locking, limit both formulations on nets that fine. Off by default (below).
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
@@ -61,6 +73,12 @@ struct DiscretizationOptions {
   /// level chosen far inside the target is paid for many times over. Empty: none when `ladder`
   /// is given, knot_insertion_intermediate(problem) otherwise.
   DiscretizationLadder intermediate;
+  /// B-bar on every level (solids and plane strain) when the nominal fit's Poisson ratio is at
+  /// least this; above 0.5: never (the default). A case that asks for B-bar itself keeps it
+  /// whatever nu. Off by default: on the suite's cantilever at nu = 0.49 (0.48 would turn it on)
+  /// the check chose a 15,609-DOF B-bar level and identify's loop on it grew to 20 GB in
+  /// support_compliance's fit and was killed by the kernel (out of memory).
+  double bbar_from_poisson = 1.0;
 };
 
 struct DiscretizationLevel {
@@ -89,8 +107,12 @@ struct DiscretizationCheck {
   /// Per marker: the estimated discretisation error of the chosen level (model minus a finer
   /// one), used to widen the significance test when within_target is false.
   std::vector<Eigen::Vector3d> marker_error;
-  /// The problem of the chosen level (the input problem itself when chosen == 0).
+  /// The problem of the chosen level; empty when that is the input problem itself (level 0 in
+  /// the case's formulation).
   std::optional<analysis::Problem> chosen_problem;
+  /// The levels' formulation of the volumetric strain: "displacement" or "bbar", and why.
+  std::string volumetric = "displacement";
+  std::string volumetric_rule;
 };
 
 /// Runs the ladder. `youngs_modulus` / `poisson_ratio` replace the problem's material for the
