@@ -287,145 +287,159 @@ void PetscSession::on_root(const std::function<void()>& step) const {
 }
 
 namespace {
-// The solve of solve_static_petsc on the ranks of `comm`: PETSC_COMM_WORLD for the distributed
-// backend, PETSC_COMM_SELF for the serial AMG solver (solve_static_amg).
-StaticResult solve_on(MPI_Comm comm, const Problem& problem, const PetscSolverOptions& options) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
+// Where the DOFs of one solve live on the ranks of `comm` (distribute): each rank owns a
+// contiguous range of PETSc nodes, block rows of `dim` DOFs.
+struct RankLayout {
+  MPI_Comm comm = MPI_COMM_NULL;
+  int rank = 0, size = 1, dim = 0;
+  Distribution d;
+  int first_node = 0;
+  PetscInt local_rows = 0, first_row = 0;
 
-  // Every rank validates and numbers the same problem, so input errors are found by all alike.
-  const ThreadScope threads(options.threads);
-  const SupportedProblem supported = number_and_support(problem);
-  const DofMap& dofs = supported.dofs;
-  const Constraints& constraints = supported.constraints;
-
-  StaticResult result;
-  result.dofs = dofs.num_dofs();
-  result.ranks = size;
-  auto start = std::chrono::steady_clock::now();
-  const int dim = dofs.dofs_per_node();
-  const detail::AssemblyStructure structure(problem, dofs, /*with_pattern=*/false);
-  const Distribution d = distribute(structure, dofs.num_nodes(), size);
-  const int first_node = d.node_start[static_cast<size_t>(rank)];
-  const int owned_nodes = d.node_start[static_cast<size_t>(rank) + 1] - first_node;
-  const PetscInt local_rows = static_cast<PetscInt>(owned_nodes) * dim;
-  const PetscInt first_row = static_cast<PetscInt>(first_node) * dim;
-  auto petsc_row = [&](int dof) {
+  PetscInt row(int dof) const {
     return static_cast<PetscInt>(d.petsc_node[static_cast<size_t>(dof / dim)]) * dim + dof % dim;
-  };
-
-  OwnedMat K;
-  RankError error;
-  if (size == 1) {
-    // One process (the serial AMG solver): the serial assembler on all threads, copied into
-    // PETSc's AIJ as full rows; the PETSc numbering is the DofMap's (one rank owns every node,
-    // in order). Element by element through MatSetValuesBlocked took twice as long on one thread.
-    const Eigen::SparseMatrix<double> upper = assemble_stiffness(problem, dofs);
-    Eigen::SparseMatrix<double, Eigen::RowMajor> full = upper.selfadjointView<Eigen::Upper>();
-    full.makeCompressed();
-    const std::vector<PetscInt> rows(full.outerIndexPtr(), full.outerIndexPtr() + full.rows() + 1);
-    const std::vector<PetscInt> columns(full.innerIndexPtr(),
-                                        full.innerIndexPtr() + full.nonZeros());
-    check(MatCreate(comm, &K), "MatCreate");
-    check(MatSetSizes(K, local_rows, local_rows, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
-    check(MatSetBlockSize(K, dim), "MatSetBlockSize");
-    check(MatSetType(K, MATSEQAIJ), "MatSetType");
-    check(MatSetFromOptions(K), "MatSetFromOptions");
-    check(MatSeqAIJSetPreallocationCSR(K, rows.data(), columns.data(), full.valuePtr()),
-          "MatSeqAIJSetPreallocationCSR");
-  } else {
-    std::vector<PetscInt> diagonal, off_diagonal;
-    count_nonzeros(structure, d, rank, diagonal, off_diagonal);
-    check(MatCreate(comm, &K), "MatCreate");
-    check(MatSetSizes(K, local_rows, local_rows, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
-    check(MatSetBlockSize(K, dim), "MatSetBlockSize");
-    check(MatSetType(K, MATAIJ), "MatSetType");
-    check(MatSetFromOptions(K), "MatSetFromOptions");
-    check(MatXAIJSetPreallocation(K, dim, diagonal.data(), off_diagonal.data(), nullptr, nullptr),
-          "MatXAIJSetPreallocation");
-    // This rank's elements with the serial kernel; entries of rows owned by other ranks are
-    // stashed by PETSc and sent in MatAssemblyBegin/End.
-    const detail::ElementStiffness kernel(problem, structure);
-    detail::QuadraturePoint point;
-    Eigen::MatrixXd local;
-    std::vector<PetscInt> blocks;
-    for (int e = d.element_start[static_cast<size_t>(rank)];
-         e < d.element_start[static_cast<size_t>(rank) + 1]; ++e) {
-      try {
-        kernel(e, point, local);
-      } catch (const std::exception& ex) {
-        error.message = ex.what();
-        break;
-      }
-      blocks.clear();
-      for (int k = structure.node_offset[static_cast<size_t>(e)];
-           k < structure.node_offset[static_cast<size_t>(e) + 1]; ++k)
-        blocks.push_back(
-            d.petsc_node[static_cast<size_t>(structure.nodes[static_cast<size_t>(k)])]);
-      const PetscInt n = static_cast<PetscInt>(blocks.size());
-      // `local` is symmetric, so its column-major storage is the row-major array PETSc reads.
-      check(MatSetValuesBlocked(K, n, blocks.data(), n, blocks.data(), local.data(), ADD_VALUES),
-            "MatSetValuesBlocked");
-    }
   }
-  check(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-  check(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-  agree_on_error(comm, error);
-  result.assembly_seconds = seconds_since(start);
+  bool owns(int node) const { return d.owner[static_cast<size_t>(node)] == rank; }
+};
 
-  start = std::chrono::steady_clock::now();
-  // Rigid-body near-null space from the control points: control values a + w x X_a give exactly
-  // the rigid motion a + w x x (the NURBS basis reproduces the geometry), so these are the exact
-  // null space of the unsupported K, which smoothed aggregation needs for elasticity.
+RankLayout make_layout(MPI_Comm comm, const DofMap& dofs,
+                       const detail::AssemblyStructure& structure) {
+  RankLayout layout;
+  layout.comm = comm;
+  MPI_Comm_rank(comm, &layout.rank);
+  MPI_Comm_size(comm, &layout.size);
+  layout.dim = dofs.dofs_per_node();
+  layout.d = distribute(structure, dofs.num_nodes(), layout.size);
+  const auto r = static_cast<size_t>(layout.rank);
+  layout.first_node = layout.d.node_start[r];
+  const int owned_nodes = layout.d.node_start[r + 1] - layout.first_node;
+  layout.local_rows = static_cast<PetscInt>(owned_nodes) * layout.dim;
+  layout.first_row = static_cast<PetscInt>(layout.first_node) * layout.dim;
+  return layout;
+}
+
+// One process (the serial AMG solver): the serial assembler on all threads, copied into PETSc's
+// AIJ as full rows; the PETSc numbering is the DofMap's (one rank owns every node, in order).
+// Element by element through MatSetValuesBlocked took twice as long on one thread.
+void assemble_on_one_rank(const Problem& problem, const DofMap& dofs, const RankLayout& layout,
+                          OwnedMat& K) {
+  const Eigen::SparseMatrix<double> upper = assemble_stiffness(problem, dofs);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> full = upper.selfadjointView<Eigen::Upper>();
+  full.makeCompressed();
+  const std::vector<PetscInt> rows(full.outerIndexPtr(), full.outerIndexPtr() + full.rows() + 1);
+  const std::vector<PetscInt> columns(full.innerIndexPtr(), full.innerIndexPtr() + full.nonZeros());
+  check(MatCreate(layout.comm, &K), "MatCreate");
+  check(MatSetSizes(K, layout.local_rows, layout.local_rows, PETSC_DETERMINE, PETSC_DETERMINE),
+        "MatSetSizes");
+  check(MatSetBlockSize(K, layout.dim), "MatSetBlockSize");
+  check(MatSetType(K, MATSEQAIJ), "MatSetType");
+  check(MatSetFromOptions(K), "MatSetFromOptions");
+  check(MatSeqAIJSetPreallocationCSR(K, rows.data(), columns.data(), full.valuePtr()),
+        "MatSeqAIJSetPreallocationCSR");
+}
+
+// Several ranks: each assembles its own elements with the serial kernel; entries of rows owned
+// by other ranks are stashed by PETSc and sent in MatAssemblyBegin/End. An element error stops
+// this rank's loop and is shared after the assembly (`error`).
+void assemble_on_ranks(const Problem& problem, const detail::AssemblyStructure& structure,
+                       const RankLayout& layout, OwnedMat& K, RankError& error) {
+  std::vector<PetscInt> diagonal, off_diagonal;
+  count_nonzeros(structure, layout.d, layout.rank, diagonal, off_diagonal);
+  check(MatCreate(layout.comm, &K), "MatCreate");
+  check(MatSetSizes(K, layout.local_rows, layout.local_rows, PETSC_DETERMINE, PETSC_DETERMINE),
+        "MatSetSizes");
+  check(MatSetBlockSize(K, layout.dim), "MatSetBlockSize");
+  check(MatSetType(K, MATAIJ), "MatSetType");
+  check(MatSetFromOptions(K), "MatSetFromOptions");
+  check(MatXAIJSetPreallocation(K, layout.dim, diagonal.data(), off_diagonal.data(), nullptr,
+                                nullptr),
+        "MatXAIJSetPreallocation");
+  const detail::ElementStiffness kernel(problem, structure);
+  detail::QuadraturePoint point;
+  Eigen::MatrixXd local;
+  std::vector<PetscInt> blocks;
+  const auto r = static_cast<size_t>(layout.rank);
+  for (int e = layout.d.element_start[r]; e < layout.d.element_start[r + 1]; ++e) {
+    try {
+      kernel(e, point, local);
+    } catch (const std::exception& ex) {
+      error.message = ex.what();
+      break;
+    }
+    blocks.clear();
+    for (int k = structure.node_offset[static_cast<size_t>(e)];
+         k < structure.node_offset[static_cast<size_t>(e) + 1]; ++k)
+      blocks.push_back(
+          layout.d.petsc_node[static_cast<size_t>(structure.nodes[static_cast<size_t>(k)])]);
+    const PetscInt n = static_cast<PetscInt>(blocks.size());
+    // `local` is symmetric, so its column-major storage is the row-major array PETSc reads.
+    check(MatSetValuesBlocked(K, n, blocks.data(), n, blocks.data(), local.data(), ADD_VALUES),
+          "MatSetValuesBlocked");
+  }
+}
+
+// Rigid-body near-null space from the control points: control values a + w x X_a give exactly
+// the rigid motion a + w x x (the NURBS basis reproduces the geometry), so these are the exact
+// null space of the unsupported K, which smoothed aggregation needs for elasticity.
+void attach_rigid_body_modes(Mat K, const DofMap& dofs, const RankLayout& layout) {
   OwnedVec coordinates;
-  check(VecCreateMPI(comm, local_rows, PETSC_DETERMINE, &coordinates), "VecCreateMPI");
-  check(VecSetBlockSize(coordinates, dim), "VecSetBlockSize");
+  check(VecCreateMPI(layout.comm, layout.local_rows, PETSC_DETERMINE, &coordinates),
+        "VecCreateMPI");
+  check(VecSetBlockSize(coordinates, layout.dim), "VecSetBlockSize");
   {
     VecWrite x(coordinates);
     const auto& positions = dofs.node_positions();
     for (int node = 0; node < dofs.num_nodes(); ++node)
-      if (d.owner[static_cast<size_t>(node)] == rank)
-        for (int c = 0; c < dim; ++c)
-          x[(d.petsc_node[static_cast<size_t>(node)] - first_node) * dim + c] =
+      if (layout.owns(node))
+        for (int c = 0; c < layout.dim; ++c)
+          x[(layout.d.petsc_node[static_cast<size_t>(node)] - layout.first_node) * layout.dim + c] =
               positions[static_cast<size_t>(node)][c];
   }
   OwnedNullSpace rigid;
   check(MatNullSpaceCreateRigidBody(coordinates, &rigid), "MatNullSpaceCreateRigidBody");
   check(MatSetNearNullSpace(K, rigid), "MatSetNearNullSpace");
+}
 
-  // Supports: the prescribed DOFs of the serial solver. The rows this rank owns, increasing.
-  std::vector<PetscInt> fixed_rows;
-  std::vector<double> fixed_values;
+// The supports taken out of K: the prescribed rows this rank owns (increasing) and their values,
+// K u_c (`coupling`: its free rows K_fc u_c go to the right-hand side, its supported rows are
+// K_cc u_c), the supported rows of the unmodified K (K_c, few rows, for the reactions K u - f)
+// and the diagonal value the supported rows and columns of K are replaced by.
+struct EliminatedSupports {
+  std::vector<PetscInt> rows;
+  std::vector<double> values;
+  OwnedVec prescribed, coupling;
+  OwnedMat supported_rows;
+  double scale = 1.0;
+};
+
+void eliminate_supports(Mat K, const Constraints& constraints, const RankLayout& layout,
+                        EliminatedSupports& supports) {
   for (size_t k = 0; k < constraints.dofs.size(); ++k) {
     const int dof = constraints.dofs[k];
-    if (d.owner[static_cast<size_t>(dof / dim)] != rank) continue;
-    fixed_rows.push_back(petsc_row(dof));
-    fixed_values.push_back(constraints.values[k]);
+    if (!layout.owns(dof / layout.dim)) continue;
+    supports.rows.push_back(layout.row(dof));
+    supports.values.push_back(constraints.values[k]);
   }
-  OwnedVec prescribed, coupling;
-  check(MatCreateVecs(K, &prescribed, &coupling), "MatCreateVecs");
-  check(VecSet(prescribed, 0.0), "VecSet");
+  check(MatCreateVecs(K, &supports.prescribed, &supports.coupling), "MatCreateVecs");
+  check(VecSet(supports.prescribed, 0.0), "VecSet");
   {
-    VecWrite u(prescribed);
-    for (size_t k = 0; k < fixed_rows.size(); ++k) u[fixed_rows[k] - first_row] = fixed_values[k];
+    VecWrite u(supports.prescribed);
+    for (size_t k = 0; k < supports.rows.size(); ++k)
+      u[supports.rows[k] - layout.first_row] = supports.values[k];
   }
-  // coupling = K u_c: its free rows are K_fc u_c (moved to the right-hand side), its supported
-  // rows K_cc u_c. The supported rows of K are kept (K_c, few rows) for the reactions K u - f.
-  check(MatMult(K, prescribed, coupling), "MatMult");
-  OwnedMat supported_rows;
+  check(MatMult(K, supports.prescribed, supports.coupling), "MatMult");
   {
     OwnedIS rows, columns;
-    check(ISCreateGeneral(comm, static_cast<PetscInt>(fixed_rows.size()), fixed_rows.data(),
-                          PETSC_COPY_VALUES, &rows),
+    check(ISCreateGeneral(layout.comm, static_cast<PetscInt>(supports.rows.size()),
+                          supports.rows.data(), PETSC_COPY_VALUES, &rows),
           "ISCreateGeneral");
-    check(ISCreateStride(comm, local_rows, first_row, 1, &columns), "ISCreateStride");
-    check(MatCreateSubMatrix(K, rows, columns, MAT_INITIAL_MATRIX, &supported_rows),
+    check(ISCreateStride(layout.comm, layout.local_rows, layout.first_row, 1, &columns),
+          "ISCreateStride");
+    check(MatCreateSubMatrix(K, rows, columns, MAT_INITIAL_MATRIX, &supports.supported_rows),
           "MatCreateSubMatrix");
   }
   // K_ff with the supported rows and columns replaced by `scale` on the diagonal: a diagonal of
   // the size of K's keeps the operator's spectrum (and the AMG's smoothers) undisturbed.
-  double scale = 1.0;
   {
     OwnedVec diagonal;
     check(MatCreateVecs(K, &diagonal, nullptr), "MatCreateVecs");
@@ -434,14 +448,18 @@ StaticResult solve_on(MPI_Comm comm, const Problem& problem, const PetscSolverOp
     PetscInt n = 0;
     check(VecSum(diagonal, &sum), "VecSum");
     check(VecGetSize(diagonal, &n), "VecGetSize");
-    if (n > 0 && sum > 0) scale = sum / n;
+    if (n > 0 && sum > 0) supports.scale = sum / n;
   }
-  check(MatZeroRowsColumns(K, static_cast<PetscInt>(fixed_rows.size()), fixed_rows.data(), scale,
-                           nullptr, nullptr),
+  check(MatZeroRowsColumns(K, static_cast<PetscInt>(supports.rows.size()), supports.rows.data(),
+                           supports.scale, nullptr, nullptr),
         "MatZeroRowsColumns");
   check(MatSetOption(K, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
+}
 
-  OwnedKSP ksp;
+// CG with the chosen preconditioner (or MUMPS' LU alone), set up; returns "ksp + pc" as PETSc
+// names them after its options database had its say.
+std::string set_up_krylov_solver(MPI_Comm comm, Mat K, const PetscSolverOptions& options,
+                                 OwnedKSP& ksp) {
   check(KSPCreate(comm, &ksp), "KSPCreate");
   check(KSPSetOperators(ksp, K, K), "KSPSetOperators");
   check(KSPSetType(ksp, KSPCG), "KSPSetType");
@@ -469,98 +487,158 @@ StaticResult solve_on(MPI_Comm comm, const Problem& problem, const PetscSolverOp
   }
   check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
   check(KSPSetUp(ksp), "KSPSetUp");
-  {
-    KSPType ksp_type = nullptr;
-    PCType pc_type = nullptr;
-    check(KSPGetType(ksp, &ksp_type), "KSPGetType");
-    check(PCGetType(pc, &pc_type), "PCGetType");
-    result.preconditioner = std::string(ksp_type) + " + " + pc_type;
+  KSPType ksp_type = nullptr;
+  PCType pc_type = nullptr;
+  check(KSPGetType(ksp, &ksp_type), "KSPGetType");
+  check(PCGetType(pc, &pc_type), "PCGetType");
+  return std::string(ksp_type) + " + " + pc_type;
+}
+
+// The vectors of the load-case solves, and one scatter to rank 0 that serves every vector of K's
+// layout (the solution and K u).
+struct SolveVectors {
+  OwnedVec b, x, product, supported_product, gathered;
+  OwnedScatter to_root;
+};
+
+void create_solve_vectors(Mat K, const EliminatedSupports& supports, SolveVectors& v) {
+  check(MatCreateVecs(K, &v.x, &v.b), "MatCreateVecs");
+  check(VecDuplicate(v.b, &v.product), "VecDuplicate");
+  check(MatCreateVecs(supports.supported_rows, nullptr, &v.supported_product), "MatCreateVecs");
+  check(VecScatterCreateToZero(v.x, &v.to_root, &v.gathered), "VecScatterCreateToZero");
+}
+
+// `values` (K's layout) on rank 0 in the DofMap's numbering; empty on the other ranks.
+Eigen::VectorXd gather_to_root(SolveVectors& v, Vec values, const DofMap& dofs,
+                               const RankLayout& layout) {
+  check(VecScatterBegin(v.to_root, values, v.gathered, INSERT_VALUES, SCATTER_FORWARD),
+        "VecScatterBegin");
+  check(VecScatterEnd(v.to_root, values, v.gathered, INSERT_VALUES, SCATTER_FORWARD),
+        "VecScatterEnd");
+  Eigen::VectorXd global;
+  if (layout.rank == 0) {
+    VecRead gathered(v.gathered);
+    global.resize(dofs.num_dofs());
+    for (int dof = 0; dof < dofs.num_dofs(); ++dof) global[dof] = gathered[layout.row(dof)];
   }
+  return global;
+}
+
+// b = f - K u_c on the free rows this rank owns, scale * u_c on the supported ones.
+void fill_right_hand_side(const Eigen::VectorXd& force, const DofMap& dofs,
+                          const RankLayout& layout, const EliminatedSupports& supports, Vec b) {
+  VecWrite rhs(b);
+  VecRead c(supports.coupling);
+  for (int node = 0; node < dofs.num_nodes(); ++node) {
+    if (!layout.owns(node)) continue;
+    for (int k = 0; k < layout.dim; ++k) {
+      const PetscInt i = layout.row(node * layout.dim + k) - layout.first_row;
+      rhs[i] = force[node * layout.dim + k] - c[i];
+    }
+  }
+  for (size_t k = 0; k < supports.rows.size(); ++k)
+    rhs[supports.rows[k] - layout.first_row] = supports.scale * supports.values[k];
+}
+
+// KSPSolve with its outcome: iterations and the true relative residual ||b - K u|| / ||b||,
+// reported because CG's recursively updated residual (the one the tolerance stops on) drifts
+// from it by rounding. Near 1e-12 the true one stays at 1e-12..3e-11 on the shipped cases
+// (restarting CG from the solution did not lower it: that is the rounding floor of K u for
+// these condition numbers). A solve that did not converge is an error naming the likely cause.
+void solve_and_check(KSP ksp, Mat K, SolveVectors& v, const std::string& load_id,
+                     const std::string& solver, LoadCaseResult& out) {
+  check(KSPSolve(ksp, v.b, v.x), "KSPSolve");
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  PetscInt iterations = 0;
+  check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+  check(KSPGetIterationNumber(ksp, &iterations), "KSPGetIterationNumber");
+  PetscReal b_norm = 0, r_norm = 0;
+  check(MatMult(K, v.x, v.product), "MatMult");
+  check(VecAYPX(v.product, -1.0, v.b), "VecAYPX");
+  check(VecNorm(v.product, NORM_2, &r_norm), "VecNorm");
+  check(VecNorm(v.b, NORM_2, &b_norm), "VecNorm");
+  const double residual = b_norm > 0 ? r_norm / b_norm : r_norm;
+  if (reason < 0)
+    throw std::runtime_error(
+        "load case '" + load_id + "': the PETSc solve (" + solver +
+        ") did not converge: " + KSPConvergedReasons[reason] + " after " +
+        std::to_string(iterations) + " iterations, relative residual " + std::to_string(residual) +
+        "; the stiffness matrix may be singular (parts not held by supports, patches that do "
+        "not connect) or too ill-conditioned for the tolerance");
+  out.iterations = static_cast<int>(iterations);
+  out.relative_residual = residual;
+}
+
+// K u of the unmodified K into v.product: free rows K_ff u_f + K_fc u_c = (zeroed K) u +
+// coupling, supported rows from the kept K_c. Sets the supported DOFs of u exactly to their
+// values first (the solve has them to rounding).
+void internal_force(Mat K, const RankLayout& layout, const EliminatedSupports& supports,
+                    SolveVectors& v) {
+  {
+    VecWrite u(v.x);
+    for (size_t k = 0; k < supports.rows.size(); ++k)
+      u[supports.rows[k] - layout.first_row] = supports.values[k];
+  }
+  check(MatMult(K, v.x, v.product), "MatMult");
+  check(VecAXPY(v.product, 1.0, supports.coupling), "VecAXPY");
+  check(MatMult(supports.supported_rows, v.x, v.supported_product), "MatMult");
+  VecWrite internal(v.product);
+  VecRead kept(v.supported_product);
+  for (size_t k = 0; k < supports.rows.size(); ++k)
+    internal[supports.rows[k] - layout.first_row] = kept[static_cast<PetscInt>(k)];
+}
+
+// The solve of solve_static_petsc on the ranks of `comm`: PETSC_COMM_WORLD for the distributed
+// backend, PETSC_COMM_SELF for the serial AMG solver (solve_static_amg). Every rank validates and
+// numbers the same problem, so input errors are found by all alike; the load vectors are the
+// serial code's on every rank (surface and body integrals are cheap next to K), each rank keeping
+// its rows; the results are assembled on rank 0.
+StaticResult solve_on(MPI_Comm comm, const Problem& problem, const PetscSolverOptions& options) {
+  const ThreadScope threads(options.threads);
+  const SupportedProblem supported = number_and_support(problem);
+  const DofMap& dofs = supported.dofs;
+  const Constraints& constraints = supported.constraints;
+  const detail::AssemblyStructure structure(problem, dofs, /*with_pattern=*/false);
+  const RankLayout layout = make_layout(comm, dofs, structure);
+
+  StaticResult result;
+  result.dofs = dofs.num_dofs();
+  result.ranks = layout.size;
+  auto start = std::chrono::steady_clock::now();
+  OwnedMat K;
+  RankError error;
+  if (layout.size == 1)
+    assemble_on_one_rank(problem, dofs, layout, K);
+  else
+    assemble_on_ranks(problem, structure, layout, K, error);
+  check(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  check(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  agree_on_error(comm, error);
+  result.assembly_seconds = seconds_since(start);
+
+  start = std::chrono::steady_clock::now();
+  attach_rigid_body_modes(K, dofs, layout);
+  EliminatedSupports supports;
+  eliminate_supports(K, constraints, layout, supports);
+  OwnedKSP ksp;
+  result.preconditioner = set_up_krylov_solver(comm, K, options, ksp);
   result.factorization_seconds = seconds_since(start);
 
-  OwnedVec b, x, product, supported_product;
-  check(MatCreateVecs(K, &x, &b), "MatCreateVecs");
-  check(VecDuplicate(b, &product), "VecDuplicate");
-  check(MatCreateVecs(supported_rows, nullptr, &supported_product), "MatCreateVecs");
-  // Both gathered vectors have K's layout, so one scatter (to rank 0) serves them.
-  OwnedScatter to_root;
-  OwnedVec gathered;
-  check(VecScatterCreateToZero(x, &to_root, &gathered), "VecScatterCreateToZero");
-  auto gather = [&](Vec v) {
-    check(VecScatterBegin(to_root, v, gathered, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
-    check(VecScatterEnd(to_root, v, gathered, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
-    Eigen::VectorXd global;
-    if (rank == 0) {
-      VecRead values(gathered);
-      global.resize(dofs.num_dofs());
-      for (int dof = 0; dof < dofs.num_dofs(); ++dof) global[dof] = values[petsc_row(dof)];
-    }
-    return global;
-  };
-
+  SolveVectors vectors;
+  create_solve_vectors(K, supports, vectors);
   for (const auto& load : problem.load_cases) {
     start = std::chrono::steady_clock::now();
-    // The load vector of the serial code on every rank (surface and body integrals are cheap next
-    // to K); each rank keeps its rows.
     const Eigen::VectorXd force = assemble_load(problem, dofs, load);
     detail::check_load_finite(load, force);
-    {
-      VecWrite rhs(b);
-      VecRead c(coupling);
-      for (int node = 0; node < dofs.num_nodes(); ++node) {
-        if (d.owner[static_cast<size_t>(node)] != rank) continue;
-        for (int k = 0; k < dim; ++k) {
-          const PetscInt i = petsc_row(node * dim + k) - first_row;
-          rhs[i] = force[node * dim + k] - c[i];
-        }
-      }
-      for (size_t k = 0; k < fixed_rows.size(); ++k)
-        rhs[fixed_rows[k] - first_row] = scale * fixed_values[k];
-    }
-    check(KSPSolve(ksp, b, x), "KSPSolve");
-    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-    PetscInt iterations = 0;
-    check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
-    check(KSPGetIterationNumber(ksp, &iterations), "KSPGetIterationNumber");
-    // The true residual ||b - K u|| / ||b||, reported: CG's recursively updated residual (the
-    // one the tolerance stops on) drifts from it by rounding. Near 1e-12 the true one stays at
-    // 1e-12..3e-11 on the shipped cases (restarting CG from the solution did not lower it:
-    // that is the rounding floor of K u for these condition numbers).
-    PetscReal b_norm = 0, r_norm = 0;
-    check(MatMult(K, x, product), "MatMult");
-    check(VecAYPX(product, -1.0, b), "VecAYPX");
-    check(VecNorm(product, NORM_2, &r_norm), "VecNorm");
-    check(VecNorm(b, NORM_2, &b_norm), "VecNorm");
-    const double residual = b_norm > 0 ? r_norm / b_norm : r_norm;
-    if (reason < 0)
-      throw std::runtime_error(
-          "load case '" + load.id + "': the PETSc solve (" + result.preconditioner +
-          ") did not converge: " + KSPConvergedReasons[reason] + " after " +
-          std::to_string(iterations) + " iterations, relative residual " +
-          std::to_string(residual) +
-          "; the stiffness matrix may be singular (parts not held by supports, patches that do "
-          "not connect) or too ill-conditioned for the tolerance");
-    // Supported DOFs exactly at their values (the solve has them to rounding).
-    {
-      VecWrite u(x);
-      for (size_t k = 0; k < fixed_rows.size(); ++k) u[fixed_rows[k] - first_row] = fixed_values[k];
-    }
-    // K u of the unmodified K: free rows K_ff u_f + K_fc u_c = (zeroed K) u + coupling, supported
-    // rows from the kept K_c.
-    check(MatMult(K, x, product), "MatMult");
-    check(VecAXPY(product, 1.0, coupling), "VecAXPY");
-    check(MatMult(supported_rows, x, supported_product), "MatMult");
-    {
-      VecWrite internal(product);
-      VecRead kept(supported_product);
-      for (size_t k = 0; k < fixed_rows.size(); ++k)
-        internal[fixed_rows[k] - first_row] = kept[static_cast<PetscInt>(k)];
-    }
-    Eigen::VectorXd displacement = gather(x);
-    const Eigen::VectorXd internal = gather(product);
+    fill_right_hand_side(force, dofs, layout, supports, vectors.b);
+    LoadCaseResult solved;
+    solve_and_check(ksp, K, vectors, load.id, result.preconditioner, solved);
+    internal_force(K, layout, supports, vectors);
+    Eigen::VectorXd displacement = gather_to_root(vectors, vectors.x, dofs, layout);
+    const Eigen::VectorXd internal = gather_to_root(vectors, vectors.product, dofs, layout);
     LoadCaseResult out;
     RankError overflow;
-    if (rank == 0) try {
+    if (layout.rank == 0) try {
         out = detail::load_case_result(problem, dofs, constraints, load, force,
                                        std::move(displacement), internal);
       } catch (const std::runtime_error& ex) {
@@ -568,8 +646,8 @@ StaticResult solve_on(MPI_Comm comm, const Problem& problem, const PetscSolverOp
       }
     agree_on_error(comm, overflow);
     out.id = load.id;
-    out.iterations = static_cast<int>(iterations);
-    out.relative_residual = residual;
+    out.iterations = solved.iterations;
+    out.relative_residual = solved.relative_residual;
     out.solve_seconds = seconds_since(start);
     result.load_cases.push_back(std::move(out));
   }
