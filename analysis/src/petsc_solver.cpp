@@ -318,6 +318,17 @@ RankLayout make_layout(MPI_Comm comm, const DofMap& dofs,
   return layout;
 }
 
+// K with this rank's rows (square, in `dim` x `dim` blocks), of `type`, before preallocation;
+// PETSc's options database may still change the type.
+void create_matrix(const RankLayout& layout, MatType type, OwnedMat& K) {
+  check(MatCreate(layout.comm, &K), "MatCreate");
+  check(MatSetSizes(K, layout.local_rows, layout.local_rows, PETSC_DETERMINE, PETSC_DETERMINE),
+        "MatSetSizes");
+  check(MatSetBlockSize(K, layout.dim), "MatSetBlockSize");
+  check(MatSetType(K, type), "MatSetType");
+  check(MatSetFromOptions(K), "MatSetFromOptions");
+}
+
 // One process (the serial AMG solver): the serial assembler on all threads, copied into PETSc's
 // AIJ as full rows; the PETSc numbering is the DofMap's (one rank owns every node, in order).
 // Element by element through MatSetValuesBlocked took twice as long on one thread.
@@ -328,12 +339,7 @@ void assemble_on_one_rank(const Problem& problem, const DofMap& dofs, const Rank
   full.makeCompressed();
   const std::vector<PetscInt> rows(full.outerIndexPtr(), full.outerIndexPtr() + full.rows() + 1);
   const std::vector<PetscInt> columns(full.innerIndexPtr(), full.innerIndexPtr() + full.nonZeros());
-  check(MatCreate(layout.comm, &K), "MatCreate");
-  check(MatSetSizes(K, layout.local_rows, layout.local_rows, PETSC_DETERMINE, PETSC_DETERMINE),
-        "MatSetSizes");
-  check(MatSetBlockSize(K, layout.dim), "MatSetBlockSize");
-  check(MatSetType(K, MATSEQAIJ), "MatSetType");
-  check(MatSetFromOptions(K), "MatSetFromOptions");
+  create_matrix(layout, MATSEQAIJ, K);
   check(MatSeqAIJSetPreallocationCSR(K, rows.data(), columns.data(), full.valuePtr()),
         "MatSeqAIJSetPreallocationCSR");
 }
@@ -345,12 +351,7 @@ void assemble_on_ranks(const Problem& problem, const detail::AssemblyStructure& 
                        const RankLayout& layout, OwnedMat& K, RankError& error) {
   std::vector<PetscInt> diagonal, off_diagonal;
   count_nonzeros(structure, layout.d, layout.rank, diagonal, off_diagonal);
-  check(MatCreate(layout.comm, &K), "MatCreate");
-  check(MatSetSizes(K, layout.local_rows, layout.local_rows, PETSC_DETERMINE, PETSC_DETERMINE),
-        "MatSetSizes");
-  check(MatSetBlockSize(K, layout.dim), "MatSetBlockSize");
-  check(MatSetType(K, MATAIJ), "MatSetType");
-  check(MatSetFromOptions(K), "MatSetFromOptions");
+  create_matrix(layout, MATAIJ, K);
   check(MatXAIJSetPreallocation(K, layout.dim, diagonal.data(), off_diagonal.data(), nullptr,
                                 nullptr),
         "MatXAIJSetPreallocation");

@@ -14,6 +14,7 @@
 #include "dual_levenberg_marquardt.hpp"
 #include "isospring/analysis/thread_scope.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "iteration_reporter.hpp"
 
 namespace isospring::fitting {
 
@@ -97,19 +98,6 @@ Eigen::VectorXd initial_stiffness(detail::DisplacementModel& model, const Groupi
   return k;
 }
 
-// Forwards Ceres' per-iteration summary to the caller's progress function.
-class IterationReporter : public ceres::IterationCallback {
- public:
-  explicit IterationReporter(const std::function<void(int, double)>& report) : report_(report) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-    report_(summary.iteration, summary.cost);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const std::function<void(int, double)>& report_;
-};
-
 // Prior of every parameter for the regularisation: the mean initial log-stiffness of its
 // regularisation group (with a per-spring start from the grouped optimum, that group's value).
 Eigen::VectorXd regularization_prior(const DisplacementFitOptions& options,
@@ -164,7 +152,7 @@ void solve_with_ceres(detail::DisplacementModel& model, const DisplacementFitOpt
   solver_options.parameter_tolerance = 1e-12;
   solver_options.num_threads = 1;
   solver_options.linear_solver_type = ceres::DENSE_QR;
-  IterationReporter reporter(options.on_iteration);
+  detail::IterationReporter reporter(options.on_iteration);
   if (options.on_iteration) solver_options.callbacks.push_back(&reporter);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);

@@ -12,6 +12,7 @@
 #include "isospring/analysis/spring_mechanics.hpp"
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "iteration_reporter.hpp"
 
 namespace isospring::fitting {
 
@@ -217,18 +218,6 @@ class NonlinearCost : public ceres::CostFunction {
   mutable Eigen::MatrixXd j_;
 };
 
-class Reporter : public ceres::IterationCallback {
- public:
-  explicit Reporter(const std::function<void(int, double)>& report) : report_(report) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-    report_(summary.iteration, summary.cost);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const std::function<void(int, double)>& report_;
-};
-
 }  // namespace
 
 bool spring_equilibrium(const analysis::SpringNetwork& network, const Eigen::VectorXd& force,
@@ -283,7 +272,7 @@ DisplacementFitResult fit_displacements_nonlinear(const DisplacementFitData& dat
   solver_options.parameter_tolerance = 1e-12;
   solver_options.num_threads = 1;  // the model's warm starts are not thread-safe
   solver_options.linear_solver_type = ceres::DENSE_QR;
-  Reporter reporter(options.on_iteration);
+  detail::IterationReporter reporter(options.on_iteration);
   if (options.on_iteration) solver_options.callbacks.push_back(&reporter);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
