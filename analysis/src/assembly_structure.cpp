@@ -1,8 +1,6 @@
 // Element colouring, node sparsity pattern and the parallel element loop.
 #include "assembly_structure.hpp"
 
-#include <omp.h>
-
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -182,30 +180,17 @@ std::vector<Eigen::SparseMatrix<double>> assemble_matrices(
         element_matrices,
     int threads) {
   std::vector<Eigen::SparseMatrix<double>> matrices(count, structure.empty_matrix());
-  std::string error;
-  const int team = threads > 0 ? threads : omp_get_max_threads();
-  const bool heavy = heavy_elements(structure);
-  for (const auto& colour : structure.colours) {
-    const int size = static_cast<int>(colour.size());
-    const int chunk = size >= kLargeColour ? 16 : 1;
-#pragma omp parallel num_threads(team) if (colour_in_parallel(size, heavy, team))
-    {
-      QuadraturePoint point;
-      std::vector<Eigen::MatrixXd> locals(count);
-#pragma omp for schedule(dynamic, chunk)
-      for (int c = 0; c < size; ++c) {
-        const int e = colour[static_cast<size_t>(c)];
-        try {
-          element_matrices(e, point, locals);
-          for (size_t k = 0; k < count; ++k) structure.scatter(e, locals[k], matrices[k]);
-        } catch (const std::exception& ex) {
-#pragma omp critical(isospring_assembly_error)
-          if (error.empty()) error = ex.what();
-        }
-      }
-    }
-    if (!error.empty()) throw nurbs::InputError(error);
-  }
+  struct Scratch {
+    QuadraturePoint point;
+    std::vector<Eigen::MatrixXd> locals;
+  };
+  for_each_element_by_colour<Scratch>(structure, threads, heavy_elements(structure),
+                                      [&](int e, Scratch& scratch) {
+                                        scratch.locals.resize(count);
+                                        element_matrices(e, scratch.point, scratch.locals);
+                                        for (size_t k = 0; k < count; ++k)
+                                          structure.scatter(e, scratch.locals[k], matrices[k]);
+                                      });
   return matrices;
 }
 

@@ -1,11 +1,16 @@
 #pragma once
 // Element list, element colouring and the node-level sparsity of a problem: built once and shared
 // by the stiffness and mass assemblies.
+#include <omp.h>
+
 #include <Eigen/Sparse>
+#include <exception>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/nurbs/error.hpp"
 #include "patch_quadrature.hpp"
 
 namespace isospring::analysis::detail {
@@ -51,6 +56,37 @@ bool colour_in_parallel(int count, bool heavy_work, int team);
 constexpr int kLargeColour = 64;
 /// Elements whose matrices are heavy work for colour_in_parallel.
 bool heavy_elements(const AssemblyStructure& structure);
+
+/// Runs `body(e, scratch)` for every element, colour by colour, on `threads` threads (0: OpenMP's
+/// default), with one default-constructed `Scratch` per thread. Elements of one colour share no
+/// node, so their scatters never race, and every entry's sum runs colour by colour whatever the
+/// thread count. Colours go parallel by colour_in_parallel's rule (`heavy`: heavy_elements, when
+/// the body forms element matrices). An exception in `body` does not leave its thread: the first
+/// message of a colour is thrown as nurbs::InputError once the colour is done.
+template <class Scratch, class Body>
+void for_each_element_by_colour(const AssemblyStructure& structure, int threads, bool heavy,
+                                Body&& body) {
+  std::string error;
+  const int team = threads > 0 ? threads : omp_get_max_threads();
+  for (const auto& colour : structure.colours) {
+    const int count = static_cast<int>(colour.size());
+    const int chunk = count >= kLargeColour ? 16 : 1;
+#pragma omp parallel num_threads(team) if (colour_in_parallel(count, heavy, team))
+    {
+      Scratch scratch;
+#pragma omp for schedule(dynamic, chunk)
+      for (int c = 0; c < count; ++c) {
+        try {
+          body(colour[static_cast<size_t>(c)], scratch);
+        } catch (const std::exception& ex) {
+#pragma omp critical(isospring_colour_loop_error)
+          if (error.empty()) error = ex.what();
+        }
+      }
+    }
+    if (!error.empty()) throw nurbs::InputError(error);
+  }
+}
 
 /// Runs `element_matrices(e, point_buffer, locals)` (locals: `count` matrices) for every element,
 /// colour by colour on `threads` threads (0: OpenMP's default), and scatters local k into

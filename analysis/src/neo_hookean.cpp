@@ -2,8 +2,6 @@
 // element force and tangent, and the assembly over the element colouring.
 #include "isospring/analysis/neo_hookean.hpp"
 
-#include <omp.h>
-
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
@@ -157,51 +155,34 @@ Eigen::VectorXd NeoHookeanAssembler::internal_force(const Eigen::VectorXd& u,
                                 std::to_string(num_dofs_));
   Eigen::VectorXd force = Eigen::VectorXd::Zero(num_dofs_);
   if (tangent) *tangent = s.empty_matrix();
-  std::string error;
   bool inverted = false;
-  // Elements of one colour share no node: their scatters never race, and every entry's sum runs
-  // colour by colour whatever the thread count (as the SVK and linear assemblies).
-  const int team = threads_ > 0 ? threads_ : omp_get_max_threads();
-  const bool heavy = tangent && detail::heavy_elements(s);
-  for (const auto& colour : s.colours) {
-    const int count = static_cast<int>(colour.size());
-    const bool parallel = detail::colour_in_parallel(count, heavy, team);
-    const int chunk = count >= detail::kLargeColour ? 16 : 1;
-#pragma omp parallel num_threads(team) if (parallel)
-    {
-      detail::QuadraturePoint point;
-      Eigen::VectorXd local;
-      Eigen::MatrixXd local_tangent;
-#pragma omp for schedule(dynamic, chunk)
-      for (int c = 0; c < count; ++c) {
-        const int e = colour[static_cast<size_t>(c)];
+  struct Scratch {
+    detail::QuadraturePoint point;
+    Eigen::VectorXd local;
+    Eigen::MatrixXd local_tangent;
+  };
+  detail::for_each_element_by_colour<Scratch>(
+      s, threads_, tangent && detail::heavy_elements(s), [&](int e, Scratch& scratch) {
         const auto& element = s.elements[static_cast<size_t>(e)];
         const auto& quadrature = s.quadratures[static_cast<size_t>(element.patch)];
         const int* nodes = s.nodes.data() + s.node_offset[static_cast<size_t>(e)];
-        try {
-          Eigen::MatrixXd* lt = tangent ? &local_tangent : nullptr;
-          const bool ok =
-              dim == 2 ? element_neo_hookean<2>(quadrature, element.patch, element.index, nodes, u,
-                                                moduli, impl_->thickness, point, local, lt)
-                       : element_neo_hookean<3>(quadrature, element.patch, element.index, nodes, u,
-                                                moduli, impl_->thickness, point, local, lt);
-          if (!ok) {
+        Eigen::MatrixXd* lt = tangent ? &scratch.local_tangent : nullptr;
+        const bool ok =
+            dim == 2
+                ? element_neo_hookean<2>(quadrature, element.patch, element.index, nodes, u, moduli,
+                                         impl_->thickness, scratch.point, scratch.local, lt)
+                : element_neo_hookean<3>(quadrature, element.patch, element.index, nodes, u, moduli,
+                                         impl_->thickness, scratch.point, scratch.local, lt);
+        if (!ok) {
 #pragma omp atomic write
-            inverted = true;
-            continue;
-          }
-          const int n = quadrature.basis_count();
-          for (int a = 0; a < n; ++a)
-            for (int i = 0; i < dim; ++i) force[nodes[a] * dim + i] += local[a * dim + i];
-          if (tangent) s.scatter(e, local_tangent, *tangent);
-        } catch (const std::exception& ex) {
-#pragma omp critical(isospring_neo_hookean_error)
-          if (error.empty()) error = ex.what();
+          inverted = true;
+          return;
         }
-      }
-    }
-    if (!error.empty()) throw nurbs::InputError(error);
-  }
+        const int n = quadrature.basis_count();
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i) force[nodes[a] * dim + i] += scratch.local[a * dim + i];
+        if (tangent) s.scatter(e, scratch.local_tangent, *tangent);
+      });
   if (inverted) force.setConstant(std::numeric_limits<double>::quiet_NaN());
   return force;
 }

@@ -2,8 +2,6 @@
 // stepping.
 #include "isospring/analysis/nonlinear_elasticity.hpp"
 
-#include <omp.h>
-
 #include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -161,54 +159,34 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
   force_lambda.setZero(num_dofs_);
   force_mu.setZero(num_dofs_);
   if (tangent) *tangent = s.empty_matrix();
-  std::string error;
-  // Elements of one colour share no node: their scatters into the forces and the tangent never
-  // race, and every entry's sum runs colour by colour whatever the thread count.
-  //
   // Colours in parallel by the rule of the linear assembly (detail::colour_in_parallel): one
   // tangent of a degree-3 solid element is ~14 Mflop. The forces alone are light work: on two
   // threads they took 24 ms against 22 (bench_identify_model, BM_SvkForce, 192 elements).
-  const int team = threads_ > 0 ? threads_ : omp_get_max_threads();
-  const bool heavy = tangent && detail::heavy_elements(s);
-  for (const auto& colour : s.colours) {
-    const int count = static_cast<int>(colour.size());
-    const bool parallel = detail::colour_in_parallel(count, heavy, team);
-    const int chunk = count >= detail::kLargeColour ? 16 : 1;
-#pragma omp parallel num_threads(team) if (parallel)
-    {
-      detail::QuadraturePoint point;
-      Eigen::VectorXd local_lambda, local_mu;
-      Eigen::MatrixXd local_tangent;
-#pragma omp for schedule(dynamic, chunk)
-      for (int c = 0; c < count; ++c) {
-        const int e = colour[static_cast<size_t>(c)];
+  struct Scratch {
+    detail::QuadraturePoint point;
+    Eigen::VectorXd local_lambda, local_mu;
+    Eigen::MatrixXd local_tangent;
+  };
+  detail::for_each_element_by_colour<Scratch>(
+      s, threads_, tangent && detail::heavy_elements(s), [&](int e, Scratch& scratch) {
         const auto& element = s.elements[static_cast<size_t>(e)];
         const auto& quadrature = s.quadratures[static_cast<size_t>(element.patch)];
         const int* nodes = s.nodes.data() + s.node_offset[static_cast<size_t>(e)];
-        try {
-          if (dim == 2)
-            element_svk<2>(quadrature, element.patch, element.index, nodes, u, lame,
-                           impl_->thickness, point, local_lambda, local_mu,
-                           tangent ? &local_tangent : nullptr);
-          else
-            element_svk<3>(quadrature, element.patch, element.index, nodes, u, lame,
-                           impl_->thickness, point, local_lambda, local_mu,
-                           tangent ? &local_tangent : nullptr);
-          const int n = quadrature.basis_count();
-          for (int a = 0; a < n; ++a)
-            for (int i = 0; i < dim; ++i) {
-              force_lambda[nodes[a] * dim + i] += local_lambda[a * dim + i];
-              force_mu[nodes[a] * dim + i] += local_mu[a * dim + i];
-            }
-          if (tangent) s.scatter(e, local_tangent, *tangent);
-        } catch (const std::exception& ex) {
-#pragma omp critical(isospring_svk_error)
-          if (error.empty()) error = ex.what();
-        }
-      }
-    }
-    if (!error.empty()) throw nurbs::InputError(error);
-  }
+        Eigen::MatrixXd* lt = tangent ? &scratch.local_tangent : nullptr;
+        if (dim == 2)
+          element_svk<2>(quadrature, element.patch, element.index, nodes, u, lame, impl_->thickness,
+                         scratch.point, scratch.local_lambda, scratch.local_mu, lt);
+        else
+          element_svk<3>(quadrature, element.patch, element.index, nodes, u, lame, impl_->thickness,
+                         scratch.point, scratch.local_lambda, scratch.local_mu, lt);
+        const int n = quadrature.basis_count();
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i) {
+            force_lambda[nodes[a] * dim + i] += scratch.local_lambda[a * dim + i];
+            force_mu[nodes[a] * dim + i] += scratch.local_mu[a * dim + i];
+          }
+        if (tangent) s.scatter(e, scratch.local_tangent, *tangent);
+      });
 }
 
 namespace {
