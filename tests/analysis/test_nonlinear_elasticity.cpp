@@ -11,35 +11,15 @@
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/nonlinear_elasticity.hpp"
 #include "isospring/analysis/static_solver.hpp"
+#include "nonlinear_test_models.hpp"
 
 namespace isospring::analysis {
 namespace {
 
-Problem curved_2d() {
-  Problem problem;
-  problem.formulation = Formulation::kPlaneStrain;
-  problem.material = {200.0, 0.3, 1.0, 1.0};
-  problem.patches.push_back(nurbs::refine_uniform(testing::kirsch_plate(), 1, 2));
-  return problem;
-}
-
-Problem curved_3d() {
-  Problem problem;
-  problem.formulation = Formulation::kSolid;
-  problem.material = {200.0, 0.3, 1.0, 1.0};
-  problem.patches.push_back(testing::sphere_octant(1.0, 1.5));
-  return problem;
-}
-
-// Displacement with every component random of size `scale` (a deformation of tens of percent
-// strain for scale 0.1 on these unit-size models).
-Eigen::VectorXd random_field(int size, double scale, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uniform(-scale, scale);
-  Eigen::VectorXd u(size);
-  for (Eigen::Index i = 0; i < size; ++i) u[i] = uniform(rng);
-  return u;
-}
+using finite_strain_models::cantilever;
+using finite_strain_models::curved_2d;
+using finite_strain_models::curved_3d;
+using finite_strain_models::random_field;
 
 void check_tangent(const Problem& problem) {
   const DofMap dofs(problem);
@@ -103,26 +83,6 @@ TEST(NonlinearElasticity, RigidRotationsCarryNoInternalForce) {
   check_rotation(curved_2d(), Eigen::AngleAxisd(1.1, Eigen::Vector3d::UnitZ()).toRotationMatrix());
   check_rotation(curved_3d(),
                  Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix());
-}
-
-// Slender plane-strain cantilever, clamped at x = 0, uniform shear traction q on the free end.
-Problem cantilever(double q) {
-  Problem problem;
-  problem.formulation = Formulation::kPlaneStrain;
-  problem.material = {1000.0, 0.3, 1.0, 1.0};
-  problem.patches.push_back(testing::beam(10.0, 1.0, 2, 10, 2));
-  Support clamp;
-  clamp.side = {0, 0, 0};
-  clamp.fixed = {true, true, false};
-  problem.supports.push_back(clamp);
-  LoadCase load;
-  load.id = "tip";
-  Traction t;
-  t.side = {0, 0, 1};
-  t.value = {0.0, -q, 0.0};
-  load.tractions.push_back(t);
-  problem.load_cases.push_back(load);
-  return problem;
 }
 
 TEST(NonlinearElasticity, SmallLoadsRecoverLinearElasticityToSecondOrder) {
