@@ -138,8 +138,8 @@ TEST(PatchTest, PlaneStrainDistortedRationalRingDegree2) {
   EXPECT_LT(max_control_error(problem, solve_static(problem), kField2D), 1e-12);
 }
 
-TEST(PatchTest, SolidDistortedRationalVolume) {
-  // The quarter ring extruded to z in [0, 0.7] with a tilt, degree 2 in every direction.
+// The quarter ring extruded to z in [0, 0.7] with a tilt, degree 2 in every direction.
+nurbs::Patch tilted_ring_volume() {
   const nurbs::Patch ring = quarter_ring();
   std::vector<Eigen::Vector3d> points;
   std::vector<double> weights;
@@ -152,10 +152,17 @@ TEST(PatchTest, SolidDistortedRationalVolume) {
     }
   nurbs::Patch volume({ring.knots(0), ring.knots(1), nurbs::KnotVector(1, {0, 0, 1, 1})}, points,
                       weights);
-  volume = nurbs::k_refine(volume, {2, 2, 2}, {2, 3, 2});
-  const LinearField field{
-      {1e-3, -2e-3, 5e-4},
-      (Eigen::Matrix3d() << 1e-3, 2e-3, -1e-3, -5e-4, 3e-3, 2e-4, 7e-4, -3e-4, 1.5e-3).finished()};
+  return nurbs::k_refine(volume, {2, 2, 2}, {2, 3, 2});
+}
+
+// A general linear field for the 3D patch tests.
+const LinearField kField3D{
+    {1e-3, -2e-3, 5e-4},
+    (Eigen::Matrix3d() << 1e-3, 2e-3, -1e-3, -5e-4, 3e-3, 2e-4, 7e-4, -3e-4, 1.5e-3).finished()};
+
+TEST(PatchTest, SolidDistortedRationalVolume) {
+  const nurbs::Patch volume = tilted_ring_volume();
+  const LinearField& field = kField3D;
   Problem problem = linear_field_problem(distort(volume, 0.03, 3), Formulation::kSolid, field);
   problem.quadrature_points = 10;
   const StaticResult result = solve_static(problem);
@@ -197,22 +204,8 @@ TEST(PatchTest, BbarPlaneStrainDistortedRationalRing) {
 }
 
 TEST(PatchTest, BbarSolidDistortedRationalVolume) {
-  const nurbs::Patch ring = quarter_ring();
-  std::vector<Eigen::Vector3d> points;
-  std::vector<double> weights;
-  for (int k = 0; k < 2; ++k)
-    for (int i = 0; i < ring.num_points(); ++i) {
-      Eigen::Vector3d x = ring.control_point(i);
-      x.z() = 0.7 * k + 0.1 * x.x() * k;
-      points.push_back(x);
-      weights.push_back(ring.weight(i));
-    }
-  nurbs::Patch volume({ring.knots(0), ring.knots(1), nurbs::KnotVector(1, {0, 0, 1, 1})}, points,
-                      weights);
-  volume = nurbs::k_refine(volume, {2, 2, 2}, {2, 3, 2});
-  const LinearField field{
-      {1e-3, -2e-3, 5e-4},
-      (Eigen::Matrix3d() << 1e-3, 2e-3, -1e-3, -5e-4, 3e-3, 2e-4, 7e-4, -3e-4, 1.5e-3).finished()};
+  const nurbs::Patch volume = tilted_ring_volume();
+  const LinearField& field = kField3D;
   Problem problem = linear_field_problem(distort(volume, 0.03, 3), Formulation::kSolid, field,
                                          Volumetric::kBbar, 0.4999);
   problem.quadrature_points = 10;
