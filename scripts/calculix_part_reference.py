@@ -71,19 +71,30 @@ def mesh_part(step, h, clamp_face, part):
     edges = [abs(tag) for _, tag in
              gmsh.model.getBoundary([(2, clamp_face + 1)], combined=False, oriented=False)]
     refine_near(2, [clamp_face + 1], h / clamp_refine, 4 * h)
+    # Re-entrant (concave) edges anywhere on the part are singular as well (the stress grows
+    # like r^(lambda - 1), lambda < 1), so they are graded like the clamp's outline.
+    if part.get("refine_concave", True):
+        edges = sorted(set(edges) | set(concave_edges()))
     refine_near(1, edges, h / edge_refine, 3 * h)
     smallest = gmsh.model.mesh.field.add("Min")
     gmsh.model.mesh.field.setNumbers(smallest, "FieldsList", [f for f, _ in fields])
     gmsh.model.mesh.field.setAsBackgroundMesh(smallest)
     gmsh.option.setNumber("Mesh.MeshSizeMax", h)
     gmsh.option.setNumber("Mesh.MeshSizeMin", h / (2 * edge_refine))
-    # Elements per 2 pi of curvature, in proportion to 1 / h from the part's first mesh size.
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", round(12 * part["h_m"] / h))
+    # Elements per 2 pi of curvature (`curvature` at the part's first mesh size, default 12), in
+    # proportion to 1 / h.
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature",
+                          round(part.get("curvature", 12) * part["h_m"] / h))
     gmsh.option.setNumber("Mesh.ElementOrder", 2)
     # Midside nodes on the straight edges (`straight_midside`) where gmsh cannot untangle the
     # curved ones (t20's B-spline nut): a geometric error of order h^2 that refinement removes.
     gmsh.option.setNumber("Mesh.SecondOrderLinear", 1 if part.get("straight_midside") else 0)
-    gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)  # untangle curved elements
+    # Midside nodes go onto the curved geometry; gmsh's untangling of curved elements (elastic
+    # analogy plus optimisation: four times the CPU of the mesh itself on the screw) runs only
+    # when a curved element has a nonpositive Jacobian at a Gauss point, or always
+    # (`high_order_optimize`).
+    optimise = part.get("high_order_optimize", False)
+    gmsh.option.setNumber("Mesh.HighOrderOptimize", 2 if optimise else 0)
     # gmsh's untangling of curved elements can fail on one mesh and succeed on a slightly
     # different one: retry with the sizes 3 % smaller.
     for attempt in range(4):
@@ -99,6 +110,9 @@ def mesh_part(step, h, clamp_face, part):
             for f, fraction in fields:
                 gmsh.model.mesh.field.setNumber(f, "SizeMin", fraction * h)
                 gmsh.model.mesh.field.setNumber(f, "SizeMax", h)
+    if not optimise and mesh_volume()[1] > 0:
+        gmsh.model.mesh.optimize("HighOrderElastic")
+        gmsh.model.mesh.optimize("HighOrder")
     tags, coords, _ = gmsh.model.mesh.getNodes()
     nodes = {int(t): (coords[3 * i], coords[3 * i + 1], coords[3 * i + 2])
              for i, t in enumerate(tags)}
@@ -111,7 +125,79 @@ def mesh_part(step, h, clamp_face, part):
     face = clamp_face + 1
     clamped, _, _ = gmsh.model.mesh.getNodes(2, face, includeBoundary=True)
     area = gmsh.model.occ.getMass(2, face)
-    return nodes, tets, sorted(int(t) for t in clamped), area, h
+    volume, inverted = mesh_volume()
+    exact = gmsh.model.occ.getMass(3, volumes[0][1])
+    geometry = {"mesh_volume_error": volume / exact - 1, "inverted_gauss_points": inverted,
+                "refined_edges": len(edges)}
+    return nodes, tets, sorted(int(t) for t in clamped), area, h, geometry
+
+
+def _unit(a):
+    n = sum(x * x for x in a) ** 0.5
+    return [x / n for x in a]
+
+
+def _into_face(surface, point, tangent, normal):
+    """The unit direction from an edge point into the face `surface` (normal to the edge), or
+    None. Of the two candidates the one whose nearby point (a few steps tried, since the trim
+    test has a tolerance) lies inside the trimmed face and the other's not."""
+    d = _unit([tangent[1] * normal[2] - tangent[2] * normal[1],
+               tangent[2] * normal[0] - tangent[0] * normal[2],
+               tangent[0] * normal[1] - tangent[1] * normal[0]])
+    for step in (1e-4, 3e-4, 3e-5):  # metres
+        inside = []
+        for sign in (1, -1):
+            q = [point[i] + sign * step * d[i] for i in range(3)]
+            try:
+                uv = gmsh.model.getParametrization(2, surface, q)
+                inside.append(gmsh.model.isInside(2, surface, list(uv)) > 0)
+            except Exception:  # gmsh raises a bare Exception when the inverse mapping fails
+                inside.append(False)
+        if inside == [True, False]:
+            return d
+        if inside == [False, True]:
+            return [-x for x in d]
+    return None
+
+
+def concave_edges(threshold=0.05):
+    """Tags of the B-rep edges where the solid is re-entrant (interior dihedral angle above 180
+    degrees). At three points of each edge shared by two faces, the direction d_i from the edge
+    into face i (normal to the edge, tangent to the face) and face j's outward normal n_j: on a
+    convex edge face i turns away from face j's outside (d_i . n_j < 0), on a concave one towards
+    it, and on a smooth edge d_i . n_j = 0. gmsh's normals of an imported solid's faces point out
+    of the solid (checked on the CAx-IF nut: all its edges come out convex or smooth)."""
+    found = []
+    for _, curve in gmsh.model.getEntities(1):
+        faces = list(gmsh.model.getAdjacencies(1, curve)[0])
+        if len(faces) != 2:
+            continue
+        lo, hi = gmsh.model.getParametrizationBounds(1, curve)
+        turns = []
+        for fraction in (0.25, 0.5, 0.75):
+            t = lo[0] + fraction * (hi[0] - lo[0])
+            point = gmsh.model.getValue(1, curve, [t])
+            tangent = _unit(gmsh.model.getDerivative(1, curve, [t]))
+            normals = [_unit(gmsh.model.getNormal(f, list(gmsh.model.getParametrization(2, f, point))))
+                       for f in faces]
+            into = [_into_face(f, point, tangent, n) for f, n in zip(faces, normals)]
+            if None in into:
+                continue
+            turns.append(0.5 * (sum(a * b for a, b in zip(into[0], normals[1])) +
+                                sum(a * b for a, b in zip(into[1], normals[0]))))
+        if turns and min(turns) > threshold:
+            found.append(curve)
+    return found
+
+
+def mesh_volume():
+    """Volume of the current second-order mesh (Gauss rule exact for the cubic Jacobian) and the
+    number of curved tetrahedra with a nonpositive Jacobian at a Gauss point."""
+    local, weights = gmsh.model.mesh.getIntegrationPoints(11, "Gauss4")
+    _, determinants, _ = gmsh.model.mesh.getJacobians(11, local)
+    n = len(weights)
+    volume = sum(weights[i % n] * d for i, d in enumerate(determinants))
+    return volume, sum(1 for d in determinants if d <= 0)
 
 
 def check_midside_nodes(nodes, tets):
@@ -178,7 +264,7 @@ def solve(part, step, h, work):
     smaller (a different mesh), up to three times."""
     for attempt in range(4):
         start = time.time()
-        nodes, tets, clamped, area, h = mesh_part(step, h, part["clamp_face"], part)
+        nodes, tets, clamped, area, h, geometry = mesh_part(step, h, part["clamp_face"], part)
         mesh_seconds = time.time() - start
         deck = os.path.join(work, "part.inp")
         write_deck(deck, nodes, tets, clamped, part)
@@ -199,15 +285,17 @@ def solve(part, step, h, work):
             "clamped_nodes": len(clamped), "clamp_face_area_m2": area,
             "max_displacement_m": largest, "max_displacement_at_m": list(nodes[node]),
             "max_displacement_vector_m": vector, "strain_energy_J": energy,
-            "mesh_seconds": mesh_seconds, "ccx_seconds": ccx_seconds}
+            "mesh_seconds": mesh_seconds, "ccx_seconds": ccx_seconds, **geometry}
 
 
 def richardson(runs, key):
-    """The limit of runs[-3:]'s values under f(h) = f_inf + C h^q (q from the three meshes).
+    """The limit of runs[-3:]'s values under f = f_inf + C x^q with x = DOFs^(-1/3), the mean
+    element size the meshes actually have (the graded zones, the curvature rule and gmsh's
+    retries make it differ from h's ratios), q fitted to the three meshes.
 
     Returns (f_inf, q, |f_last / f_inf - 1|) or None when the three values do not converge
     monotonically (changes of one sign, shrinking) with a rate between 0.3 and 8."""
-    (h0, f0), (h1, f1), (h2, f2) = [(r["h_m"], r[key]) for r in runs[-3:]]
+    (h0, f0), (h1, f1), (h2, f2) = [(r["dofs"] ** (-1.0 / 3.0), r[key]) for r in runs[-3:]]
     d1, d2 = f1 - f0, f2 - f1
     if d1 == 0 or d2 == 0 or (d1 > 0) != (d2 > 0) or abs(d2) >= abs(d1):
         return None
@@ -227,10 +315,26 @@ def richardson(runs, key):
     return limit, q, abs(f2 / limit - 1)
 
 
+def stable_limit(runs, key):
+    """The Richardson limit of the last three meshes, trusted only when the rate is stable: the
+    fit to the three meshes before (one mesh earlier) gives a rate within 25 % and a limit within
+    the last mesh's distance from it. Returns (limit, rate, previous rate, error) with error =
+    the last mesh's distance from the limit plus the two fits' difference, or None."""
+    if len(runs) < 4:
+        return None
+    now, before = richardson(runs, key), richardson(runs[:-1], key)
+    if not now or not before or abs(now[1] / before[1] - 1) > 0.25:
+        return None
+    spread = abs(before[0] / now[0] - 1)
+    if spread > now[2]:
+        return None
+    return now[0], now[1], before[1], now[2] + spread
+
+
 def converge(part, folder):
-    """Meshes refined by `refine` until the Richardson limits of the last three meshes (largest
-    displacement and energy) lie within `tolerance` of the last mesh's values, i.e. the last
-    mesh's estimated error is below it; or until the next mesh would exceed `max_nodes`."""
+    """Meshes refined by `refine` until the stable Richardson limits (`stable_limit`) of the
+    largest displacement and the energy lie within `tolerance` of the last mesh's values (the
+    last mesh's estimated error is below it); or until the next mesh would exceed `max_nodes`."""
     step = os.path.join(folder, part["file"])
     h, runs = part["h_m"], []
     tolerance = part.get("tolerance", 0.002)
@@ -238,25 +342,33 @@ def converge(part, folder):
         with tempfile.TemporaryDirectory() as work:
             runs.append(solve(part, step, h, work))
         r = runs[-1]
-        print("%s: h %.4g m, %d DOFs, max |u| %.6e m, energy %.6e J (%.0f + %.0f s)" %
-              (part["name"], h, r["dofs"], r["max_displacement_m"], r["strain_energy_J"],
-               r["mesh_seconds"], r["ccx_seconds"]), flush=True)
+        print("%s: h %.4g m, %d DOFs, max |u| %.6e m, energy %.6e J, mesh volume %+.1e "
+              "(%.0f + %.0f s)" % (part["name"], r["h_m"], r["dofs"], r["max_displacement_m"],
+                                   r["strain_energy_J"], r["mesh_volume_error"],
+                                   r["mesh_seconds"], r["ccx_seconds"]), flush=True)
         if len(runs) >= 2:
             prev = runs[-2]
             r["change_max_displacement"] = abs(r["max_displacement_m"] / prev["max_displacement_m"] - 1)
             r["change_strain_energy"] = abs(r["strain_energy_J"] / prev["strain_energy_J"] - 1)
-        if len(runs) >= 3:
-            u = richardson(runs, "max_displacement_m")
-            e = richardson(runs, "strain_energy_J")
-            if u and e:
-                r["richardson"] = {"max_displacement_m": u[0], "rate_max_displacement": u[1],
-                                   "error_max_displacement": u[2], "strain_energy_J": e[0],
-                                   "rate_strain_energy": e[1], "error_strain_energy": e[2]}
-                print("%s: Richardson |u| %.6e m (rate %.2f, last mesh off %.3f %%), energy "
-                      "%.6e J (rate %.2f, off %.3f %%)" % (part["name"], u[0], u[1], 100 * u[2],
-                                                           e[0], e[1], 100 * e[2]), flush=True)
-                if u[2] < tolerance and e[2] < tolerance:
-                    return runs, True
+        for key, name in (("max_displacement_m", "max_displacement"),
+                          ("strain_energy_J", "strain_energy")):
+            fit = richardson(runs, key) if len(runs) >= 3 else None
+            if fit:
+                r["rate_" + name] = fit[1]
+        u = stable_limit(runs, "max_displacement_m")
+        e = stable_limit(runs, "strain_energy_J")
+        if u and e:
+            r["richardson"] = {"max_displacement_m": u[0], "rate_max_displacement": u[1],
+                               "previous_rate_max_displacement": u[2],
+                               "error_max_displacement": u[3], "strain_energy_J": e[0],
+                               "rate_strain_energy": e[1], "previous_rate_strain_energy": e[2],
+                               "error_strain_energy": e[3]}
+            print("%s: Richardson |u| %.6e m (rates %.2f, %.2f; error %.3f %%), energy %.6e J "
+                  "(rates %.2f, %.2f; error %.3f %%)" % (part["name"], u[0], u[2], u[1],
+                                                         100 * u[3], e[0], e[2], e[1], 100 * e[3]),
+                  flush=True)
+            if u[3] < tolerance and e[3] < tolerance:
+                return runs, True
         h = r["h_m"] / part.get("refine", 1.4)
         if r["nodes"] * part.get("refine", 1.4) ** 3 > part.get("max_nodes", 150000):
             return runs, False
