@@ -17,7 +17,7 @@ used.
 
 Units: SI throughout (gmsh reads the STEP file in metres).
 
-Usage: calculix_part_reference.py PARTS.json OUT.json [part names...]   (gmsh module, ccx on PATH)
+Usage: calculix_part_reference.py [--resume] PARTS.json OUT.json [part names...]   (gmsh module, ccx on PATH)
 """
 import json
 import os
@@ -75,12 +75,16 @@ def mesh_part(step, h, clamp_face, part):
     # like r^(lambda - 1), lambda < 1), so they are graded like the clamp's outline.
     if part.get("refine_concave", True):
         edges = sorted(set(edges) | set(concave_edges()))
-    refine_near(1, edges, h / edge_refine, 3 * h)
+    # `edge_power` > 0 shrinks the singular edges' elements faster than h: h / edge_refine times
+    # (h / h_m)^edge_power, so that their error, which falls only like h^(2 lambda) under a fixed
+    # grading, falls about as fast as the smooth part's.
+    edge_size = h / edge_refine * (h / part["h_m"]) ** part.get("edge_power", 0)
+    refine_near(1, edges, edge_size, 3 * h)
     smallest = gmsh.model.mesh.field.add("Min")
     gmsh.model.mesh.field.setNumbers(smallest, "FieldsList", [f for f, _ in fields])
     gmsh.model.mesh.field.setAsBackgroundMesh(smallest)
     gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-    gmsh.option.setNumber("Mesh.MeshSizeMin", h / (2 * edge_refine))
+    gmsh.option.setNumber("Mesh.MeshSizeMin", edge_size / 2)
     # Elements per 2 pi of curvature (`curvature` at the part's first mesh size, default 12), in
     # proportion to 1 / h.
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature",
@@ -95,11 +99,14 @@ def mesh_part(step, h, clamp_face, part):
     # (`high_order_optimize`).
     optimise = part.get("high_order_optimize", False)
     gmsh.option.setNumber("Mesh.HighOrderOptimize", 2 if optimise else 0)
-    # gmsh's untangling of curved elements can fail on one mesh and succeed on a slightly
-    # different one: retry with the sizes 3 % smaller.
+    # gmsh's meshing or its untangling of curved elements can fail on one mesh and succeed on a
+    # slightly different one: retry with the sizes 3 % smaller.
     for attempt in range(4):
         try:
             gmsh.model.mesh.generate(3)
+            if not optimise and mesh_volume()[1] > 0:
+                gmsh.model.mesh.optimize("HighOrderElastic")
+                gmsh.model.mesh.optimize("HighOrder")
             break
         except Exception:  # gmsh raises a bare Exception
             if attempt == 3:
@@ -110,9 +117,6 @@ def mesh_part(step, h, clamp_face, part):
             for f, fraction in fields:
                 gmsh.model.mesh.field.setNumber(f, "SizeMin", fraction * h)
                 gmsh.model.mesh.field.setNumber(f, "SizeMax", h)
-    if not optimise and mesh_volume()[1] > 0:
-        gmsh.model.mesh.optimize("HighOrderElastic")
-        gmsh.model.mesh.optimize("HighOrder")
     tags, coords, _ = gmsh.model.mesh.getNodes()
     nodes = {int(t): (coords[3 * i], coords[3 * i + 1], coords[3 * i + 2])
              for i, t in enumerate(tags)}
@@ -331,14 +335,49 @@ def stable_limit(runs, key):
     return now[0], now[1], before[1], now[2] + spread
 
 
-def converge(part, folder):
+def assess(part, runs):
+    """Adds the changes from the previous mesh, the observed rates and (`stable_limit`) the
+    Richardson limits to runs[-1]; True when both limits lie within `tolerance` of it."""
+    r = runs[-1]
+    if len(runs) >= 2:
+        prev = runs[-2]
+        r["change_max_displacement"] = abs(r["max_displacement_m"] / prev["max_displacement_m"] - 1)
+        r["change_strain_energy"] = abs(r["strain_energy_J"] / prev["strain_energy_J"] - 1)
+    for key, name in (("max_displacement_m", "max_displacement"),
+                      ("strain_energy_J", "strain_energy")):
+        fit = richardson(runs, key) if len(runs) >= 3 else None
+        if fit:
+            r["rate_" + name] = fit[1]
+    u = stable_limit(runs, "max_displacement_m")
+    e = stable_limit(runs, "strain_energy_J")
+    if not (u and e):
+        return False
+    r["richardson"] = {"max_displacement_m": u[0], "rate_max_displacement": u[1],
+                       "previous_rate_max_displacement": u[2], "error_max_displacement": u[3],
+                       "strain_energy_J": e[0], "rate_strain_energy": e[1],
+                       "previous_rate_strain_energy": e[2], "error_strain_energy": e[3]}
+    print("%s: Richardson |u| %.6e m (rates %.2f, %.2f; error %.3f %%), energy %.6e J "
+          "(rates %.2f, %.2f; error %.3f %%)" % (part["name"], u[0], u[2], u[1], 100 * u[3],
+                                                 e[0], e[2], e[1], 100 * e[3]), flush=True)
+    tolerance = part.get("tolerance", 0.002)
+    return u[3] < tolerance and e[3] < tolerance
+
+
+def converge(part, folder, earlier=()):
     """Meshes refined by `refine` until the stable Richardson limits (`stable_limit`) of the
     largest displacement and the energy lie within `tolerance` of the last mesh's values (the
-    last mesh's estimated error is below it); or until the next mesh would exceed `max_nodes`."""
+    last mesh's estimated error is below it); or until the next mesh would exceed `max_nodes`.
+    `earlier`: meshes already solved with the same mesh rule, continued from."""
     step = os.path.join(folder, part["file"])
-    h, runs = part["h_m"], []
-    tolerance = part.get("tolerance", 0.002)
+    refine = part.get("refine", 1.4)
+    runs = list(earlier)
     while True:
+        if runs:
+            if assess(part, runs):
+                return runs, True
+            if runs[-1]["nodes"] * refine ** 3 > part.get("max_nodes", 150000):
+                return runs, False
+        h = runs[-1]["h_m"] / refine if runs else part["h_m"]
         with tempfile.TemporaryDirectory() as work:
             runs.append(solve(part, step, h, work))
         r = runs[-1]
@@ -346,37 +385,20 @@ def converge(part, folder):
               "(%.0f + %.0f s)" % (part["name"], r["h_m"], r["dofs"], r["max_displacement_m"],
                                    r["strain_energy_J"], r["mesh_volume_error"],
                                    r["mesh_seconds"], r["ccx_seconds"]), flush=True)
-        if len(runs) >= 2:
-            prev = runs[-2]
-            r["change_max_displacement"] = abs(r["max_displacement_m"] / prev["max_displacement_m"] - 1)
-            r["change_strain_energy"] = abs(r["strain_energy_J"] / prev["strain_energy_J"] - 1)
-        for key, name in (("max_displacement_m", "max_displacement"),
-                          ("strain_energy_J", "strain_energy")):
-            fit = richardson(runs, key) if len(runs) >= 3 else None
-            if fit:
-                r["rate_" + name] = fit[1]
-        u = stable_limit(runs, "max_displacement_m")
-        e = stable_limit(runs, "strain_energy_J")
-        if u and e:
-            r["richardson"] = {"max_displacement_m": u[0], "rate_max_displacement": u[1],
-                               "previous_rate_max_displacement": u[2],
-                               "error_max_displacement": u[3], "strain_energy_J": e[0],
-                               "rate_strain_energy": e[1], "previous_rate_strain_energy": e[2],
-                               "error_strain_energy": e[3]}
-            print("%s: Richardson |u| %.6e m (rates %.2f, %.2f; error %.3f %%), energy %.6e J "
-                  "(rates %.2f, %.2f; error %.3f %%)" % (part["name"], u[0], u[2], u[1],
-                                                         100 * u[3], e[0], e[2], e[1], 100 * e[3]),
-                  flush=True)
-            if u[3] < tolerance and e[3] < tolerance:
-                return runs, True
-        h = r["h_m"] / part.get("refine", 1.4)
-        if r["nodes"] * part.get("refine", 1.4) ** 3 > part.get("max_nodes", 150000):
-            return runs, False
+
+
+# The keys of parts.json that define a part's problem and its meshes: a reference's history is
+# continued only when they are unchanged.
+PROBLEM_KEYS = ("file", "clamp_face", "gravity", "material", "h_m", "curvature", "edge_refine",
+                "clamp_refine", "edge_power", "refine", "refine_concave", "straight_midside",
+                "high_order_optimize")
 
 
 def main():
-    parts_file, out = sys.argv[1], sys.argv[2]
-    chosen = set(sys.argv[3:])
+    resume = "--resume" in sys.argv
+    args = [a for a in sys.argv[1:] if a != "--resume"]
+    parts_file, out = args[0], args[1]
+    chosen = set(args[2:])
     folder = os.path.dirname(os.path.abspath(parts_file))
     parts = json.load(open(parts_file))["parts"]
     old = json.load(open(out)) if os.path.exists(out) else {"parts": {}}
@@ -386,7 +408,13 @@ def main():
     for part in parts:
         if chosen and part["name"] not in chosen:
             continue
-        runs, converged = converge(part, folder)
+        problem = {k: part.get(k) for k in PROBLEM_KEYS}
+        earlier = results.get(part["name"], {})
+        # With --resume, a history of the same problem and mesh rule is continued.
+        if resume and earlier.get("problem") == problem:
+            runs, converged = converge(part, folder, earlier["history"])
+        else:
+            runs, converged = converge(part, folder)
         last = runs[-1]
         # The reference is the Richardson limit where it exists (its error is well below the
         # last mesh's, which `estimated_error` bounds), else the last mesh.
@@ -400,7 +428,7 @@ def main():
             "strain_energy_J": limit["strain_energy_J"],
             "estimated_error": max(last.get("richardson", {}).get("error_max_displacement", 1),
                                    last.get("richardson", {}).get("error_strain_energy", 1)),
-            "h_m": last["h_m"], "dofs": last["dofs"], "history": runs}
+            "h_m": last["h_m"], "dofs": last["dofs"], "problem": problem, "history": runs}
         write_reference(out, results)
     gmsh.finalize()
 
