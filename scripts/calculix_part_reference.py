@@ -6,14 +6,16 @@ OpenCascade reader, second-order tetrahedra, C3D10), the nodes of the clamped fa
 surface tag = the face's 0-based index + 1, the order OpenCascade's explorer gives, which is
 the numbering of `isospring info`; the face's area is written so that a reader can check it)
 are held in x, y and z, gravity acts on every element (*DLOAD GRAV), and CalculiX solves it.
-The mesh is graded towards the clamped face and its outline (where the stresses are singular),
-all sizes in proportion to h, and refined (h divided by `refine`, default 1.4) until the
-Richardson limits fitted to the last three meshes (f = f_inf + C h^q, q observed) of the largest
-nodal displacement and of the strain energy (sum of CalculiX's element energies ELSE) lie within
-`tolerance` (0.2 %) of the last mesh's values, or until the next mesh would exceed `max_nodes`.
-Each part's reference (the limits, or the last mesh when none converged), its estimated error,
-mesh sizes, DOFs and whole history go to OUT.json (written atomically). Nothing of isospring is
-used.
+The mesh is graded towards the clamped face, its outline and every re-entrant (concave) edge of
+the B-rep (where the stresses are singular), all sizes in proportion to h, and refined (h divided
+by `refine`, default 1.4) until the Richardson limits (f = f_inf + C x^q, x = DOFs^(-1/3), q
+observed) of the largest nodal displacement and of the strain energy (sum of CalculiX's element
+energies ELSE) fitted to the last three meshes agree with the fit to the three before (rates
+within 25 %) and lie within `tolerance` (0.2 %) of the last mesh's values, or until the next mesh
+would exceed `max_nodes`. Each part's reference (the limits, or the last mesh when none
+converged), its estimated error, mesh sizes, DOFs, the mesh's volume against OpenCascade's and
+the whole history go to OUT.json (written atomically after every mesh; --resume continues a
+history of the same problem and mesh rule). Nothing of isospring is used.
 
 Units: SI throughout (gmsh reads the STEP file in metres).
 
@@ -363,11 +365,12 @@ def assess(part, runs):
     return u[3] < tolerance and e[3] < tolerance
 
 
-def converge(part, folder, earlier=()):
+def converge(part, folder, earlier=(), on_mesh=None):
     """Meshes refined by `refine` until the stable Richardson limits (`stable_limit`) of the
     largest displacement and the energy lie within `tolerance` of the last mesh's values (the
     last mesh's estimated error is below it); or until the next mesh would exceed `max_nodes`.
-    `earlier`: meshes already solved with the same mesh rule, continued from."""
+    `earlier`: meshes already solved with the same mesh rule, continued from; `on_mesh(runs)` is
+    called after every mesh (the history is written then, so a stopped run keeps it)."""
     step = os.path.join(folder, part["file"])
     refine = part.get("refine", 1.4)
     runs = list(earlier)
@@ -380,6 +383,9 @@ def converge(part, folder, earlier=()):
         h = runs[-1]["h_m"] / refine if runs else part["h_m"]
         with tempfile.TemporaryDirectory() as work:
             runs.append(solve(part, step, h, work))
+        assess(part, runs)
+        if on_mesh:
+            on_mesh(runs)
         r = runs[-1]
         print("%s: h %.4g m, %d DOFs, max |u| %.6e m, energy %.6e J, mesh volume %+.1e "
               "(%.0f + %.0f s)" % (part["name"], r["h_m"], r["dofs"], r["max_displacement_m"],
@@ -409,28 +415,37 @@ def main():
         if chosen and part["name"] not in chosen:
             continue
         problem = {k: part.get(k) for k in PROBLEM_KEYS}
+
+        def record(runs, converged=False, part=part, problem=problem):
+            results[part["name"]] = summary(part, problem, runs, converged)
+            write_reference(out, results)
+
         earlier = results.get(part["name"], {})
         # With --resume, a history of the same problem and mesh rule is continued.
         if resume and earlier.get("problem") == problem:
-            runs, converged = converge(part, folder, earlier["history"])
+            runs, converged = converge(part, folder, earlier["history"], record)
         else:
-            runs, converged = converge(part, folder)
-        last = runs[-1]
-        # The reference is the Richardson limit where it exists (its error is well below the
-        # last mesh's, which `estimated_error` bounds), else the last mesh.
-        limit = last.get("richardson", last)
-        results[part["name"]] = {
-            "file": part["file"], "clamp_face": part["clamp_face"], "gravity_m_s2": part["gravity"],
-            "material": part["material"], "converged": converged,
-            "tolerance": part.get("tolerance", 0.002),
-            "reference": "richardson" if "richardson" in last else "last mesh",
-            "max_displacement_m": limit["max_displacement_m"],
-            "strain_energy_J": limit["strain_energy_J"],
-            "estimated_error": max(last.get("richardson", {}).get("error_max_displacement", 1),
-                                   last.get("richardson", {}).get("error_strain_energy", 1)),
-            "h_m": last["h_m"], "dofs": last["dofs"], "problem": problem, "history": runs}
-        write_reference(out, results)
+            runs, converged = converge(part, folder, on_mesh=record)
+        record(runs, converged)
     gmsh.finalize()
+
+
+def summary(part, problem, runs, converged):
+    """A part's entry of OUT.json. The reference is the Richardson limit where a stable one exists
+    (its error is well below the last mesh's, which `estimated_error` bounds), else the last
+    mesh."""
+    last = runs[-1]
+    limit = last.get("richardson", last)
+    return {
+        "file": part["file"], "clamp_face": part["clamp_face"], "gravity_m_s2": part["gravity"],
+        "material": part["material"], "converged": converged,
+        "tolerance": part.get("tolerance", 0.002),
+        "reference": "richardson" if "richardson" in last else "last mesh",
+        "max_displacement_m": limit["max_displacement_m"],
+        "strain_energy_J": limit["strain_energy_J"],
+        "estimated_error": max(last.get("richardson", {}).get("error_max_displacement", 1),
+                               last.get("richardson", {}).get("error_strain_energy", 1)),
+        "h_m": last["h_m"], "dofs": last["dofs"], "problem": problem, "history": runs}
 
 
 def write_reference(out, results):
