@@ -153,7 +153,10 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
   std::optional<HoldoutCheck> marker_check;
   std::vector<std::optional<LoadCaseHoldout>> case_folds(num_cases);
   std::vector<std::exception_ptr> fold_errors(static_cast<size_t>(folds));
-  if (folds > 0) in.say("hold-out checks (" + std::to_string(folds) + " refits of two models)");
+  if (folds > 0)
+    in.say(
+        "hold-out checks (" + std::to_string(folds) + " refits of " +
+        (selection.chosen.empty() ? "the nominal model, which is the final one)" : "two models)"));
     // Nested OpenMP is off: the folds' own solves run on one thread each, as in the loop.
 #pragma omp parallel for schedule(dynamic) \
     num_threads(std::max(1, std::min(in.element_threads, folds)))
