@@ -388,6 +388,23 @@ TEST(IdentifyNonlinear, RefusesAWeightFarFromSvk) {
   EXPECT_LT(std::abs(first.expected_estimate - 0.15), 3 * first.expected_error);
 }
 
+// At w = 0 (the score test) Newton stops at the markers: once a contracting chord step moved
+// them by at most 1e-6 of their displacement. The column in w, u_nl - u_lin at the markers, must
+// still be the one Newton gives at its force tolerance: at w != 0 the Jacobian needs the tangent,
+// so the same column comes from a solve to the full tolerance (the blend's u_nl does not depend
+// on w). Bound 1e-5 of the column: the stop leaves at most a third of 1e-6 of the marker
+// displacement, which the column (a tenth of it at this 14 % tip deflection) magnifies ~10x.
+// Measured: 2.4e-8.
+TEST(IdentifyNonlinear, ScoreTestColumnStoppedAtTheMarkersMatchesTheFullTolerance) {
+  const NonlinearCantilever beam(450.0);
+  const Eigen::VectorXd stopped =
+      beam.model()->evaluate(Eigen::Vector3d(1.0, kNu, 0.0), true).jacobians[0].col(2);
+  const Eigen::VectorXd full =
+      beam.model()->evaluate(Eigen::Vector3d(1.0, kNu, 1e-9), true).jacobians[0].col(2);
+  ASSERT_GT(full.norm(), 0.0);
+  EXPECT_LT((stopped - full).norm(), 1e-5 * full.norm());
+}
+
 // The score test is the F-test's first-order version: on data where the nonlinearity is real its
 // F must be close to the full refit's (within 20 %: the candidate is linear in w, nonlinear only
 // through E's change), which is what justifies screening with it.

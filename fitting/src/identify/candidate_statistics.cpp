@@ -23,14 +23,12 @@ Eigen::Index setup_rows(const std::vector<Eigen::VectorXd>& weights) {
 NewColumnProjection project_on_new_columns(const Setup& setup, const Model& model,
                                            const Eigen::VectorXd& theta, Eigen::Index first_new,
                                            const std::vector<Eigen::VectorXd>& weights,
-                                           const std::vector<Eigen::VectorXd>* model_error,
-                                           bool linearised) {
+                                           const std::vector<Eigen::VectorXd>* model_error) {
   NewColumnProjection out;
   const Eigen::Index total = theta.size();
   ModelEvaluation eval;
   try {
-    eval = linearised ? model.forward->evaluate_linearised(theta, &out.series_ratio)
-                      : model.forward->evaluate(theta, true);
+    eval = model.forward->evaluate(theta, true);
   } catch (const std::exception&) {
     return out;
   }
@@ -88,19 +86,18 @@ void ScoreTest::widen(double allowance) {
 
 ScoreTest score_test(const Setup& setup, const Model& candidate, const Fit& current,
                      const Eigen::VectorXd& neutral, const std::vector<Eigen::VectorXd>& weights,
-                     double allowance, bool linearised) {
+                     double allowance) {
   ScoreTest out;
   const Eigen::Index p = current.theta.size();
   if (neutral.size() != candidate.forward->num_parameters() - p) return out;
   Eigen::VectorXd theta(candidate.forward->num_parameters());
   theta << current.theta, neutral;
   const NewColumnProjection projection =
-      project_on_new_columns(setup, candidate, theta, p, weights, nullptr, linearised);
+      project_on_new_columns(setup, candidate, theta, p, weights, nullptr);
   if (!projection.done) return out;
   const int q = projection.rank;
   const int d2 = current.rows - static_cast<int>(p) - q;
   out.reduction = projection.residual;
-  out.series_ratio = projection.series_ratio;
   if (d2 <= 0 || !(projection.rss - out.reduction > 0.0)) return out;
   out.q = q, out.d2 = d2, out.rss = projection.rss;
   if (projection.step.size() == neutral.size()) {

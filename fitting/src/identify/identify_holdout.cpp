@@ -41,15 +41,21 @@ std::optional<HoldoutCheck> markers_fold(const Folds& folds) {
   const auto& cache = folds.caches[0];
   const Model base = build_model(setup, {}, folds.nominal.fit.theta, cache);
   const Fit base_fit = run_fit(setup, base, holdout_weights);
-  const Model full =
-      build_model(setup, folds.selection.chosen, folds.selection.current_fit.theta, cache);
-  const Fit full_fit = run_fit(setup, full, holdout_weights);
-  if (!(base_fit.ok && full_fit.ok && !validation.empty())) return std::nullopt;
+  if (!(base_fit.ok && !validation.empty())) return std::nullopt;
   HoldoutCheck check;
   check.fit_markers = static_cast<int>(markers.size() - validation.size());
   check.validation_markers = static_cast<int>(validation.size());
   check.validation_before =
       summarize(marker_misfit(setup, base, base_fit.theta, markers), validation, setup.dim);
+  // Without effects the final model is the nominal one: same model, same weights, same fit.
+  if (folds.selection.chosen.empty()) {
+    check.validation_after = check.validation_before;
+    return check;
+  }
+  const Model full =
+      build_model(setup, folds.selection.chosen, folds.selection.current_fit.theta, cache);
+  const Fit full_fit = run_fit(setup, full, holdout_weights);
+  if (!full_fit.ok) return std::nullopt;
   check.validation_after =
       summarize(marker_misfit(setup, full, full_fit.theta, markers), validation, setup.dim);
   return check;
@@ -100,6 +106,11 @@ std::optional<LoadCaseHoldout> case_fold(const Folds& folds, size_t l) {
   out.id = folds.in.problem.load_cases[l].id;
   out.markers = static_cast<int>(setup.markers[l].size());
   for (const bool final_model : {false, true}) {
+    // Without effects the final model is the nominal one: same model, same weights, same fit.
+    if (final_model && folds.selection.chosen.empty()) {
+      out.after = out.before;
+      break;
+    }
     const Model model = final_model ? build_model(setup, folds.selection.chosen,
                                                   folds.selection.current_fit.theta, cache)
                                     : build_model(setup, {}, folds.nominal.fit.theta, cache);
@@ -142,7 +153,10 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
   std::optional<HoldoutCheck> marker_check;
   std::vector<std::optional<LoadCaseHoldout>> case_folds(num_cases);
   std::vector<std::exception_ptr> fold_errors(static_cast<size_t>(folds));
-  if (folds > 0) in.say("hold-out checks (" + std::to_string(folds) + " refits of two models)");
+  if (folds > 0)
+    in.say(
+        "hold-out checks (" + std::to_string(folds) + " refits of " +
+        (selection.chosen.empty() ? "the nominal model, which is the final one)" : "two models)"));
     // Nested OpenMP is off: the folds' own solves run on one thread each, as in the loop.
 #pragma omp parallel for schedule(dynamic) \
     num_threads(std::max(1, std::min(in.element_threads, folds)))

@@ -92,26 +92,6 @@ bool settled_by_score_test(const SelectionInputs& s, const Selection& selection,
     test.note = std::move(note);
     return true;
   };
-  // The large-deformation candidate added to a linear model is screened first with its
-  // linearised column in w (no Newton solve: three nonlinear forces and two back-substitutions
-  // per load case). The projection's reduction depends on the column's direction only, which
-  // differs from the exact column's by the rest of the series in w; the screen settles the
-  // candidate only when that series' second term is below kSeriesRatio of its first (the
-  // column's direction then within ~0.1 rad of the exact one), and far from the threshold.
-  // Otherwise, and for a candidate it lets through, the exact test's Newton solves decide.
-  constexpr double kSeriesRatio = 0.1;
-  if (model.forward->nonlinear() && !selection.current.forward->nonlinear()) {
-    const ScoreTest screen = score_test(s.setup, model, current_fit, screening, s.nominal.weights,
-                                        s.candidates.allowance, true);
-    s.in.say("linearised screen of " + effect.name() + ": F = " +
-             std::to_string(screen.f_statistic) + ", p = " + std::to_string(screen.p_value) +
-             ", series ratio " + std::to_string(screen.series_ratio));
-    if (screen.done && screen.series_ratio <= kSeriesRatio && screen.p_value > 10.0 * threshold)
-      return settle(screen, "screened out by a linearised score test at the current fit (F = " +
-                                std::to_string(screen.f_statistic) +
-                                ", p = " + std::to_string(screen.p_value) +
-                                "; no Newton solve; fitted only when p < 10 x the threshold)");
-  }
   const ScoreTest score =
       score_test(s.setup, model, current_fit, screening, s.nominal.weights, s.candidates.allowance);
   if (!score.done) return false;

@@ -145,16 +145,12 @@ struct NewColumnProjection {
   /// to first order) and its standard errors, with the noise variance estimated from what is
   /// left, (rss - residual) / (rows - total); empty when the new columns are rank deficient.
   Eigen::VectorXd step, step_error;
-  /// With `linearised`: ForwardModel::evaluate_linearised's second_order_ratio.
-  double series_ratio = 0.0;
 };
 
-// `linearised`: as for score_test below.
 NewColumnProjection project_on_new_columns(const Setup& setup, const Model& model,
                                            const Eigen::VectorXd& theta, Eigen::Index first_new,
                                            const std::vector<Eigen::VectorXd>& weights,
-                                           const std::vector<Eigen::VectorXd>* model_error,
-                                           bool linearised = false);
+                                           const std::vector<Eigen::VectorXd>* model_error);
 
 // The score (Lagrange-multiplier) test of adding a candidate to the current fit: with the
 // candidate at its neutral values the model equals the current one, so the residual r is the
@@ -168,18 +164,14 @@ struct ScoreTest {
   /// The candidate's parameters after one Gauss-Newton step from its neutral values, and their
   /// standard errors (empty when not estimable).
   Eigen::VectorXd estimate, estimate_error;
-  /// With `linearised`: ForwardModel::evaluate_linearised's second_order_ratio.
-  double series_ratio = 0.0;
 
   /// F and p again with another allowance.
   void widen(double allowance);
 };
 
-// `linearised`: the candidate is a blended large-deformation model tested at w = 0, and its
-// column in w is the first-order one (ForwardModel::evaluate_linearised, no Newton solve).
 ScoreTest score_test(const Setup& setup, const Model& candidate, const Fit& current,
                      const Eigen::VectorXd& neutral, const std::vector<Eigen::VectorXd>& weights,
-                     double allowance, bool linearised = false);
+                     double allowance);
 
 // The first expected value of `effect` (Effect::expected_values) that its estimated parameters
 // contradict, as a note for the report; empty when every one is consistent or not estimable.
