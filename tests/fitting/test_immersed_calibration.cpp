@@ -182,7 +182,7 @@ TEST(ImmersedCalibration, AlignedBlockIsTheBodyFittedCalibration) {
   for (size_t g = 0; g < fitted.fit_result.group_stiffness.size(); ++g)
     EXPECT_NEAR(
         immersed.calibration.fit_result.group_stiffness[g] / fitted.fit_result.group_stiffness[g],
-        1.0, 1e-6);
+        1.0, 1e-5);
   // The held-out traction case: its load agrees to the face quadrature's 1e-9.
   ASSERT_EQ(immersed.calibration.holdout.size(), 1u);
   EXPECT_NEAR(immersed.calibration.holdout[0].control.percent_e_rms /

@@ -2,9 +2,6 @@
 #include "isospring/workflows/analyze_immersed.hpp"
 
 #include <algorithm>
-#include <limits>
-#include <map>
-#include <set>
 
 #include "isospring/analysis/elasticity.hpp"
 #include "isospring/io/vtk_immersed_cells.hpp"

@@ -88,12 +88,16 @@ nlohmann::json report_json(const ImmersedCalibrateResult& r) {
       {"cells", {n.x(), n.y(), n.z()}},     {"inside_cells", r.stats.inside_cells},
       {"cut_cells", r.stats.cut_cells},     {"volume", r.quadrature.volume},
       {"volume_opencascade", r.occ.volume}, {"seconds", r.immersion_seconds}};
+  const std::string freedom =
+      r.request.settings.per_spring
+          ? "one stiffness per spring (" + std::to_string(result.parameters) +
+                " parameters), started from the rest-length groups of gamma " +
+                format_number(result.gamma)
+          : "springs grouped by rest length (gamma " + format_number(result.gamma) + ", " +
+                std::to_string(result.parameters) + " groups)";
   report["protocol"] =
-      "Displacement objective [S15 5.7] over the fitted load cases, springs grouped by rest "
-      "length (gamma " +
-      format_number(result.gamma) + ", " + std::to_string(result.parameters) + " parameters" +
-      (r.request.settings.per_spring ? ", one per spring" : "") +
-      "). Particles on the active control points of the background grid, springs on its complete "
+      "Displacement objective [S15 5.7] over the fitted load cases, " + freedom +
+      ". Particles on the active control points of the background grid, springs on its complete "
       "net cells, masses lumped from the consistent mass over the part, supports on the control "
       "points whose functions reach the held faces; the reference is the immersed IGA solution "
       "(Nitsche supports). Errors on the active control points; field and surface: the spline "
