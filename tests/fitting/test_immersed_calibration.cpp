@@ -213,9 +213,10 @@ TEST(ImmersedCalibration, ReferenceApproachesTheStronglyClampedSolution) {
     }
     differences.push_back(worst / largest);
   }
-  std::printf("Nitsche factor 4, 40, 400: largest coefficient difference %.3g, %.3g, %.3g of the "
-              "largest displacement\n",
-              differences[0], differences[1], differences[2]);
+  std::printf(
+      "Nitsche factor 4, 40, 400: largest coefficient difference %.3g, %.3g, %.3g of the "
+      "largest displacement\n",
+      differences[0], differences[1], differences[2]);
   EXPECT_LT(differences[0], 0.05);
   EXPECT_LT(differences[1], 0.5 * differences[0]);
   EXPECT_LT(differences[2], 0.5 * differences[1]);
