@@ -1,5 +1,6 @@
 // End-to-end: `isospring calibrate` on an immersed case (examples/immersed/
-// cylinder_calibrate.json, a cylinder in a 4 x 4 x 4 grid, one load case held out): the report
+// rounded_bracket_calibrate.json, a filleted bracket with a hole in a 10 x 5 x 5 grid, one load
+// case held out): the report
 // has the held-out errors, the reference on the part is `isospring analyze`'s solution of the same
 // case (result.vtp against analyze's, point by point), the surface error of result.vtp's two
 // fields is the report's, and model.json passes the exporters' checks (MuJoCo, SOFA, VTK).
@@ -27,18 +28,18 @@ json read_json(const std::filesystem::path& path) {
 
 TEST(CalibrateImmersed, HeldOutErrorsReferenceAndExports) {
   TemporaryFolder out;
-  const std::string case_file = example("immersed/cylinder_calibrate.json");
+  const std::string case_file = example("immersed/rounded_bracket_calibrate.json");
   auto run = run_isospring("calibrate " + case_file + " -o " + (out / "cal") + " --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   for (const char* file : {"report.json", "report.md", "model.json", "springs.vtp", "result.vtp",
-                           "weight_errors.csv", "shear_y_errors.csv"})
+                           "weight_errors.csv", "tip_down_errors.csv"})
     EXPECT_TRUE(std::filesystem::exists(out.path() / "cal" / file)) << file;
   const json report = read_json(out.path() / "cal" / "report.json");
   EXPECT_EQ(report["path"], "immersed");
   ASSERT_TRUE(report["holdout"].is_object());
   ASSERT_EQ(report["holdout"]["load_cases"].size(), 1u);
   const json& held = report["holdout"]["load_cases"][0];
-  EXPECT_EQ(held["id"], "shear_y");
+  EXPECT_EQ(held["id"], "tip_down");
   const double held_rms = held["percent_e_rms"].get<double>();
   EXPECT_GT(held_rms, 0.0);
   EXPECT_LT(held_rms, 100.0);
@@ -52,9 +53,9 @@ TEST(CalibrateImmersed, HeldOutErrorsReferenceAndExports) {
   auto analysed = its::read_vtp(out.path() / "ana" / "result.vtp");
   ASSERT_TRUE(calibrated && analysed);
   ASSERT_EQ(calibrated->GetNumberOfPoints(), analysed->GetNumberOfPoints());
-  vtkDataArray* ref = calibrated->GetPointData()->GetArray("reference_shear_y");
-  vtkDataArray* springs = calibrated->GetPointData()->GetArray("springs_shear_y");
-  vtkDataArray* solved = analysed->GetPointData()->GetArray("displacement_shear_y");
+  vtkDataArray* ref = calibrated->GetPointData()->GetArray("reference_tip_down");
+  vtkDataArray* springs = calibrated->GetPointData()->GetArray("springs_tip_down");
+  vtkDataArray* solved = analysed->GetPointData()->GetArray("displacement_tip_down");
   ASSERT_TRUE(ref && springs && solved);
   double largest = 0.0, difference = 0.0, worst_error = 0.0;
   for (vtkIdType i = 0; i < calibrated->GetNumberOfPoints(); ++i) {
@@ -80,8 +81,8 @@ TEST(CalibrateImmersed, HeldOutErrorsReferenceAndExports) {
 
 TEST(CalibrateImmersed, SettingsWithoutAnImmersedFormAreRefusedBeforeWriting) {
   TemporaryFolder out;
-  json c = read_json(example("immersed/cylinder_calibrate.json"));
-  c["geometry"]["file"] = example("immersed/cube_cylinder.step");
+  json c = read_json(example("immersed/rounded_bracket_calibrate.json"));
+  c["geometry"]["file"] = example("immersed/rounded_bracket.step");
   c["calibration"]["matrix_approach"] = true;
   const auto file = out.path() / "case.json";
   std::ofstream(file) << c.dump();

@@ -342,7 +342,7 @@ def test_immersed_analysis_matches_the_program():
 
 def test_calibrate_immersed_matches_the_program():
     """calibrate_immersed() and `isospring calibrate` on an immersed case: the same errors."""
-    case_file = os.path.join(EXAMPLES, "immersed", "cylinder_calibrate.json")
+    case_file = os.path.join(EXAMPLES, "immersed", "rounded_bracket_calibrate.json")
     result = isospring.calibrate_immersed(case_file)
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([PROGRAM, "calibrate", case_file, "-o", folder, "-q"], check=True)
