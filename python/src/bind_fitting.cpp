@@ -2,7 +2,8 @@
 // workflows::run_calibrate, the call `isospring calibrate` makes, on the case's own "calibration"
 // object with the keyword arguments laid over it. The settings are read by
 // io::read_calibration_settings, so they have the case file's names, defaults, checks and error
-// messages (as exceptions).
+// messages (as exceptions). isospring.calibrate_immersed(case_file, **settings) is the same for an
+// immersed case (workflows::run_calibrate_immersed).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -10,10 +11,14 @@
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "isospring/fitting/calibration.hpp"
+#include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/immersed_case.hpp"
+#include "isospring/io/json_text.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/calibrate_command.hpp"
+#include "isospring/workflows/calibrate_immersed.hpp"
 
 namespace py = pybind11;
 
@@ -86,6 +91,47 @@ nlohmann::json to_json(const py::handle& value) {
   return nlohmann::json::parse(text);
 }
 
+// The keyword arguments laid over a case's "calibration" object (made an object when absent).
+void overlay_settings(nlohmann::json& calibration, const py::kwargs& settings) {
+  if (!calibration.is_object()) calibration = nlohmann::json::object();
+  for (const auto& [key, value] : settings) {
+    const std::string name = py::str(key);
+    // The grouping's fields may be given flat (gamma=0.1), as in earlier versions.
+    if (name == "gamma" || name == "gamma_sweep" || name == "per_spring") {
+      nlohmann::json& grouping = calibration["grouping"];
+      if (!grouping.is_object())
+        grouping = grouping == "per_spring" ? nlohmann::json{{"per_spring", true}}
+                                            : nlohmann::json::object();
+      grouping[name] = to_json(value);
+    } else {
+      calibration[name] = to_json(value);
+    }
+  }
+}
+
+py::dict calibrate_immersed(const std::string& case_file, const py::kwargs& settings) {
+  nlohmann::json document =
+      io::parse_json_text(io::read_text_file(case_file, "case file"), case_file, "case file");
+  if (!io::is_immersed_case(document))
+    throw nurbs::InputError(case_file +
+                            ": geometry is not {\"type\": \"immersed\", ...}; a body-fitted case "
+                            "calibrates with isospring.calibrate(isospring.read_case(file))");
+  overlay_settings(document["calibration"], settings);
+  workflows::ImmersedCalibrateResult r;
+  {
+    // The immersion and the fit hold no Python object: other Python threads may run meanwhile.
+    py::gil_scoped_release release;
+    r = workflows::run_calibrate_immersed(io::build_immersed_case(document, case_file),
+                                          io::Progress("calibrate", true));
+  }
+  py::dict result = calibration_result(r.calibration.calibration);
+  result["control_point_of_particle"] = r.calibration.control_point_of_particle;
+  result["held_particles"] = r.calibration.held_particles;
+  result["worst_fitted_percent_e_rms"] = r.worst_fitted;
+  result["worst_holdout_percent_e_rms"] = r.worst_holdout;
+  return result;
+}
+
 }  // namespace
 
 void bind_fitting(py::module_& m) {
@@ -93,20 +139,7 @@ void bind_fitting(py::module_& m) {
       "calibrate",
       [](const io::Case& c, const py::kwargs& settings) {
         io::Case with = c;
-        if (!with.calibration.is_object()) with.calibration = nlohmann::json::object();
-        for (const auto& [key, value] : settings) {
-          const std::string name = py::str(key);
-          // The grouping's fields may be given flat (gamma=0.1), as in earlier versions.
-          if (name == "gamma" || name == "gamma_sweep" || name == "per_spring") {
-            nlohmann::json& grouping = with.calibration["grouping"];
-            if (!grouping.is_object())
-              grouping = grouping == "per_spring" ? nlohmann::json{{"per_spring", true}}
-                                                  : nlohmann::json::object();
-            grouping[name] = to_json(value);
-          } else {
-            with.calibration[name] = to_json(value);
-          }
-        }
+        overlay_settings(with.calibration, settings);
         workflows::CalibrateCommandResult r;
         {
           // The fit holds no Python object: other Python threads may run meanwhile.
@@ -127,6 +160,11 @@ void bind_fitting(py::module_& m) {
       "rest_length, group, positions (n, 3), masses, fixed, gamma, parameters, fit and holdout "
       "(per load case: id, control/field/surface %e metrics, node_error), warnings, "
       "fit_seconds, worst_fitted_percent_e_rms, worst_holdout_percent_e_rms.");
+  m.def("calibrate_immersed", &calibrate_immersed, py::arg("case_file"),
+        "NMSM calibration of an immersed case file ({\"geometry\": {\"type\": \"immersed\"}}), as "
+        "`isospring calibrate` does it (docs/immersed.md, calibration): settings as for "
+        "calibrate(). Returns calibrate()'s dict (particles on the grid's active control points) "
+        "with control_point_of_particle and held_particles.");
 }
 
 }  // namespace isospring::python

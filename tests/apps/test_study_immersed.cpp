@@ -64,13 +64,12 @@ TEST(StudyImmersed, CommandsWithoutAnImmersedFormRefuseItWithTheReason) {
   };
   for (const Refusal& r : {Refusal{"export-calculix", "deck.inp", "needs a mesh of the part"},
                            Refusal{"export-step", "part.step", "the CAD file itself"},
-                           Refusal{"calibrate", "calibrated", "body-fitted patches only"},
-                           Refusal{"identify", "identified", "body-fitted patches only"}}) {
+                           Refusal{"identify", "identified", "on body-fitted patches"}}) {
     const auto run = run_isospring(r.command + " " + case_file + " -o " + (out / r.output));
     EXPECT_NE(run.exit_code, 0) << r.command;
     EXPECT_NE(run.output.find("an immersed case"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find(r.reason), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("`isospring analyze` and `isospring study` run immersed cases"),
+    EXPECT_NE(run.output.find("`isospring analyze`, `study` and `calibrate` run immersed cases"),
               std::string::npos)
         << run.output;
     EXPECT_FALSE(std::filesystem::exists(out.path() / r.output)) << r.command;

@@ -340,6 +340,28 @@ def test_immersed_analysis_matches_the_program():
         assert "geometry" in str(e), str(e)
 
 
+def test_calibrate_immersed_matches_the_program():
+    """calibrate_immersed() and `isospring calibrate` on an immersed case: the same errors."""
+    case_file = os.path.join(EXAMPLES, "immersed", "rounded_bracket_calibrate.json")
+    result = isospring.calibrate_immersed(case_file)
+    with tempfile.TemporaryDirectory() as folder:
+        subprocess.run([PROGRAM, "calibrate", case_file, "-o", folder, "-q"], check=True)
+        with open(os.path.join(folder, "report.json")) as f:
+            report = json.load(f)
+    assert report["path"] == "immersed"
+    assert len(result["positions"]) == report["particles"]
+    assert result["held_particles"] == report["held_particles"]
+    held = report["holdout"]["load_cases"][0]
+    assert result["holdout"][0]["id"] == held["id"]
+    ours = result["holdout"][0]["control"]["percent_e_rms"]
+    assert abs(ours - held["percent_e_rms"]) <= 1e-9 * held["percent_e_rms"], (ours, held)
+    try:
+        isospring.calibrate_immersed(case_file, matrix_approach=True)
+        raise AssertionError("the matrix approach was accepted on an immersed case")
+    except isospring.InputError as e:
+        assert "no immersed form" in str(e), str(e)
+
+
 def main():
     tests = [(name, f) for name, f in globals().items() if name.startswith("test_")]
     failed = 0

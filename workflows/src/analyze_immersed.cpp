@@ -2,9 +2,6 @@
 #include "isospring/workflows/analyze_immersed.hpp"
 
 #include <algorithm>
-#include <limits>
-#include <map>
-#include <set>
 
 #include "isospring/analysis/elasticity.hpp"
 #include "isospring/io/vtk_immersed_cells.hpp"
@@ -17,28 +14,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-/// The triangles of the solid's own faces (a file may hold several solids), points renumbered.
-geometry::CadTriangulation solid_surface(const geometry::CadTriangulation& all,
-                                         const geometry::ImmersedDomain& domain) {
-  std::set<int> faces;
-  for (const geometry::BoundaryPoint& b : domain.boundary) faces.insert(b.face);
-  geometry::CadTriangulation out;
-  std::map<int, int> renumber;
-  for (size_t t = 0; t < all.triangles.size(); ++t) {
-    if (!faces.count(all.triangle_face[t])) continue;
-    std::array<int, 3> tri{};
-    for (int k = 0; k < 3; ++k) {
-      const int old = all.triangles[t][k];
-      auto [it, added] = renumber.emplace(old, static_cast<int>(out.points.size()));
-      if (added) out.points.push_back(all.points[static_cast<size_t>(old)]);
-      tri[k] = it->second;
-    }
-    out.triangles.push_back(tri);
-    out.triangle_face.push_back(all.triangle_face[t]);
-  }
-  return out;
 }
 
 /// The projector on a support's held components at a point of outward normal n.
@@ -116,13 +91,7 @@ ImmersedAnalysis run_analyze_immersed(const ImmersedCase& c, analysis::SolverOpt
            format_number(a.quadrature.volume) + " m^3 (OpenCascade " + format_number(a.occ.volume) +
            ")");
   t = std::chrono::steady_clock::now();
-  // A display triangulation within 1e-3 of the part's diagonal, its triangles no longer than a
-  // background cell: the fields vary on that scale, and ParaView interpolates them linearly.
-  double cell = std::numeric_limits<double>::infinity();
-  for (int d = 0; d < a.domain.background.param_dim(); ++d)
-    cell = std::min(cell, a.domain.extent[d] / a.domain.background.knots(d).num_elements());
-  a.surface = detail::refine_triangulation(
-      solid_surface(geometry::triangulate_cad(c.part, 1e-3), a.domain), cell);
+  a.surface = detail::immersed_part_surface(c.part, a.domain);
   a.surface_seconds = seconds_since(t);
   for (const ImmersedLoadCase& load : c.load_cases) {
     ImmersedLoadCaseResult lc;

@@ -19,10 +19,12 @@ std::string reason(const std::string& command) {
            "part (result.vtp)";
   if (command == "export-step")
     return "an immersed model's geometry is the CAD file itself, unchanged: use that file";
-  if (command == "calibrate" || command == "identify")
-    return "the spring model (its particles on the analysis model's control points) is built "
-           "on body-fitted patches only; give a case with a \"cad\" geometry of a part "
-           "`isospring import` makes volumes of, or a geometry type of docs/case-files.md";
+  if (command == "identify")
+    return "the identification builds its observation operators, its effects (support "
+           "compliance, stiffness gradient, ...) and its recalibration on body-fitted patches; "
+           "`isospring calibrate` takes an immersed case, and for identify give a case with a "
+           "\"cad\" geometry of a part `isospring import` makes volumes of, or a geometry type "
+           "of docs/case-files.md";
   return "it works on body-fitted patches only";
 }
 
@@ -35,7 +37,7 @@ void refuse_immersed_case(const std::filesystem::path& case_file, const std::str
   if (document.is_discarded() || !io::is_immersed_case(document)) return;
   throw nurbs::InputError(case_file.string() + ": an immersed case (geometry type 'immersed'); `" +
                           command + "` does not take one: " + reason(command) +
-                          ". `isospring analyze` and `isospring study` run immersed cases.");
+                          ". `isospring analyze`, `study` and `calibrate` run immersed cases.");
 }
 
 }  // namespace isospring::workflows

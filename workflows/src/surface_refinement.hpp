@@ -7,9 +7,19 @@
 // deflection of the face). Points on an edge are shared with the neighbour when it splits that
 // edge alike; otherwise the neighbour's coarser edge has hanging points on it, which lie on its
 // straight edge, so the surface has no gaps.
+#include <filesystem>
+
 #include "isospring/geometry/cad_triangulation.hpp"
+#include "isospring/geometry/immersed_domain.hpp"
 
 namespace isospring::workflows::detail {
+
+/// The display triangulation of an immersed part (the faces of `part` that the domain's boundary
+/// points lie on; a file may hold several solids), within 1e-3 of the part's diagonal, its
+/// triangles split to at most a background cell's edge: the fields vary on that scale, and
+/// ParaView interpolates them linearly.
+geometry::CadTriangulation immersed_part_surface(const std::filesystem::path& part,
+                                                 const geometry::ImmersedDomain& domain);
 
 geometry::CadTriangulation refine_triangulation(const geometry::CadTriangulation& mesh,
                                                 double max_edge);

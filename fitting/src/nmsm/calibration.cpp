@@ -73,7 +73,6 @@ void apply_supports(const analysis::Problem& problem, const analysis::DofMap& do
                     std::vector<int>& extra_constrained) {
   const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
   const int dim = dofs.dofs_per_node();
-  std::vector<int> held(mesh.network.positions.size(), 0);
   std::vector<int> particle_dofs;
   for (size_t c = 0; c < constraints.dofs.size(); ++c) {
     if (constraints.values[c] != 0.0)
@@ -84,12 +83,7 @@ void apply_supports(const analysis::Problem& problem, const analysis::DofMap& do
     const int node = constraints.dofs[c] / dim, component = constraints.dofs[c] % dim;
     particle_dofs.push_back(particle_of_node[node] * dim + component);
   }
-  std::sort(particle_dofs.begin(), particle_dofs.end());
-  particle_dofs.erase(std::unique(particle_dofs.begin(), particle_dofs.end()), particle_dofs.end());
-  for (int d : particle_dofs) ++held[d / dim];
-  for (size_t q = 0; q < held.size(); ++q) mesh.network.fixed[q] = held[q] == dim;
-  for (int d : particle_dofs)
-    if (held[d / dim] != dim) extra_constrained.push_back(d);
+  detail::hold_particle_dofs(std::move(particle_dofs), dim, mesh, extra_constrained);
 }
 
 Eigen::VectorXd particle_load(const Eigen::VectorXd& node_load,
@@ -110,7 +104,7 @@ void prepare_fit_data(const analysis::Problem& problem, const CalibrationSetting
   assign_masses(problem, mesh, settings.mass_model);
 
   DisplacementFitData& data = setup.data;
-  apply_supports(problem, setup.dofs, setup.particle_of_node, mesh, data.constrained_dofs);
+  apply_supports(problem, *setup.dofs, setup.particle_of_node, mesh, data.constrained_dofs);
   data.network = mesh.network;
   data.particle_of_node = setup.particle_of_node;
   for (size_t c = 0; c < problem.load_cases.size(); ++c) {
@@ -129,15 +123,29 @@ void prepare_fit_data(const analysis::Problem& problem, const CalibrationSetting
   setup.loads.resize(problem.load_cases.size());
   for (size_t c = 0; c < problem.load_cases.size(); ++c)
     setup.loads[c] = particle_load(
-        analysis::assemble_load(problem, setup.dofs, problem.load_cases[c]), setup.particle_of_node,
-        static_cast<int>(mesh.network.positions.size()), setup.dim);
+        analysis::assemble_load(problem, *setup.dofs, problem.load_cases[c]),
+        setup.particle_of_node, static_cast<int>(mesh.network.positions.size()), setup.dim);
   for (int c : setup.fitted) {
     data.loads.push_back(setup.loads[c]);
     data.references.push_back(setup.reference.load_cases[c].displacement);
   }
 }
 
-// Stage: the kept fit on the calibrated network, its warnings and the damping.
+}  // namespace
+
+namespace detail {
+
+void hold_particle_dofs(std::vector<int> particle_dofs, int dim, SpringMesh& mesh,
+                        std::vector<int>& extra_constrained) {
+  std::vector<int> held(mesh.network.positions.size(), 0);
+  std::sort(particle_dofs.begin(), particle_dofs.end());
+  particle_dofs.erase(std::unique(particle_dofs.begin(), particle_dofs.end()), particle_dofs.end());
+  for (int d : particle_dofs) ++held[d / dim];
+  for (size_t q = 0; q < held.size(); ++q) mesh.network.fixed[q] = held[q] == dim;
+  for (int d : particle_dofs)
+    if (held[d / dim] != dim) extra_constrained.push_back(d);
+}
+
 void apply_fit(const CalibrationSettings& settings, CalibrationResult& result) {
   const DisplacementFitResult& fit = result.fit_result;
   detail::set_fitted(result.mesh.network, fit, result.grouping);
@@ -153,7 +161,7 @@ void apply_fit(const CalibrationSettings& settings, CalibrationResult& result) {
     analysis::assign_damping_ratio(result.mesh.network, settings.damping_ratio);
 }
 
-}  // namespace
+}  // namespace detail
 
 CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationSettings& settings) {
   check_settings(problem, settings);
@@ -163,7 +171,7 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
     settings.progress("IGA reference: solving the load cases");
   auto start = std::chrono::steady_clock::now();
   FitSetup setup(problem);
-  setup.reference = reference_solution(problem, settings, setup.dofs);
+  setup.reference = reference_solution(problem, settings, *setup.dofs);
   result.reference_seconds = seconds_since(start);
 
   result.mesh = build_spring_mesh(problem, settings.mesh);
@@ -180,16 +188,18 @@ CalibrationResult calibrate(const analysis::Problem& problem, const CalibrationS
         "calibration.volume_terms / shear_terms or matrix_approach");
 
   start = std::chrono::steady_clock::now();
-  detail::SweepOutcome sweep = detail::sweep_gammas(problem, settings, result.mesh, setup, bounds);
+  detail::SweepOutcome sweep =
+      detail::sweep_gammas(problem.material, settings, result.mesh, setup, bounds);
   result.fit_seconds = seconds_since(start);
   result.sweep = std::move(sweep.entries);
   result.fit_result = std::move(sweep.fit);
   result.grouping = std::move(sweep.grouping);
   result.gamma = sweep.gamma;
-  apply_fit(settings, result);
+  detail::apply_fit(settings, result);
 
   // Faces inside the model (interfaces, seams, collapsed axes) are not its physical surface.
-  const std::vector<std::array<bool, 6>> inner = analysis::inner_sides(problem.patches, setup.dofs);
+  const std::vector<std::array<bool, 6>> inner =
+      analysis::inner_sides(problem.patches, *setup.dofs);
   detail::evaluate_cases(problem, settings, setup, inner, result.mesh.network, result.fit,
                          result.holdout);
   if (settings.matrix_approach)

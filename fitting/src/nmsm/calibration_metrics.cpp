@@ -34,8 +34,9 @@ std::vector<Eigen::Vector3d> model_points(const FitSetup& setup,
   const Eigen::VectorXd u =
       analysis::solve_spring_linear(network, setup.loads[c], setup.data.constrained_dofs)
           .displacement;
-  Eigen::VectorXd node_u(setup.dofs.num_dofs());
-  for (int a = 0; a < setup.dofs.num_nodes(); ++a)
+  const int nodes = static_cast<int>(setup.particle_of_node.size());
+  Eigen::VectorXd node_u(static_cast<Eigen::Index>(nodes) * dim);
+  for (int a = 0; a < nodes; ++a)
     node_u.segment(a * dim, dim) = u.segment(setup.particle_of_node[a] * dim, dim);
   return to_points(node_u, dim);
 }
@@ -58,8 +59,8 @@ void evaluate_cases(const analysis::Problem& problem, const CalibrationSettings&
     errors.id = problem.load_cases[c].id;
     errors.control = error_metrics(ref_points, model);
     if (settings.field_metrics) {
-      const auto ref_per_patch = per_patch(setup.dofs, ref_points);
-      const auto model_per_patch = per_patch(setup.dofs, model);
+      const auto ref_per_patch = per_patch(*setup.dofs, ref_points);
+      const auto model_per_patch = per_patch(*setup.dofs, model);
       errors.field = field_error_metrics(problem.patches, ref_per_patch, model_per_patch,
                                          settings.field_samples);
       errors.surface = surface_error_metrics(problem.patches, ref_per_patch, model_per_patch,

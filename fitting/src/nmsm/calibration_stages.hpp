@@ -3,6 +3,7 @@
 // and the helpers more than one of them uses. Private to the fitting module.
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,9 +21,12 @@ namespace isospring::fitting::detail {
 /// network with its supports and masses but no fitted stiffness; particle_of_node maps every
 /// DofMap node to its particle.
 struct FitSetup {
-  explicit FitSetup(const analysis::Problem& problem) : dofs(problem), dim(dofs.dofs_per_node()) {}
-  analysis::DofMap dofs;
-  int dim;  // dofs.dofs_per_node()
+  explicit FitSetup(const analysis::Problem& problem)
+      : dofs(std::in_place, problem), dim(dofs->dofs_per_node()) {}
+  /// An immersed model's (immersed_calibration.cpp): its nodes are the active control points.
+  explicit FitSetup(int dimension) : dim(dimension) {}
+  std::optional<analysis::DofMap> dofs;  // the body-fitted model's DOFs; empty when immersed
+  int dim;                               // displacement components per node
   analysis::StaticResult reference;
   std::vector<int> particle_of_node;
   DisplacementFitData data;
@@ -50,9 +54,24 @@ FitBounds fit_bounds(const analysis::Problem& problem, const CalibrationSettings
                      const SpringMesh& mesh, int dim);
 
 /// Stage: fits every gamma of the sweep (or settings.gamma alone) as SweepEntry describes and
-/// keeps the usable one of lowest error; throws when none is usable.
-SweepOutcome sweep_gammas(const analysis::Problem& problem, const CalibrationSettings& settings,
+/// keeps the usable one of lowest error; throws when none is usable. `material` scales the
+/// initial guess.
+SweepOutcome sweep_gammas(const analysis::Material& material, const CalibrationSettings& settings,
                           const SpringMesh& mesh, const FitSetup& setup, const FitBounds& bounds);
+
+/// The bound of every volume and shear term: 10 times the constrained modulus (see
+/// gamma_sweep.cpp); spring bounds are the caller's.
+double volume_term_bound(const analysis::Material& material, int dim);
+
+/// Stage: the kept fit of `result.fit_result` on the calibrated network, its warnings and the
+/// damping.
+void apply_fit(const CalibrationSettings& settings, CalibrationResult& result);
+
+/// Holds the particle DOFs `particle_dofs` (particle * dim + component, repeats allowed): a
+/// particle with every component held becomes fixed, the others' held components go to
+/// `extra_constrained` (sorted).
+void hold_particle_dofs(std::vector<int> particle_dofs, int dim, SpringMesh& mesh,
+                        std::vector<int>& extra_constrained);
 
 /// Stage: the metrics of `network` on the fitted and the held-out load cases (control points,
 /// and with settings.field_metrics the field and the physical surface, `inner` naming the sides

@@ -64,7 +64,7 @@ std::string gamma_text(double gamma) {
 
 // What every gamma's fit reads: sweep_gammas' arguments.
 struct SweepInputs {
-  const analysis::Problem& problem;
+  const analysis::Material& material;
   const CalibrationSettings& settings;
   const SpringMesh& mesh;
   const FitSetup& setup;
@@ -120,7 +120,7 @@ DisplacementFitResult fit_gamma(const SweepInputs& in, double gamma, const Group
   DisplacementFitOptions options;
   options.max_iterations = settings.max_iterations;
   options.min_stiffness_ratio = settings.min_stiffness_ratio;
-  options.youngs_modulus = in.problem.material.youngs_modulus;
+  options.youngs_modulus = in.material.youngs_modulus;
   report_iterations(settings, gamma, options);
   if (settings.per_spring) {
     // Start from the grouped optimum: the per-spring problem is large and underdetermined.
@@ -218,12 +218,16 @@ FitBounds fit_bounds(const analysis::Problem& problem, const CalibrationSettings
                      const SpringMesh& mesh, int dim) {
   FitBounds bounds;
   if (settings.upper_bounds) bounds.spring = stiffness_upper_bounds(problem, mesh);
-  // Volume terms: 10 times the constrained modulus lambda + 2 mu (per unit thickness in 2D), far
-  // above the kappa ~ lambda - mu a lattice needs; it only stops a runaway towards a rigid cell.
-  const double nu = problem.material.poisson_ratio;
-  bounds.volume = 10.0 * problem.material.youngs_modulus * (1.0 - nu) /
-                  ((1.0 + nu) * (1.0 - 2.0 * nu)) * (dim == 2 ? problem.material.thickness : 1.0);
+  bounds.volume = volume_term_bound(problem.material, dim);
   return bounds;
+}
+
+double volume_term_bound(const analysis::Material& material, int dim) {
+  // 10 times the constrained modulus lambda + 2 mu (per unit thickness in 2D), far above the
+  // kappa ~ lambda - mu a lattice needs; it only stops a runaway towards a rigid cell.
+  const double nu = material.poisson_ratio;
+  return 10.0 * material.youngs_modulus * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu)) *
+         (dim == 2 ? material.thickness : 1.0);
 }
 
 void set_fitted(analysis::SpringNetwork& network, const DisplacementFitResult& fit,
@@ -238,11 +242,11 @@ void set_fitted(analysis::SpringNetwork& network, const DisplacementFitResult& f
   }
 }
 
-SweepOutcome sweep_gammas(const analysis::Problem& problem, const CalibrationSettings& settings,
+SweepOutcome sweep_gammas(const analysis::Material& material, const CalibrationSettings& settings,
                           const SpringMesh& mesh, const FitSetup& setup, const FitBounds& bounds) {
   std::vector<double> gammas = settings.gamma_sweep;
   if (gammas.empty()) gammas.push_back(settings.gamma);
-  const SweepInputs inputs{problem, settings, mesh, setup, bounds};
+  const SweepInputs inputs{material, settings, mesh, setup, bounds};
   SweepOutcome outcome;
   std::vector<Grouping> rest_groupings;  // per sweep entry
   double best_score = INFINITY;

@@ -12,20 +12,11 @@
 #include "isospring/analysis/spring_strain_point.hpp"
 #include "isospring/analysis/spring_volume.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "nmsm/net_springs.hpp"
 
 namespace isospring::fitting {
 
 namespace {
-
-double bounding_box_diagonal(const std::vector<Eigen::Vector3d>& points) {
-  if (points.empty()) return 0.0;
-  Eigen::Vector3d lo = points.front(), hi = points.front();
-  for (const auto& p : points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  return (hi - lo).norm();
-}
 
 // Union of coincident points: sort along x and compare within the tolerance window, so the cost is
 // O(n log n) for nets without large clusters of equal x.
@@ -59,6 +50,16 @@ std::vector<int> merge_coincident(const std::vector<Eigen::Vector3d>& points, do
   return result;
 }
 
+// A patch's control net through the mesh's particles (every point carries one).
+detail::NetView patch_net(const nurbs::Patch& patch, const std::vector<int>& particle) {
+  detail::NetView net;
+  for (int d = 0; d < patch.param_dim(); ++d) net.n[static_cast<size_t>(d)] = patch.num_points(d);
+  net.particle = [&patch, &particle](int i, int j, int k) {
+    return particle[static_cast<size_t>(patch.index(i, j, k))];
+  };
+  return net;
+}
+
 // One volume term per net cell of every patch, corners in tensor order; cells whose |volume| is
 // below 1e-12 diagonal^dim (collapsed corners: round-off of a zero volume) are skipped.
 void add_cell_volume_terms(const analysis::Problem& problem, double diagonal,
@@ -72,28 +73,10 @@ void add_cell_volume_terms(const analysis::Problem& problem, double diagonal,
       throw nurbs::InputError("spring mesh: volume terms need patches of the model's dimension (" +
                               std::to_string(dim) + "); patch " + std::to_string(p) + " has " +
                               std::to_string(patch.param_dim()));
-    const int n[3] = {patch.num_points(0), patch.num_points(1), dim == 3 ? patch.num_points(2) : 2};
-    for (int k = 0; k + 1 < n[2]; ++k)
-      for (int j = 0; j + 1 < n[1]; ++j)
-        for (int i = 0; i + 1 < n[0]; ++i) {
-          analysis::VolumeTerm term;
-          term.kind = kind;
-          for (int a = 0; a < analysis::volume_corners(dim); ++a)
-            term.particles[static_cast<size_t>(a)] = mesh.particle[p][patch.index(
-                i + (a & 1), j + ((a >> 1) & 1), dim == 3 ? k + ((a >> 2) & 1) : 0)];
-          term.rest_volume = analysis::rest_cell_volume(net, term);
-          if (!(std::abs(term.rest_volume) > 1e-12 * std::pow(diagonal, dim))) {
-            ++degenerate;
-            continue;
-          }
-          net.volumes.push_back(term);
-        }
+    degenerate += detail::add_net_cell_terms(patch_net(patch, mesh.particle[p]), kind,
+                                             1e-12 * std::pow(diagonal, dim), net);
   }
-  if (degenerate > 0)
-    mesh.warnings.push_back(std::string("skipped the ") +
-                            (kind == analysis::CellEnergy::kShear ? "shear" : "volume") +
-                            " terms of " + std::to_string(degenerate) +
-                            " net cells of zero volume (collapsed corners)");
+  if (degenerate > 0) mesh.warnings.push_back(detail::skipped_cells_warning(degenerate, kind));
 }
 
 // A volume and a shear strain-point term at every site of every patch (spring_strain_point.hpp),
@@ -163,7 +146,8 @@ SpringMesh build_spring_mesh(const analysis::Problem& problem, const SpringMeshO
   }
   const analysis::DofMap dofs(problem);
   const auto& node_positions = dofs.node_positions();
-  const double tolerance = options.relative_tolerance * bounding_box_diagonal(node_positions);
+  const double tolerance =
+      options.relative_tolerance * detail::bounding_box_diagonal(node_positions);
 
   std::vector<int> particle_of(static_cast<size_t>(dofs.num_nodes()));
   std::iota(particle_of.begin(), particle_of.end(), 0);
@@ -196,50 +180,19 @@ SpringMesh build_spring_mesh(const analysis::Problem& problem, const SpringMeshO
     throw nurbs::InputError("spring mesh: reach must be 1 (net cells) or 2");
   std::set<std::pair<int, int>> pairs;
   int collapsed = 0;
-  for (size_t p = 0; p < problem.patches.size(); ++p) {
-    const nurbs::Patch& patch = problem.patches[p];
-    const int n[3] = {patch.num_points(0), patch.num_points(1),
-                      patch.param_dim() == 3 ? patch.num_points(2) : 1};
-    int block[3], starts[3];
-    for (int d = 0; d < 3; ++d) {
-      block[d] = std::min(options.reach + 1, n[d]);
-      starts[d] = n[d] - block[d] + 1;
-    }
-    for (int k = 0; k < starts[2]; ++k)
-      for (int j = 0; j < starts[1]; ++j)
-        for (int i = 0; i < starts[0]; ++i) {
-          std::vector<int> corners;
-          for (int dk = 0; dk < block[2]; ++dk)
-            for (int dj = 0; dj < block[1]; ++dj)
-              for (int di = 0; di < block[0]; ++di)
-                corners.push_back(mesh.particle[p][patch.index(i + di, j + dj, k + dk)]);
-          for (size_t a = 0; a < corners.size(); ++a)
-            for (size_t b = a + 1; b < corners.size(); ++b) {
-              const int s = std::min(corners[a], corners[b]), t = std::max(corners[a], corners[b]);
-              if (s == t || (net.positions[s] - net.positions[t]).norm() <= tolerance) {
-                ++collapsed;
-                continue;
-              }
-              pairs.emplace(s, t);
-            }
-        }
-  }
-  for (const auto& [s, t] : pairs) {
-    analysis::Spring spring;
-    spring.i = s;
-    spring.j = t;
-    spring.rest_length = (net.positions[s] - net.positions[t]).norm();
-    net.springs.push_back(spring);
-  }
+  for (size_t p = 0; p < problem.patches.size(); ++p)
+    detail::collect_block_pairs(patch_net(problem.patches[p], mesh.particle[p]), options.reach,
+                                net.positions, tolerance, pairs, collapsed);
+  detail::add_springs(pairs, net);
   if (collapsed > 0)
     mesh.warnings.push_back("skipped " + std::to_string(collapsed) +
                             " zero-length corner pairs of degenerate (collapsed) net cells; they "
                             "have no direction and cannot carry a spring");
   if (options.volume_terms)
-    add_cell_volume_terms(problem, bounding_box_diagonal(node_positions),
+    add_cell_volume_terms(problem, detail::bounding_box_diagonal(node_positions),
                           analysis::CellEnergy::kVolume, mesh);
   if (options.shear_terms)
-    add_cell_volume_terms(problem, bounding_box_diagonal(node_positions),
+    add_cell_volume_terms(problem, detail::bounding_box_diagonal(node_positions),
                           analysis::CellEnergy::kShear, mesh);
   if (options.strain_points > 0) add_strain_point_terms(problem, options.strain_points, mesh);
   return mesh;
