@@ -228,6 +228,7 @@ std::vector<LargeDeformationCase> evaluate_large_deformation(
         mine.push_back(m);
       }
       out.control = error_metrics(ref, mine);
+      for (size_t a = 0; a < ref.size(); ++a) out.node_error.push_back(mine[a] - ref[a]);
     }
     cases.push_back(std::move(out));
   }
@@ -245,7 +246,12 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
   if (settings.progress)
     settings.progress("finite-strain IGA references: " + std::to_string(scaled.load_cases.size()) +
                       " scaled load cases");
-  const std::vector<Eigen::VectorXd> references = finite_strain_references(scaled, large.law);
+  analysis::NonlinearOptions nonlinear;
+  nonlinear.material = large.law;
+  std::vector<analysis::NonlinearLoadCaseResult> solved =
+      analysis::solve_static_nonlinear(scaled, nonlinear);
+  std::vector<Eigen::VectorXd> references;
+  for (const auto& r : solved) references.push_back(r.displacement);
   result.reference_seconds = seconds_since(start);
 
   start = std::chrono::steady_clock::now();
@@ -325,6 +331,9 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
       std::vector<Eigen::VectorXd>(references.begin(),
                                    references.begin() + static_cast<std::ptrdiff_t>(fitted_cases)));
   for (size_t c = 0; c < result.fitted.size(); ++c) result.fitted[c].load_factor = factors[c];
+  result.scaled_cases = reached_cases.load_cases;
+  solved.resize(fitted_cases);
+  result.references = std::move(solved);
   return result;
 }
 

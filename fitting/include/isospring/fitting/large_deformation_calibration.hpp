@@ -45,6 +45,7 @@ struct LargeDeformationCase {
   double percent_eps_g = 0.0;  // %eps_G of the finite-strain reference
   bool solved = false;         // the spring model found an equilibrium (else control is empty)
   ErrorMetrics control;        // the model's nonlinear equilibrium on the control points
+  std::vector<Eigen::Vector3d> node_error;  // u_model - u_ref per DofMap node (when solved)
 };
 
 struct LargeDeformationResult {
@@ -59,6 +60,10 @@ struct LargeDeformationResult {
   /// equilibrium at a later one, when `stopped` says so and the fit up to this one is kept.
   double reached_amplitude = 0.0;
   std::string stopped;
+  /// The fitted cases as scaled and their finite-strain references, amplitude-major, up to the
+  /// reached amplitude (ids "id@amplitude", as in `fitted`).
+  std::vector<analysis::LoadCase> scaled_cases;
+  std::vector<analysis::NonlinearLoadCaseResult> references;
   double reference_seconds = 0.0;  // linear and nonlinear IGA solves
   double fit_seconds = 0.0;        // linear start and nonlinear fit
 };
