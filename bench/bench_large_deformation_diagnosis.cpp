@@ -43,10 +43,9 @@ struct State {
 // benches' nets have at most a few hundred DOFs).
 Eigen::Vector2d extreme_eigenvalues(const Eigen::SparseMatrix<double>& m) {
   const Eigen::MatrixXd dense(m);
-  const Eigen::VectorXd ev =
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (dense + dense.transpose()),
-                                                     Eigen::EigenvaluesOnly)
-          .eigenvalues();
+  const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(
+                                 0.5 * (dense + dense.transpose()), Eigen::EigenvaluesOnly)
+                                 .eigenvalues();
   return {ev.minCoeff(), ev.maxCoeff()};
 }
 
@@ -103,8 +102,8 @@ std::vector<Eigen::VectorXd> particle_forces(const analysis::Problem& problem,
   std::vector<Eigen::VectorXd> forces;
   for (const auto& lc : problem.load_cases) {
     const Eigen::VectorXd node_load = analysis::assemble_load(problem, dofs, lc);
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(
-        static_cast<Eigen::Index>(model.network.positions.size()) * dim);
+    Eigen::VectorXd f =
+        Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.network.positions.size()) * dim);
     for (size_t a = 0; a < model.particle_of_node.size(); ++a)
       f.segment(model.particle_of_node[a] * dim, dim) +=
           node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
@@ -136,7 +135,8 @@ void diagnose(const char* label, const analysis::Problem& problem,
   const FreeDofSet dofs(static_cast<int>(network.positions.size()) * network.dimension,
                         analysis::constrained_dofs(network, model.extra_constrained));
   const Eigen::VectorXd x0 = analysis::flat_positions(network);
-  const Eigen::Vector2d rest = extreme_eigenvalues(dofs.restrict(analysis::tangent_stiffness(network, x0)));
+  const Eigen::Vector2d rest =
+      extreme_eigenvalues(dofs.restrict(analysis::tangent_stiffness(network, x0)));
   std::printf("  %s: rest tangent eigenvalues min %.3e max %.3e (ratio %.2e)\n", label, rest[0],
               rest[1], rest[0] / rest[1]);
   const auto forces = particle_forces(problem, model);
@@ -175,7 +175,8 @@ void run_object(benchmark::State& state, int dims, int elements) {
     const analysis::Problem suite = bench_large::suite_problem(dims, elements, training, test);
     const double strains[3] = {0.03, 0.15, 0.30}, degrees[3] = {5, 20, 40};
     std::vector<bench_large::HeldOut> held;
-    for (int a = 0; a < 3; ++a) held.push_back(bench_large::held_out(suite, test, strains[a], degrees[a]));
+    for (int a = 0; a < 3; ++a)
+      held.push_back(bench_large::held_out(suite, test, strains[a], degrees[a]));
     // The net cells of the control net, for V/V0 whatever the model's terms.
     fitting::SpringMeshOptions cell_options;
     cell_options.volume_terms = true;
@@ -188,8 +189,8 @@ void run_object(benchmark::State& state, int dims, int elements) {
         at20.load_cases.push_back(lc);
     const std::vector<double> factors = fitting::load_factors_for_eps_g(at20, {}, 20.0);
     for (size_t c = 0; c < factors.size(); ++c)
-      at20.load_cases[c] = fitting::scaled_load_case(at20.load_cases[c], factors[c],
-                                                     at20.load_cases[c].id + "@20");
+      at20.load_cases[c] =
+          fitting::scaled_load_case(at20.load_cases[c], factors[c], at20.load_cases[c].id + "@20");
     const std::vector<Eigen::VectorXd> at20_references =
         fitting::finite_strain_references(at20, analysis::HyperelasticMaterial::kNeoHookean);
     for (bool terms : {false, true}) {
@@ -205,8 +206,8 @@ void run_object(benchmark::State& state, int dims, int elements) {
       large.amplitudes = {5.0, 20.0};
       const fitting::LargeDeformationResult nonlinear =
           fitting::calibrate_large_deformation(suite, settings, large);
-      std::printf("  large deformation: reached %%eps_G %g %s; groups:", nonlinear.reached_amplitude,
-                  nonlinear.stopped.c_str());
+      std::printf("  large deformation: reached %%eps_G %g %s; groups:",
+                  nonlinear.reached_amplitude, nonlinear.stopped.c_str());
       for (size_t g = 0; g < nonlinear.fit.group_stiffness.size(); ++g)
         std::printf(" %.3g (linear start %.3g)", nonlinear.fit.group_stiffness[g],
                     nonlinear.start.fit_result.group_stiffness[g]);

@@ -44,7 +44,8 @@ inline analysis::Problem block(int dims, int elements) {
 }
 
 // Control points of the free end (side u1) and their rest positions.
-inline std::vector<Vector3d> end_points(const analysis::Problem& problem, std::vector<int>& indices) {
+inline std::vector<Vector3d> end_points(const analysis::Problem& problem,
+                                        std::vector<int>& indices) {
   indices = analysis::side_control_points(problem.patches[0], 0, 1);
   std::vector<Vector3d> x;
   for (int i : indices) x.push_back(problem.patches[0].control_point(i));
@@ -57,7 +58,7 @@ struct EndMotion {
   double strain = 0, rotation = 0;
 };
 inline EndMotion end_motion(const analysis::Problem& problem, const std::vector<Vector3d>& u_end,
-                     const Vector3d& axis) {
+                            const Vector3d& axis) {
   std::vector<int> indices;
   const std::vector<Vector3d> x = end_points(problem, indices);
   Vector3d c = Vector3d::Zero(), cd = Vector3d::Zero();
@@ -78,7 +79,7 @@ inline EndMotion end_motion(const analysis::Problem& problem, const std::vector<
 }
 
 inline std::vector<Vector3d> end_displacements(const analysis::Problem& problem,
-                                        const std::vector<std::vector<Vector3d>>& control) {
+                                               const std::vector<std::vector<Vector3d>>& control) {
   std::vector<int> indices;
   end_points(problem, indices);
   std::vector<Vector3d> u;
@@ -94,8 +95,8 @@ struct HeldOut {
 
 // The end's stretch (x traction), bending (traction along the last axis) and twist (in 2D the
 // in-plane moment) scaled by the linear solution to `strain` and `degrees`.
-inline HeldOut held_out(const analysis::Problem& suite, const std::vector<std::string>& ids, double strain,
-                 double degrees) {
+inline HeldOut held_out(const analysis::Problem& suite, const std::vector<std::string>& ids,
+                        double strain, double degrees) {
   const bool solid = suite.formulation == analysis::Formulation::kSolid;
   HeldOut out;
   out.problem = suite;

@@ -156,11 +156,26 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
   fitting::CalibrationSettings& s = request.settings;
   if (calibration.is_null()) return request;
   const Fields f(case_json::Field(calibration, file, "calibration"));
-  f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
-                 "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
-                 "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
-                 "target_percent_e_rms", "generalisation", "volume_terms", "shear_terms",
-                 "strain_points", "max_step_us", "amplitudes"});
+  f.expect_only({"fit_load_cases",
+                 "holdout_load_cases",
+                 "grouping",
+                 "regularization",
+                 "mass",
+                 "damping_alpha",
+                 "damping_ratio",
+                 "upper_bounds",
+                 "merge_coincident",
+                 "max_iterations",
+                 "field_samples",
+                 "matrix_approach",
+                 "acceleration_objective",
+                 "target_percent_e_rms",
+                 "generalisation",
+                 "volume_terms",
+                 "shear_terms",
+                 "strain_points",
+                 "max_step_us",
+                 "amplitudes"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)

@@ -34,25 +34,24 @@ json read_json(const std::string& path) {
 // stretch and bending fitted, a shear load on the top side held out (as given: about 12 %
 // of %eps_G under the neo-Hookean law).
 json square_case() {
-  return {
-      {"schema_version", 1},
-      {"name", "large_square"},
-      {"units", "SI"},
-      {"geometry", {{"type", "square"}, {"size", 0.1}}},
-      {"discretization", {{"degree", 2}, {"elements", {2, 2}}}},
-      {"analysis", {{"type", "plane_strain"}}},
-      {"material",
-       {{"E", 15000.0}, {"nu", 1.0 / 3.0}, {"density", 1143.0}, {"model", "neo_hookean"}}},
-      {"boundary", {{{"side", "u0"}, {"fix", {"x", "y"}}}}},
-      {"load_cases",
-       {{{"id", "u1_x"}, {"tractions", {{{"side", "u1"}, {"value", {1000.0, 0.0}}}}}},
-        {{"id", "u1_y"}, {"tractions", {{{"side", "u1"}, {"value", {0.0, -300.0}}}}}},
-        {{"id", "v1_x"}, {"tractions", {{{"side", "v1"}, {"value", {600.0, 0.0}}}}}}}},
-      {"calibration",
-       {{"fit_load_cases", {"u1_x", "u1_y"}},
-        {"holdout_load_cases", {"v1_x"}},
-        {"grouping", {{"gamma", 0.2}}},
-        {"amplitudes", {2, 8}}}}};
+  return {{"schema_version", 1},
+          {"name", "large_square"},
+          {"units", "SI"},
+          {"geometry", {{"type", "square"}, {"size", 0.1}}},
+          {"discretization", {{"degree", 2}, {"elements", {2, 2}}}},
+          {"analysis", {{"type", "plane_strain"}}},
+          {"material",
+           {{"E", 15000.0}, {"nu", 1.0 / 3.0}, {"density", 1143.0}, {"model", "neo_hookean"}}},
+          {"boundary", {{{"side", "u0"}, {"fix", {"x", "y"}}}}},
+          {"load_cases",
+           {{{"id", "u1_x"}, {"tractions", {{{"side", "u1"}, {"value", {1000.0, 0.0}}}}}},
+            {{"id", "u1_y"}, {"tractions", {{{"side", "u1"}, {"value", {0.0, -300.0}}}}}},
+            {{"id", "v1_x"}, {"tractions", {{{"side", "v1"}, {"value", {600.0, 0.0}}}}}}}},
+          {"calibration",
+           {{"fit_load_cases", {"u1_x", "u1_y"}},
+            {"holdout_load_cases", {"v1_x"}},
+            {"grouping", {{"gamma", 0.2}}},
+            {"amplitudes", {2, 8}}}}};
 }
 
 }  // namespace
@@ -129,27 +128,32 @@ TEST(CalibrateLargeDeformation, HeldOutErrorIsTheWrittenModelsNonlinearEquilibri
 TEST(CalibrateLargeDeformation, UnsupportedCombinationsAreRefusedNamingTheField) {
   TemporaryFolder out;
   const std::vector<std::pair<std::string, json>> cases = {
-      {"calibration.amplitudes", [] {
+      {"calibration.amplitudes",
+       [] {
          json c = square_case();
          c["calibration"].erase("amplitudes");
          return c;
        }()},
-      {"calibration.amplitudes", [] {
+      {"calibration.amplitudes",
+       [] {
          json c = square_case();
          c["material"].erase("model");
          return c;
        }()},
-      {"calibration.amplitudes[1]", [] {
+      {"calibration.amplitudes[1]",
+       [] {
          json c = square_case();
          c["calibration"]["amplitudes"] = {8, 2};
          return c;
        }()},
-      {"calibration.matrix_approach", [] {
+      {"calibration.matrix_approach",
+       [] {
          json c = square_case();
          c["calibration"]["matrix_approach"] = true;
          return c;
        }()},
-      {"calibration.grouping.per_spring", [] {
+      {"calibration.grouping.per_spring",
+       [] {
          json c = square_case();
          c["calibration"]["grouping"] = "per_spring";
          return c;

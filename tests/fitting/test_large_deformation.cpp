@@ -9,6 +9,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "isospring/analysis/spring_network.hpp"
 #include "isospring/fitting/large_deformation_calibration.hpp"
 #include "isospring/fitting/load_suite.hpp"
 #include "isospring/fitting/nonlinear_displacement_fit.hpp"
@@ -177,6 +178,44 @@ TEST(LargeDeformation, FitsLargeLoadsBetterAndMeasuresHeldOutEndLoads) {
   // the large-deformation fit stops paying off.
   EXPECT_LT(fitted_large, fitted_linear - 0.6);
   EXPECT_LT(held_large, held_linear - 3.0);
+}
+
+TEST(LargeDeformation, EquilibriumPastTheLimitPointIsTheSnappedThroughOne) {
+  // Von Mises truss: supports at (-1, 0) and (1, 0), apex at (0, h), two springs k = 1. Its
+  // limit load is about 0.043; under P = 0.2 downwards the only equilibrium is snapped through,
+  // y* < -h with (l - L0) y / l = -P / 2 (k = 1), l = sqrt(1 + y^2): a scalar root found here
+  // by bisection. Newton on |r| stalls at the limit point (singular tangent); minimising the
+  // potential with a shifted tangent crosses it.
+  const double h = 0.5, load = 0.2;
+  analysis::SpringNetwork net;
+  net.dimension = 2;
+  net.positions = {{-1, 0, 0}, {1, 0, 0}, {0, h, 0}};
+  net.masses = {1, 1, 1};
+  net.fixed = {true, true, false};
+  const double rest = std::sqrt(1 + h * h);
+  for (int i : {0, 1}) {
+    analysis::Spring spring;
+    spring.i = i;
+    spring.j = 2;
+    spring.stiffness = 1.0;
+    spring.rest_length = rest;
+    net.springs.push_back(spring);
+  }
+  auto balance = [&](double y) {
+    const double l = std::sqrt(1 + y * y);
+    return (l - rest) * y / l + load / 2;
+  };
+  double lo = -100.0, hi = -h;  // balance(lo) < 0 < balance(hi) = P / 2
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (balance(mid) < 0 ? lo : hi) = mid;
+  }
+  const double y_star = 0.5 * (lo + hi);
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(6), u;
+  force[5] = -load;
+  ASSERT_TRUE(spring_equilibrium(net, force, {}, u));
+  EXPECT_NEAR(u[4], 0.0, 1e-9);
+  EXPECT_NEAR(u[5], y_star - h, 1e-9 * std::abs(y_star)) << "y* = " << y_star;
 }
 
 TEST(LargeDeformation, BadInputNamesTheField) {

@@ -55,9 +55,9 @@ TEST(CalibrationSettings, GeneralisationDefaultsToTheLoadSuiteWithoutFitCases) {
 
 TEST(CalibrationSettings, AmplitudesAreAListOrAMaximumWithSteps) {
   EXPECT_TRUE(read_calibration_settings(nullptr, "case.json").amplitudes.empty());
-  EXPECT_EQ(read_calibration_settings(json::parse(R"({"amplitudes": [5, 20]})"), "case.json")
-                .amplitudes,
-            (std::vector<double>{5.0, 20.0}));
+  EXPECT_EQ(
+      read_calibration_settings(json::parse(R"({"amplitudes": [5, 20]})"), "case.json").amplitudes,
+      (std::vector<double>{5.0, 20.0}));
   EXPECT_EQ(read_calibration_settings(json::parse(R"({"amplitudes": {"max": 20, "steps": 4}})"),
                                       "case.json")
                 .amplitudes,

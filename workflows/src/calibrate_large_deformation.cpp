@@ -47,8 +47,7 @@ void refuse_unsupported(const io::Case& c, const io::CalibrationRequest& request
   if (request.matrix_approach_given && request.matrix_approach)
     throw nurbs::InputError(where + "matrix_approach: not available" + why + "; remove it");
   if (request.acceleration_objective_given && request.acceleration_objective)
-    throw nurbs::InputError(where + "acceleration_objective: not available" + why +
-                            "; remove it");
+    throw nurbs::InputError(where + "acceleration_objective: not available" + why + "; remove it");
 }
 
 // The case's held-out load cases (calibration.holdout_load_cases), as given; every named case
@@ -85,8 +84,8 @@ fitting::CaseErrors case_errors(const analysis::Problem& problem, const analysis
   Controls model = reference;
   for (size_t p = 0; p < model.size(); ++p)
     for (size_t i = 0; i < model[p].size(); ++i)
-      model[p][i] += e.node_error[static_cast<size_t>(
-          dofs.node(static_cast<int>(p), static_cast<int>(i)))];
+      model[p][i] +=
+          e.node_error[static_cast<size_t>(dofs.node(static_cast<int>(p), static_cast<int>(i)))];
   e.field = fitting::field_error_metrics(problem.patches, reference, model, samples);
   e.surface = fitting::surface_error_metrics(problem.patches, reference, model, samples,
                                              analysis::inner_sides(problem.patches, dofs));
@@ -144,7 +143,8 @@ CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::Calibrati
   large.law = *c.nonlinear_material;
   large.amplitudes = request.amplitudes;
   const analysis::Problem held = held_out_problem(c.problem, settings);
-  fitting::LargeDeformationResult fit = fitting::calibrate_large_deformation(c.problem, settings, large);
+  fitting::LargeDeformationResult fit =
+      fitting::calibrate_large_deformation(c.problem, settings, large);
 
   // The problem of the outputs: the fitted cases as scaled, then the held-out cases as given.
   analysis::Problem problem = c.problem;
@@ -160,7 +160,8 @@ CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::Calibrati
   summary.amplitudes = large.amplitudes;
   summary.reached_amplitude = fit.reached_amplitude;
   summary.stopped = fit.stopped;
-  for (const auto& r : fit.references) summary.reference_controls.push_back(r.control_displacements);
+  for (const auto& r : fit.references)
+    summary.reference_controls.push_back(r.control_displacements);
   std::vector<Eigen::VectorXd> held_references;
   if (!held.load_cases.empty()) {
     progress("finite-strain IGA references of the " + std::to_string(held.load_cases.size()) +
@@ -216,8 +217,8 @@ CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::Calibrati
     const int dim = d.dofs_per_node();
     for (const auto& lc : p.load_cases) {
       const Eigen::VectorXd node_load = analysis::assemble_load(p, d, lc);
-      Eigen::VectorXd f = Eigen::VectorXd::Zero(
-          static_cast<Eigen::Index>(network.positions.size()) * dim);
+      Eigen::VectorXd f =
+          Eigen::VectorXd::Zero(static_cast<Eigen::Index>(network.positions.size()) * dim);
       for (size_t a = 0; a < fit.model.particle_of_node.size(); ++a)
         f.segment(fit.model.particle_of_node[a] * dim, dim) +=
             node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);

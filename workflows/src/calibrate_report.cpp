@@ -63,14 +63,14 @@ std::string protocol_text(const fitting::CalibrationSettings& s,
 }
 
 std::string large_deformation_protocol(const fitting::CalibrationResult& r,
-                                      const LargeDeformationSummary& large) {
+                                       const LargeDeformationSummary& large) {
   std::string amplitudes;
-  for (double a : large.amplitudes) amplitudes += (amplitudes.empty() ? "" : ", ") + format_number(a);
+  for (double a : large.amplitudes)
+    amplitudes += (amplitudes.empty() ? "" : ", ") + format_number(a);
   return "Large-deformation calibration: every fitted load case scaled to %eps_G " + amplitudes +
          " (mean spring stretch of the control net under the linear solution) and solved by the " +
-         large.law +
-         " IGA; springs grouped by rest length, gamma " + format_number(r.gamma) + " (" +
-         std::to_string(r.parameters) +
+         large.law + " IGA; springs grouped by rest length, gamma " + format_number(r.gamma) +
+         " (" + std::to_string(r.parameters) +
          " groups), fitted by Levenberg-Marquardt on log-stiffnesses to the finite-strain "
          "displacements with the springs' nonlinear static equilibrium as the response "
          "(implicit-function Jacobian), continued from each amplitude to the next, starting "
@@ -302,16 +302,16 @@ MarkdownReport calibrate_report_markdown(const CalibrateCommandResult& r,
     md.heading(2, "Large deformation: per amplitude");
     std::vector<std::vector<std::string>> arows;
     for (const auto& row : r.large_deformation->rows)
-      arows.push_back({format_number(row.amplitude), format_number(row.reference_percent_eps_g, 3),
-                       std::to_string(row.cases), format_number(row.worst_percent_e_rms, 4),
-                       format_number(row.percent_e_rms, 4),
-                       format_number(row.start_worst_percent_e_rms, 4) +
-                           (row.start_without_equilibrium > 0
-                                ? " (" + std::to_string(row.start_without_equilibrium) +
-                                      " without equilibrium)"
-                                : "")});
-    md.table({"target %eps_G", "reference %eps_G", "fitted cases", "worst %e_rms",
-              "rms %e_rms", "worst %e_rms of the linear start"},
+      arows.push_back(
+          {format_number(row.amplitude), format_number(row.reference_percent_eps_g, 3),
+           std::to_string(row.cases), format_number(row.worst_percent_e_rms, 4),
+           format_number(row.percent_e_rms, 4),
+           format_number(row.start_worst_percent_e_rms, 4) +
+               (row.start_without_equilibrium > 0
+                    ? " (" + std::to_string(row.start_without_equilibrium) + " without equilibrium)"
+                    : "")});
+    md.table({"target %eps_G", "reference %eps_G", "fitted cases", "worst %e_rms", "rms %e_rms",
+              "worst %e_rms of the linear start"},
              arows);
     md.paragraph(
         "Fitted cases \"id@a\": the case scaled to %eps_G a, solved by the " +

@@ -5,11 +5,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/spring_mechanics.hpp"
+#include "isospring/analysis/spring_volume.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/fitting/nonlinear_displacement_fit.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -127,6 +130,123 @@ analysis::Problem scaled_problem(const analysis::Problem& problem,
     }
   }
   return scaled;
+}
+
+// The net cells of the control net (a volume term per cell, whatever the model's own terms),
+// to tell a deformed cell from an inverted one.
+std::vector<analysis::VolumeTerm> net_cells(const analysis::Problem& problem,
+                                            const SpringMeshOptions& mesh) {
+  SpringMeshOptions with_cells = mesh;
+  with_cells.volume_terms = true;
+  with_cells.shear_terms = false;
+  with_cells.strain_points = 0;
+  std::vector<analysis::VolumeTerm> cells;
+  for (const auto& t : build_spring_mesh(problem, with_cells).network.volumes)
+    if (t.kind == analysis::CellEnergy::kVolume && t.points.empty()) cells.push_back(t);
+  return cells;
+}
+
+// The smallest V / V0 over the cells at the flat configuration x (1 without cells).
+double min_volume_ratio(const std::vector<analysis::VolumeTerm>& cells, const Eigen::VectorXd& x,
+                        int dim) {
+  double ratio = 1.0;
+  for (const auto& t : cells)
+    ratio = std::min(ratio, analysis::cell_volume(t, x, dim) / t.rest_volume);
+  return ratio;
+}
+
+// The first fitted case whose equilibrium by `network` (from rest) is not found, inverts a net
+// cell, or misses its reference by more than the reference's own motion (%e_rms > 100: the net
+// settled on another branch, e.g. collapsed, rather than approximating the solid); "" when none.
+std::string collapsed_case(const analysis::SpringNetwork& network,
+                           const std::vector<analysis::VolumeTerm>& cells,
+                           const DisplacementFitData& data, const std::vector<std::string>& ids) {
+  const Eigen::VectorXd x0 = analysis::flat_positions(network);
+  const int dim = network.dimension;
+  const auto nodes = static_cast<Eigen::Index>(data.particle_of_node.size());
+  for (size_t c = 0; c < data.loads.size(); ++c) {
+    Eigen::VectorXd u;
+    if (!spring_equilibrium(network, data.loads[c], data.constrained_dofs, u))
+      return ids[c] + " is not found";
+    std::ostringstream out;
+    out << std::setprecision(3);
+    const double ratio = min_volume_ratio(cells, x0 + u, dim);
+    if (!(ratio > 0.0)) {
+      out << ids[c] << " inverts a net cell (V/V0 = " << ratio
+          << "): the net folds through itself where the solid does not";
+      return out.str();
+    }
+    double o_max = 0.0, sum = 0.0;
+    for (Eigen::Index a = 0; a < nodes; ++a) {
+      const Eigen::VectorXd ref = data.references[c].segment(a * dim, dim);
+      o_max = std::max(o_max, ref.norm());
+      sum +=
+          (u.segment(data.particle_of_node[static_cast<size_t>(a)] * dim, dim) - ref).squaredNorm();
+    }
+    const double e_rms = 100.0 * std::sqrt(sum / static_cast<double>(nodes)) / o_max;
+    if (!(e_rms <= 100.0)) {
+      out << ids[c] << " is " << e_rms
+          << " %e_rms off its reference (more than the reference's own motion: another branch "
+             "of equilibria)";
+      return out.str();
+    }
+  }
+  return "";
+}
+
+// Continuation in amplitude: the cases up to each amplitude in turn, each fit starting from
+// the previous one's stiffnesses, so that every fit starts where its loads have an equilibrium.
+// An amplitude is kept when its fit succeeds and the fitted springs' equilibrium under every
+// fitted case (from rest, as evaluated and as an engine starts) is on the solid's branch
+// (collapsed_case): an inverted cell is the net folding through itself (a central-spring cell
+// and its mirror image have the same spring lengths), which the solid's references never do, and
+// one such case dominates the least squares and drags every other case's fit. At the first
+// amplitude that fails, the fit up to the previous one is kept and `stopped` says why.
+void continue_in_amplitude(const analysis::Problem& scaled, const CalibrationSettings& settings,
+                           const LargeDeformationSettings& large, const DisplacementFitData& data,
+                           DisplacementFitOptions options, LargeDeformationResult& result) {
+  const size_t per_amplitude = data.references.size() / large.amplitudes.size();
+  const std::vector<analysis::VolumeTerm> cells = net_cells(scaled, settings.mesh);
+  std::vector<std::string> ids;
+  for (const auto& lc : scaled.load_cases) ids.push_back(lc.id);
+  double reached = 0.0;
+  for (size_t k = 0; k < large.amplitudes.size(); ++k) {
+    const double amplitude = large.amplitudes[k];  // ascending (check_settings)
+    DisplacementFitData stage = data;
+    stage.loads.resize((k + 1) * per_amplitude);
+    stage.references.resize((k + 1) * per_amplitude);
+    if (settings.progress)
+      settings.progress("large-deformation fit (nonlinear springs) up to %eps_G " +
+                        amplitude_label(amplitude));
+    std::string failure;
+    DisplacementFitResult fit;
+    try {
+      fit = fit_displacements_nonlinear(stage, options);
+      analysis::SpringNetwork fitted = data.network;
+      for (size_t s = 0; s < fitted.springs.size(); ++s)
+        fitted.springs[s].stiffness = fit.spring_stiffness[s];
+      for (size_t v = 0; v < fitted.volumes.size(); ++v)
+        fitted.volumes[v].modulus = fit.volume_modulus[v];
+      const std::string collapsed = collapsed_case(fitted, cells, stage, ids);
+      if (!collapsed.empty()) failure = "the fitted springs' equilibrium under " + collapsed;
+    } catch (const std::runtime_error& e) {
+      failure = std::string("no spring equilibrium under the fitted loads (") + e.what() + ")";
+    }
+    if (!failure.empty()) {
+      if (reached > 0.0) {  // keep the fit that reached the previous amplitude, and say so
+        result.stopped = "at %eps_G " + amplitude_label(amplitude) + " " + failure +
+                         "; fitted up to " + amplitude_label(reached);
+        return;
+      }
+      throw std::runtime_error("calibration.amplitudes: at %eps_G " + amplitude_label(amplitude) +
+                               " " + failure +
+                               "; use smaller amplitudes or volume and shear terms");
+    }
+    result.fit = fit;
+    reached = amplitude;
+    result.reached_amplitude = amplitude;
+    options.initial = result.fit.group_stiffness;
+  }
 }
 
 }  // namespace
@@ -278,41 +398,7 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
     options.on_iteration = [&settings](int it, double cost) {
       settings.iteration("large-deformation fit", it, cost);
     };
-  // Continuation in amplitude: the cases up to each amplitude in turn, each fit starting from
-  // the previous one's stiffnesses, so that every fit starts where its loads have an
-  // equilibrium (a large amplitude may have none at the linear start: cells collapse).
-  const size_t per_amplitude = references.size() / large.amplitudes.size();
-  double reached = 0.0;
-  for (size_t k = 0; k < large.amplitudes.size(); ++k) {
-    const double amplitude = large.amplitudes[k];  // ascending (check_settings)
-    DisplacementFitData stage = data;
-    stage.loads.resize((k + 1) * per_amplitude);
-    stage.references.resize((k + 1) * per_amplitude);
-    if (settings.progress)
-      settings.progress("large-deformation fit (nonlinear springs) up to %eps_G " +
-                        amplitude_label(amplitude));
-    try {
-      result.fit = fit_displacements_nonlinear(stage, options);
-    } catch (const std::runtime_error& e) {
-      if (reached > 0.0) {  // keep the fit that reached the previous amplitude, and say so
-        result.stopped = "no spring equilibrium under the fitted loads at %eps_G " +
-                         amplitude_label(amplitude) + "; fitted up to " + amplitude_label(reached) +
-                         " (" + e.what() + ")";
-        break;
-      }
-      throw std::runtime_error(
-          "calibration.amplitudes: the spring model finds no equilibrium under the fitted loads "
-          "at %eps_G " +
-          amplitude_label(amplitude) +
-          (reached > 0.0 ? " (fitted up to " + amplitude_label(reached) + ")" : "") +
-          ": its cells collapse before the solid's do; use smaller amplitudes or volume and "
-          "shear terms (" +
-          e.what() + ")");
-    }
-    reached = amplitude;
-    result.reached_amplitude = amplitude;
-    options.initial = result.fit.group_stiffness;
-  }
+  continue_in_amplitude(scaled, settings, large, data, options, result);
   result.fit_seconds = seconds_since(start);
 
   auto& network = result.model.network;
@@ -321,10 +407,12 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
   for (size_t v = 0; v < network.volumes.size(); ++v)
     network.volumes[v].modulus = result.fit.volume_modulus[v];
   analysis::Problem reached_cases = scaled;
+  const size_t per_amplitude = references.size() / large.amplitudes.size();
   const size_t fitted_cases =
       per_amplitude *
-      static_cast<size_t>(std::find(large.amplitudes.begin(), large.amplitudes.end(), reached) -
-                          large.amplitudes.begin() + 1);
+      static_cast<size_t>(
+          std::find(large.amplitudes.begin(), large.amplitudes.end(), result.reached_amplitude) -
+          large.amplitudes.begin() + 1);
   reached_cases.load_cases.resize(fitted_cases);
   result.fitted = evaluate_large_deformation(
       reached_cases, result.model,

@@ -56,8 +56,10 @@ struct LargeDeformationResult {
   DisplacementFitResult fit;   // the nonlinear fit
   /// Per fitted case and amplitude ("id@amplitude"), the model against its reference.
   std::vector<LargeDeformationCase> fitted;
-  /// The largest amplitude fitted: the last of `amplitudes` unless the spring model found no
-  /// equilibrium at a later one, when `stopped` says so and the fit up to this one is kept.
+  /// The largest amplitude fitted: the last of `amplitudes` unless at a later one the fit found
+  /// no spring equilibrium or the fitted springs' equilibrium (from rest) under a fitted case
+  /// inverts a net cell (V/V0 <= 0: the net folds through itself, which the solid's reference
+  /// never does); then `stopped` says which case and the fit up to this one is kept.
   double reached_amplitude = 0.0;
   std::string stopped;
   /// The fitted cases as scaled and their finite-strain references, amplitude-major, up to the

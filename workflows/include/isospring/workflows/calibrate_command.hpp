@@ -28,7 +28,7 @@ namespace isospring::workflows {
 /// One amplitude of a large-deformation calibration: its fitted cases (the case's fitted load
 /// cases scaled to this %eps_G) by the calibrated model's nonlinear equilibrium.
 struct LargeDeformationAmplitude {
-  double amplitude = 0.0;                // target %eps_G
+  double amplitude = 0.0;  // target %eps_G
   int cases = 0;
   double worst_percent_e_rms = 0.0;      // largest %e_rms over its cases
   double percent_e_rms = 0.0;            // root mean square of their %e_rms
@@ -41,11 +41,11 @@ struct LargeDeformationAmplitude {
 
 /// With a finite-strain material.model (fitting::calibrate_large_deformation).
 struct LargeDeformationSummary {
-  std::string law;                  // "neo_hookean" or "svk"
-  std::vector<double> amplitudes;   // calibration.amplitudes
-  double reached_amplitude = 0.0;   // the largest fitted (see stopped)
-  std::string stopped;              // why the fit stopped before the last amplitude ("": it did not)
-  std::vector<LargeDeformationAmplitude> rows;  // per amplitude reached
+  std::string law;                 // "neo_hookean" or "svk"
+  std::vector<double> amplitudes;  // calibration.amplitudes
+  double reached_amplitude = 0.0;  // the largest fitted (see stopped)
+  std::string stopped;             // why the fit stopped before the last amplitude ("": it did not)
+  std::vector<LargeDeformationAmplitude> rows;           // per amplitude reached
   std::vector<std::string> holdout_without_equilibrium;  // left out of `holdout`
   /// Per load case of CalibrateCommandResult::problem: the finite-strain reference's control
   /// displacements [patch][control point] (the viewer's reference fields).
