@@ -184,8 +184,8 @@ TEST(LargeDeformation, EquilibriumPastTheLimitPointIsTheSnappedThroughOne) {
   // Von Mises truss: supports at (-1, 0) and (1, 0), apex at (0, h), two springs k = 1. Its
   // limit load is about 0.043; under P = 0.2 downwards the only equilibrium is snapped through,
   // y* < -h with (l - L0) y / l = -P / 2 (k = 1), l = sqrt(1 + y^2): a scalar root found here
-  // by bisection. Newton on |r| stalls at the limit point (singular tangent); minimising the
-  // potential with a shifted tangent crosses it.
+  // by bisection. The load path from rest crosses the limit point (singular tangent) and an
+  // unstable branch (indefinite tangent) on its way there.
   const double h = 0.5, load = 0.2;
   analysis::SpringNetwork net;
   net.dimension = 2;

@@ -124,6 +124,43 @@ std::vector<LargeDeformationAmplitude> amplitude_rows(
   return rows;
 }
 
+// Every load case of `problem` as forces on the model's particles (model.json's load cases).
+std::vector<Eigen::VectorXd> particle_loads(const analysis::Problem& problem,
+                                            const fitting::SpringModelOnProblem& model) {
+  std::vector<Eigen::VectorXd> loads;
+  const analysis::DofMap dofs(problem);
+  const int dim = dofs.dofs_per_node();
+  for (const auto& lc : problem.load_cases) {
+    const Eigen::VectorXd node_load = analysis::assemble_load(problem, dofs, lc);
+    Eigen::VectorXd f =
+        Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.network.positions.size()) * dim);
+    for (size_t a = 0; a < model.particle_of_node.size(); ++a)
+      f.segment(model.particle_of_node[a] * dim, dim) +=
+          node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
+    loads.push_back(f);
+  }
+  return loads;
+}
+
+// The held-out cases' finite-strain references (DofMap vectors), their control displacements
+// appended to `summary`'s viewer references.
+std::vector<Eigen::VectorXd> held_out_references(const analysis::Problem& held,
+                                                 analysis::HyperelasticMaterial law,
+                                                 LargeDeformationSummary& summary,
+                                                 const io::Progress& progress) {
+  std::vector<Eigen::VectorXd> references;
+  if (held.load_cases.empty()) return references;
+  progress("finite-strain IGA references of the " + std::to_string(held.load_cases.size()) +
+           " held-out load cases");
+  analysis::NonlinearOptions options;
+  options.material = law;
+  for (auto& r : analysis::solve_static_nonlinear(held, options)) {
+    references.push_back(r.displacement);
+    summary.reference_controls.push_back(r.control_displacements);
+  }
+  return references;
+}
+
 }  // namespace
 
 CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::CalibrationRequest request,
@@ -162,17 +199,8 @@ CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::Calibrati
   summary.stopped = fit.stopped;
   for (const auto& r : fit.references)
     summary.reference_controls.push_back(r.control_displacements);
-  std::vector<Eigen::VectorXd> held_references;
-  if (!held.load_cases.empty()) {
-    progress("finite-strain IGA references of the " + std::to_string(held.load_cases.size()) +
-             " held-out load cases");
-    analysis::NonlinearOptions options;
-    options.material = large.law;
-    for (auto& r : analysis::solve_static_nonlinear(held, options)) {
-      held_references.push_back(r.displacement);
-      summary.reference_controls.push_back(r.control_displacements);
-    }
-  }
+  const std::vector<Eigen::VectorXd> held_references =
+      held_out_references(held, large.law, summary, progress);
   // The linear start's nonlinear equilibrium on the fitted cases: what the nonlinear fit buys.
   analysis::Problem scaled = c.problem;
   scaled.load_cases = fit.scaled_cases;
@@ -195,8 +223,9 @@ CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::Calibrati
   if (!fit.stopped.empty()) result.warnings.push_back(fit.stopped);
   const size_t n_fitted = fit.scaled_cases.size();
   for (size_t k = 0; k < n_fitted; ++k)
-    result.fit.push_back(case_errors(problem, dofs, fit.fitted[k], summary.reference_controls[k],
-                                     settings.field_samples));
+    if (fit.fitted[k].solved)  // always, under the continuation's rule; guarded all the same
+      result.fit.push_back(case_errors(problem, dofs, fit.fitted[k], summary.reference_controls[k],
+                                       settings.field_samples));
   const std::vector<fitting::LargeDeformationCase> evaluated =
       fitting::evaluate_large_deformation(held, fit.model, held_references);
   for (size_t k = 0; k < evaluated.size(); ++k) {
@@ -210,23 +239,7 @@ CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::Calibrati
                                          summary.reference_controls[n_fitted + k],
                                          settings.field_samples));
   }
-  // Loads of model.json: every case of the outputs' problem on the particles.
-  const auto particle_loads = [&](const analysis::Problem& p) {
-    std::vector<Eigen::VectorXd> loads;
-    const analysis::DofMap d(p);
-    const int dim = d.dofs_per_node();
-    for (const auto& lc : p.load_cases) {
-      const Eigen::VectorXd node_load = analysis::assemble_load(p, d, lc);
-      Eigen::VectorXd f =
-          Eigen::VectorXd::Zero(static_cast<Eigen::Index>(network.positions.size()) * dim);
-      for (size_t a = 0; a < fit.model.particle_of_node.size(); ++a)
-        f.segment(fit.model.particle_of_node[a] * dim, dim) +=
-            node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
-      loads.push_back(f);
-    }
-    return loads;
-  };
-  result.particle_loads = particle_loads(problem);
+  result.particle_loads = particle_loads(problem, fit.model);
   for (const auto& lc : problem.load_cases) result.load_ids.push_back(lc.id);
 
   double worst_fitted = 0.0, worst_holdout = 0.0;
