@@ -90,6 +90,18 @@ void run_object(benchmark::State& state, int dims, int elements) {
             fitting::calibrate_large_deformation(suite, settings, large);
         models.push_back(nonlinear.model);
         if (!nonlinear.stopped.empty()) std::printf("  (large: %s)\n", nonlinear.stopped.c_str());
+        std::printf("  (large: groups");
+        for (size_t g = 0; g < nonlinear.fit.group_stiffness.size(); ++g)
+          std::printf(" %.3g (start %.3g, linear %.3g)", nonlinear.fit.group_stiffness[g],
+                      nonlinear.start.fit_result.group_stiffness[g],
+                      linear.fit_result.group_stiffness[g]);
+        std::printf("; %d at the lower bound; started from the %s; fitted %%e_rms per case:",
+                    nonlinear.fit.groups_at_lower_bound,
+                    nonlinear.started_from_linear_references ? "linear references' calibration"
+                                                             : "finite-strain references' fit");
+        for (const auto& c : nonlinear.fitted)
+          std::printf(" %s %.1f", c.id.c_str(), c.control.percent_e_rms);
+        std::printf(")\n");
         std::printf("  (large: %d fitted cases, references %.1f s, fit %.1f s, %d iterations)\n",
                     static_cast<int>(nonlinear.fitted.size()), nonlinear.reference_seconds,
                     nonlinear.fit_seconds, nonlinear.fit.iterations);

@@ -12,7 +12,8 @@
 //
 // Stages: linear references for the scaling; nonlinear references; calibrate() on the scaled
 // cases with those references (mesh, masses, supports, gamma: a linear fit to the finite-strain
-// data) as the start; the nonlinear fit from there. At small amplitude the finite-strain
+// data) and on their linear references; the nonlinear fit from whichever of the two explains
+// the first amplitude better, continued in amplitude. At small amplitude the finite-strain
 // reference and the spring equilibrium both tend to their linearisations, so the result tends to
 // the linear calibration.
 #include <string>
@@ -52,6 +53,10 @@ struct LargeDeformationResult {
   /// calibrate() on the scaled cases against the finite-strain references (linear springs):
   /// the mesh, grouping and gamma, and the start of the nonlinear fit.
   CalibrationResult start;
+  /// The nonlinear fit started from the linear calibration on LINEAR references of the same
+  /// cases instead of `start`: it explained the first amplitude's finite-strain cases better by
+  /// its nonlinear equilibrium (`start` keeps the mesh and grouping either way).
+  bool started_from_linear_references = false;
   SpringModelOnProblem model;  // the nonlinear fit's stiffnesses
   DisplacementFitResult fit;   // the nonlinear fit
   /// Per fitted case and amplitude ("id@amplitude"), the model against its reference.
