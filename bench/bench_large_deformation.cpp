@@ -39,6 +39,7 @@ double worst(const HeldOut& h, const SpringModelOnProblem& model, int& failures,
       continue;
     }
     w = std::max(w, cases[c].control.percent_e_rms);
+    std::printf("    [%s %.2f]", cases[c].id.c_str(), cases[c].control.percent_e_rms);
     // The equilibrium's particle positions from the node errors and the reference.
     const Eigen::VectorXd x0 = analysis::flat_positions(model.network);
     Eigen::VectorXd x = x0;
