@@ -118,6 +118,36 @@ void parse_generalisation(const case_json::Field& g, bool fit_given, Calibration
   request.generalisation = o;
 }
 
+// "amplitudes": a list of %eps_G, each > 0 and larger than the one before, or {"max": m,
+// "steps": n} for m / n, 2 m / n, ..., m.
+std::vector<double> parse_amplitudes(const case_json::Field& field) {
+  std::vector<double> amplitudes;
+  if (field.json().is_object()) {
+    const Fields f(field);
+    f.expect_only({"max", "steps"});
+    if (!f.has("max")) f.fail("max", "is required: the largest %eps_G, e.g. 20");
+    const double max = f.at("max").within(0.0, 100.0, false, false);
+    const int steps = f.integer("steps", 1, 1);
+    for (int k = 1; k <= steps; ++k) amplitudes.push_back(max * k / steps);
+    return amplitudes;
+  }
+  if (!field.json().is_array() || field.json().empty())
+    throw nurbs::InputError(field.where() +
+                            ": must be a list of %eps_G in percent, e.g. [5, 20], or "
+                            "{\"max\": 20, \"steps\": 4}");
+  amplitudes = field.numbers_within(0.0, 100.0);
+  for (size_t i = 0; i < amplitudes.size(); ++i) {
+    if (!(amplitudes[i] > 0.0))
+      throw nurbs::InputError(field.where() + "[" + std::to_string(i) +
+                              "]: must be > 0 (a target %eps_G in percent)");
+    if (i > 0 && !(amplitudes[i] > amplitudes[i - 1]))
+      throw nurbs::InputError(field.where() + "[" + std::to_string(i) +
+                              "]: must be larger than the one before (the fit continues from "
+                              "each amplitude to the next)");
+  }
+  return amplitudes;
+}
+
 }  // namespace
 
 CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
@@ -126,11 +156,26 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
   fitting::CalibrationSettings& s = request.settings;
   if (calibration.is_null()) return request;
   const Fields f(case_json::Field(calibration, file, "calibration"));
-  f.expect_only({"fit_load_cases", "holdout_load_cases", "grouping", "regularization", "mass",
-                 "damping_alpha", "damping_ratio", "upper_bounds", "merge_coincident",
-                 "max_iterations", "field_samples", "matrix_approach", "acceleration_objective",
-                 "target_percent_e_rms", "generalisation", "volume_terms", "shear_terms",
-                 "strain_points", "max_step_us"});
+  f.expect_only({"fit_load_cases",
+                 "holdout_load_cases",
+                 "grouping",
+                 "regularization",
+                 "mass",
+                 "damping_alpha",
+                 "damping_ratio",
+                 "upper_bounds",
+                 "merge_coincident",
+                 "max_iterations",
+                 "field_samples",
+                 "matrix_approach",
+                 "acceleration_objective",
+                 "target_percent_e_rms",
+                 "generalisation",
+                 "volume_terms",
+                 "shear_terms",
+                 "strain_points",
+                 "max_step_us",
+                 "amplitudes"});
   s.fit_cases = f.strings("fit_load_cases");
   s.holdout_cases = f.strings("holdout_load_cases");
   for (const auto& id : s.holdout_cases)
@@ -171,7 +216,10 @@ CalibrationRequest read_calibration_settings(const nlohmann::json& calibration,
     f.fail("matrix_approach",
            "fits central springs only and cannot compare a model with volume_terms, "
            "shear_terms or strain_points; set it to false");
+  request.matrix_approach_given = f.has("matrix_approach");
   request.acceleration_objective = f.boolean("acceleration_objective", true);
+  request.acceleration_objective_given = f.has("acceleration_objective");
+  if (f.has("amplitudes")) request.amplitudes = parse_amplitudes(f.at("amplitudes"));
   request.target_percent_e_rms = f.number("target_percent_e_rms", 0.0, 0.0, false);
   // A budget per engine step [us]: the most accurate model kind within it (step_cost.hpp).
   s.max_step_us = f.number("max_step_us", 0.0, 0.0, false);

@@ -6,9 +6,11 @@
 // input names the field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
+#include "isospring/analysis/spring_network.hpp"
 #include "isospring/fitting/large_deformation_calibration.hpp"
 #include "isospring/fitting/load_suite.hpp"
 #include "isospring/fitting/nonlinear_displacement_fit.hpp"
@@ -39,15 +41,16 @@ analysis::Problem cube_with_suite(std::vector<std::string>& training,
   return problem;
 }
 
-TEST(LargeDeformation, JacobianOfTheNonlinearFitMatchesFiniteDifferences) {
-  // Data: the neo-Hookean reference of an oblique end load at %eps_G = 15 and a twist.
-  analysis::Problem problem = cube();
+// The implicit-function Jacobian of the nonlinear fit against central differences, the model
+// with volume and shear terms, on the neo-Hookean references of `ids` (suite cases) at
+// %eps_G = 15.
+void check_jacobian(analysis::Problem problem, const std::vector<std::string>& ids) {
   LoadSuiteOptions suite_options;
   suite_options.validation = false;
   suite_options.self_weight = false;
   for (const auto& lc : generate_load_suite(problem, suite_options).cases)
-    if (lc.id == "p0_u1_z" || lc.id == "p0_u1_twist") problem.load_cases.push_back(lc);
-  ASSERT_EQ(problem.load_cases.size(), 2u);
+    if (std::find(ids.begin(), ids.end(), lc.id) != ids.end()) problem.load_cases.push_back(lc);
+  ASSERT_EQ(problem.load_cases.size(), ids.size());
   SpringMeshOptions mesh;
   mesh.volume_terms = true;
   mesh.shear_terms = true;
@@ -95,6 +98,16 @@ TEST(LargeDeformation, JacobianOfTheNonlinearFitMatchesFiniteDifferences) {
   const double scale = jacobian.cwiseAbs().maxCoeff();
   EXPECT_GT(scale, 1e-3);
   EXPECT_LT(worst, 1e-6 * scale) << "worst |J - FD| " << worst << " of max |J| " << scale;
+}
+
+TEST(LargeDeformation, JacobianOfTheNonlinearFitMatchesFiniteDifferences) {
+  // An oblique end load and a twist of the cube.
+  check_jacobian(cube(), {"p0_u1_z", "p0_u1_twist"});
+}
+
+TEST(LargeDeformation, JacobianOfTheNonlinearFitMatchesFiniteDifferencesInPlaneStrain) {
+  // The 5^2 square in plane strain: a load across the top side and an in-plane moment on it.
+  check_jacobian(testing::grid_problem({5, 5}, {0.1, 0.1}), {"p0_v1_y", "p0_v1_twist"});
 }
 
 TEST(LargeDeformation, SmallAmplitudeRecoversTheLinearCalibration) {
@@ -177,6 +190,44 @@ TEST(LargeDeformation, FitsLargeLoadsBetterAndMeasuresHeldOutEndLoads) {
   // the large-deformation fit stops paying off.
   EXPECT_LT(fitted_large, fitted_linear - 0.6);
   EXPECT_LT(held_large, held_linear - 3.0);
+}
+
+TEST(LargeDeformation, EquilibriumPastTheLimitPointIsTheSnappedThroughOne) {
+  // Von Mises truss: supports at (-1, 0) and (1, 0), apex at (0, h), two springs k = 1. Its
+  // limit load is about 0.043; under P = 0.2 downwards the only equilibrium is snapped through,
+  // y* < -h with (l - L0) y / l = -P / 2 (k = 1), l = sqrt(1 + y^2): a scalar root found here
+  // by bisection. The load path from rest crosses the limit point (singular tangent) and an
+  // unstable branch (indefinite tangent) on its way there.
+  const double h = 0.5, load = 0.2;
+  analysis::SpringNetwork net;
+  net.dimension = 2;
+  net.positions = {{-1, 0, 0}, {1, 0, 0}, {0, h, 0}};
+  net.masses = {1, 1, 1};
+  net.fixed = {true, true, false};
+  const double rest = std::sqrt(1 + h * h);
+  for (int i : {0, 1}) {
+    analysis::Spring spring;
+    spring.i = i;
+    spring.j = 2;
+    spring.stiffness = 1.0;
+    spring.rest_length = rest;
+    net.springs.push_back(spring);
+  }
+  auto balance = [&](double y) {
+    const double l = std::sqrt(1 + y * y);
+    return (l - rest) * y / l + load / 2;
+  };
+  double lo = -100.0, hi = -h;  // balance(lo) < 0 < balance(hi) = P / 2
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (balance(mid) < 0 ? lo : hi) = mid;
+  }
+  const double y_star = 0.5 * (lo + hi);
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(6), u;
+  force[5] = -load;
+  ASSERT_TRUE(spring_equilibrium(net, force, {}, u));
+  EXPECT_NEAR(u[4], 0.0, 1e-9);
+  EXPECT_NEAR(u[5], y_star - h, 1e-9 * std::abs(y_star)) << "y* = " << y_star;
 }
 
 TEST(LargeDeformation, BadInputNamesTheField) {

@@ -53,6 +53,30 @@ TEST(CalibrationSettings, GeneralisationDefaultsToTheLoadSuiteWithoutFitCases) {
   EXPECT_EQ(r.generalisation->folds, 4);
 }
 
+TEST(CalibrationSettings, AmplitudesAreAListOrAMaximumWithSteps) {
+  EXPECT_TRUE(read_calibration_settings(nullptr, "case.json").amplitudes.empty());
+  EXPECT_EQ(
+      read_calibration_settings(json::parse(R"({"amplitudes": [5, 20]})"), "case.json").amplitudes,
+      (std::vector<double>{5.0, 20.0}));
+  EXPECT_EQ(read_calibration_settings(json::parse(R"({"amplitudes": {"max": 20, "steps": 4}})"),
+                                      "case.json")
+                .amplitudes,
+            (std::vector<double>{5.0, 10.0, 15.0, 20.0}));
+  EXPECT_EQ(read_calibration_settings(json::parse(R"({"amplitudes": {"max": 7}})"), "case.json")
+                .amplitudes,
+            (std::vector<double>{7.0}));
+  EXPECT_NE(error_of(json::parse(R"({"amplitudes": [20, 5]})")).find("amplitudes[1]"),
+            std::string::npos);
+  EXPECT_NE(error_of(json::parse(R"({"amplitudes": [0, 5]})")).find("amplitudes[0]"),
+            std::string::npos);
+  EXPECT_NE(error_of(json::parse(R"({"amplitudes": []})")).find("calibration.amplitudes"),
+            std::string::npos);
+  EXPECT_NE(error_of(json::parse(R"({"amplitudes": {"steps": 3}})")).find("amplitudes.max"),
+            std::string::npos);
+  EXPECT_NE(error_of(json::parse(R"({"amplitudes": {"max": 20, "steps": 0}})")).find("steps"),
+            std::string::npos);
+}
+
 TEST(CalibrationSettings, BadFieldsNameTheFileTheFieldAndTheFix) {
   EXPECT_NE(error_of(json::parse(R"({"gama": 0.1})")).find("case.json: calibration.gama: unknown"),
             std::string::npos);

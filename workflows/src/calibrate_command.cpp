@@ -6,6 +6,8 @@
 #include "isospring/nurbs/error.hpp"
 #include "isospring/workflows/calibrate_command.hpp"
 
+#include "calibrate_large_deformation.hpp"
+
 namespace isospring::workflows {
 // The use cases read and write io's formats; io's names are used unqualified here.
 using namespace isospring::io;
@@ -19,14 +21,14 @@ std::vector<std::string> calibrate_output_files(const std::vector<std::string>& 
 }
 
 CalibrateCommandResult run_calibrate(Case c, const Progress& progress) {
-  if (c.nonlinear_material)
-    throw nurbs::InputError(
-        c.file.filename().string() +
-        ": material.model: the calibrate command fits linear references; a finite-strain "
-        "calibration is the library call fitting::calibrate_large_deformation (docs/"
-        "calibration.md, large-deformation calibration). Set \"model\": \"linear\" to "
-        "calibrate here");
   CalibrationRequest request = read_calibration_settings(c.calibration, c.file.string());
+  if (c.nonlinear_material)
+    return run_calibrate_large_deformation(std::move(c), std::move(request), progress);
+  if (!request.amplitudes.empty())
+    throw nurbs::InputError(c.file.filename().string() +
+                            ": calibration.amplitudes: the amplitudes of a large-deformation "
+                            "calibration need a finite-strain material.model (\"neo_hookean\" "
+                            "or \"svk\"); remove them to calibrate linearly");
   fitting::CalibrationSettings& settings = request.settings;
   settings.matrix_approach = request.matrix_approach;
   if (!progress.quiet()) {

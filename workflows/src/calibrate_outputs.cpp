@@ -52,9 +52,13 @@ nlohmann::json write_calibrate_outputs(const std::filesystem::path& out_dir,
   write_spring_network_vtp(out_dir / "springs.vtp", network, vectors);
   // The reference again for the viewer fields (the calibration keeps only the errors): the same
   // deterministic solve, so model = reference + error is the fitted model's response.
+  // At large deformation the finite-strain references kept by the calibration.
   std::vector<std::vector<std::vector<Eigen::Vector3d>>> reference;
-  for (const auto& lc : analysis::solve_static(r.problem).load_cases)
-    reference.push_back(lc.control_displacements);
+  if (r.large_deformation)
+    reference = r.large_deformation->reference_controls;
+  else
+    for (const auto& lc : analysis::solve_static(r.problem).load_cases)
+      reference.push_back(lc.control_displacements);
   const CalibrationOutputs outputs =
       write_calibration_outputs(out_dir, r.problem, result, reference);
   report["vtk_file"] = "result.vtm";

@@ -62,6 +62,41 @@ std::string protocol_text(const fitting::CalibrationSettings& s,
   return text;
 }
 
+std::string large_deformation_protocol(const fitting::CalibrationResult& r,
+                                       const LargeDeformationSummary& large) {
+  std::string amplitudes;
+  for (double a : large.amplitudes)
+    amplitudes += (amplitudes.empty() ? "" : ", ") + format_number(a);
+  return "Large-deformation calibration: every fitted load case scaled to %eps_G " + amplitudes +
+         " (mean spring stretch of the control net under the linear solution) and solved by the " +
+         large.law + " IGA; springs grouped by rest length, gamma " + format_number(r.gamma) +
+         " (" + std::to_string(r.parameters) +
+         " groups), fitted by Levenberg-Marquardt on log-stiffnesses to the finite-strain "
+         "displacements with the springs' nonlinear static equilibrium as the response "
+         "(implicit-function Jacobian), continued from each amplitude to the next, starting "
+         "from the linear fit to the same references. Held-out cases are taken as given and "
+         "solved by the same law. Errors are on the control points (o_max: largest reference "
+         "control-point displacement).";
+}
+
+nlohmann::json large_deformation_json(const LargeDeformationSummary& large) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& row : large.rows)
+    rows.push_back({{"amplitude", row.amplitude},
+                    {"cases", row.cases},
+                    {"worst_percent_e_rms", row.worst_percent_e_rms},
+                    {"percent_e_rms", row.percent_e_rms},
+                    {"reference_percent_eps_g", row.reference_percent_eps_g},
+                    {"linear_start_worst_percent_e_rms", row.start_worst_percent_e_rms},
+                    {"linear_start_without_equilibrium", row.start_without_equilibrium}});
+  return {{"law", large.law},
+          {"amplitudes", large.amplitudes},
+          {"reached_amplitude", large.reached_amplitude},
+          {"stopped", large.stopped.empty() ? nlohmann::json() : nlohmann::json(large.stopped)},
+          {"per_amplitude", rows},
+          {"holdout_without_equilibrium", large.holdout_without_equilibrium}};
+}
+
 }  // namespace
 
 nlohmann::json calibrate_report_json(const CalibrateCommandResult& r) {
@@ -74,7 +109,11 @@ nlohmann::json calibrate_report_json(const CalibrateCommandResult& r) {
   const std::optional<fitting::GeneralisationResult>& generalisation = r.generalisation;
   nlohmann::json report = report_header("calibrate", isospring_version(), r.input);
   report["case"] = r.case_summary;
-  report["protocol"] = protocol_text(settings, result);
+  report["protocol"] = r.large_deformation
+                           ? large_deformation_protocol(result, *r.large_deformation)
+                           : protocol_text(settings, result);
+  report["large_deformation"] =
+      r.large_deformation ? large_deformation_json(*r.large_deformation) : nlohmann::json();
   report["particles"] = network.positions.size();
   report["springs"] = network.springs.size();
   // Net-cell terms; a strain point (one volume and one shear term) is counted apart.
@@ -259,6 +298,29 @@ MarkdownReport calibrate_report_markdown(const CalibrateCommandResult& r,
       "fields of both models sampled over the whole parameter domain; surface: sampled on the "
       "boundary faces of volume patches without interfaces, seams and collapsed sides (in 2D "
       "the membrane is the surface: the field values), what a viewer or a marker sees.");
+  if (r.large_deformation) {
+    md.heading(2, "Large deformation: per amplitude");
+    std::vector<std::vector<std::string>> arows;
+    for (const auto& row : r.large_deformation->rows)
+      arows.push_back(
+          {format_number(row.amplitude), format_number(row.reference_percent_eps_g, 3),
+           std::to_string(row.cases), format_number(row.worst_percent_e_rms, 4),
+           format_number(row.percent_e_rms, 4),
+           format_number(row.start_worst_percent_e_rms, 4) +
+               (row.start_without_equilibrium > 0
+                    ? " (" + std::to_string(row.start_without_equilibrium) + " without equilibrium)"
+                    : "")});
+    md.table({"target %eps_G", "reference %eps_G", "fitted cases", "worst %e_rms", "rms %e_rms",
+              "worst %e_rms of the linear start"},
+             arows);
+    md.paragraph(
+        "Fitted cases \"id@a\": the case scaled to %eps_G a, solved by the " +
+        r.large_deformation->law +
+        " IGA; the spring model's response is its nonlinear static equilibrium. The linear "
+        "start is the linear fit to the same references, also by its nonlinear equilibrium." +
+        (r.large_deformation->stopped.empty() ? std::string()
+                                              : " Stopped: " + r.large_deformation->stopped));
+  }
   md.paragraph(std::to_string(network.positions.size()) + " particles, " +
                std::to_string(network.springs.size()) + " springs, " +
                std::to_string(result.parameters) + " stiffness parameters; " +

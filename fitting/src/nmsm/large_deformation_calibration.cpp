@@ -5,11 +5,15 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
+#include "isospring/analysis/spring_mechanics.hpp"
+#include "isospring/analysis/spring_volume.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/fitting/nonlinear_displacement_fit.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -129,6 +133,164 @@ analysis::Problem scaled_problem(const analysis::Problem& problem,
   return scaled;
 }
 
+// The net cells of the control net (a volume term per cell, whatever the model's own terms),
+// to tell a deformed cell from an inverted one.
+std::vector<analysis::VolumeTerm> net_cells(const analysis::Problem& problem,
+                                            const SpringMeshOptions& mesh) {
+  SpringMeshOptions with_cells = mesh;
+  with_cells.volume_terms = true;
+  with_cells.shear_terms = false;
+  with_cells.strain_points = 0;
+  std::vector<analysis::VolumeTerm> cells;
+  for (const auto& t : build_spring_mesh(problem, with_cells).network.volumes)
+    if (t.kind == analysis::CellEnergy::kVolume && t.points.empty()) cells.push_back(t);
+  return cells;
+}
+
+// The smallest V / V0 over the cells at the flat configuration x (1 without cells).
+double min_volume_ratio(const std::vector<analysis::VolumeTerm>& cells, const Eigen::VectorXd& x,
+                        int dim) {
+  double ratio = 1.0;
+  for (const auto& t : cells)
+    ratio = std::min(ratio, analysis::cell_volume(t, x, dim) / t.rest_volume);
+  return ratio;
+}
+
+// The first fitted case whose equilibrium by `network` (from rest) is not found, inverts a net
+// cell, or misses its reference by more than the reference's own motion (%e_rms > 100: the net
+// settled on another branch, e.g. collapsed, rather than approximating the solid); "" when none.
+std::string collapsed_case(const analysis::SpringNetwork& network,
+                           const std::vector<analysis::VolumeTerm>& cells,
+                           const DisplacementFitData& data, const std::vector<std::string>& ids) {
+  const Eigen::VectorXd x0 = analysis::flat_positions(network);
+  const int dim = network.dimension;
+  const auto nodes = static_cast<Eigen::Index>(data.particle_of_node.size());
+  for (size_t c = 0; c < data.loads.size(); ++c) {
+    Eigen::VectorXd u;
+    if (!spring_equilibrium(network, data.loads[c], data.constrained_dofs, u))
+      return ids[c] + " is not found";
+    std::ostringstream out;
+    out << std::setprecision(3);
+    const double ratio = min_volume_ratio(cells, x0 + u, dim);
+    if (!(ratio > 0.0)) {
+      out << ids[c] << " inverts a net cell (V/V0 = " << ratio
+          << "): the net folds through itself where the solid does not";
+      return out.str();
+    }
+    double o_max = 0.0, sum = 0.0;
+    for (Eigen::Index a = 0; a < nodes; ++a) {
+      const Eigen::VectorXd ref = data.references[c].segment(a * dim, dim);
+      o_max = std::max(o_max, ref.norm());
+      sum +=
+          (u.segment(data.particle_of_node[static_cast<size_t>(a)] * dim, dim) - ref).squaredNorm();
+    }
+    const double e_rms = 100.0 * std::sqrt(sum / static_cast<double>(nodes)) / o_max;
+    if (!(e_rms <= 100.0)) {
+      out << ids[c] << " is " << e_rms
+          << " %e_rms off its reference (more than the reference's own motion: another branch "
+             "of equilibria)";
+      return out.str();
+    }
+  }
+  return "";
+}
+
+// The nonlinear objective (sum of squared residuals) of the first `cases` fitted cases at the
+// group stiffnesses k; infinity when an equilibrium is not found.
+double first_stage_cost(const DisplacementFitData& data, size_t cases, const Grouping& grouping,
+                        const std::vector<double>& k) {
+  DisplacementFitData first = data;
+  first.loads.resize(cases);
+  first.references.resize(cases);
+  Eigen::VectorXd theta(static_cast<Eigen::Index>(k.size())), r;
+  for (size_t g = 0; g < k.size(); ++g) theta[static_cast<Eigen::Index>(g)] = std::log(k[g]);
+  if (!theta.allFinite() || !nonlinear_displacement_residuals(first, grouping, theta, r, nullptr))
+    return std::numeric_limits<double>::infinity();
+  return r.squaredNorm();
+}
+
+// Two linear starts share the mesh and grouping: the linear fit to the finite-strain references
+// (result.start) and the linear calibration on the LINEAR references of the same cases (what
+// `calibrate` fits). A linear model fitted to displacements at 20 % strain can put groups at
+// the lower bound (measured: the square with volume and shear terms), a start the nonlinear fit
+// does not recover from; so the fit starts from whichever explains the first amplitude's cases
+// better by its nonlinear equilibrium.
+void choose_start(const analysis::Problem& scaled, const CalibrationSettings& linear,
+                  const DisplacementFitData& data, size_t first_cases,
+                  LargeDeformationResult& result, DisplacementFitOptions& options) {
+  CalibrationSettings plain = linear;
+  plain.reference_displacements.clear();
+  plain.progress = nullptr;
+  plain.iteration = nullptr;
+  const CalibrationResult other = calibrate(scaled, plain);
+  if (other.grouping.group_of_spring != result.start.grouping.group_of_spring ||
+      other.grouping.group_of_volume != result.start.grouping.group_of_volume)
+    return;  // a gamma sweep chose another grouping: keep the finite-strain start
+  const double finite = first_stage_cost(data, first_cases, result.start.grouping,
+                                         result.start.fit_result.group_stiffness);
+  const double plain_cost =
+      first_stage_cost(data, first_cases, other.grouping, other.fit_result.group_stiffness);
+  if (plain_cost < finite) {
+    options.initial = other.fit_result.group_stiffness;
+    result.started_from_linear_references = true;
+  }
+}
+
+// Continuation in amplitude: the cases up to each amplitude in turn, each fit starting from
+// the previous one's stiffnesses, so that every fit starts where its loads have an equilibrium.
+// An amplitude is kept when its fit succeeds and the fitted springs' equilibrium under every
+// fitted case (from rest, as evaluated and as an engine starts) is on the solid's branch
+// (collapsed_case): an inverted cell is the net folding through itself (a central-spring cell
+// and its mirror image have the same spring lengths), which the solid's references never do, and
+// one such case dominates the least squares and drags every other case's fit. At the first
+// amplitude that fails, the fit up to the previous one is kept and `stopped` says why.
+void continue_in_amplitude(const analysis::Problem& scaled, const CalibrationSettings& settings,
+                           const LargeDeformationSettings& large, const DisplacementFitData& data,
+                           DisplacementFitOptions options, LargeDeformationResult& result) {
+  const size_t per_amplitude = data.references.size() / large.amplitudes.size();
+  const std::vector<analysis::VolumeTerm> cells = net_cells(scaled, settings.mesh);
+  std::vector<std::string> ids;
+  for (const auto& lc : scaled.load_cases) ids.push_back(lc.id);
+  double reached = 0.0;
+  for (size_t k = 0; k < large.amplitudes.size(); ++k) {
+    const double amplitude = large.amplitudes[k];  // ascending (check_settings)
+    DisplacementFitData stage = data;
+    stage.loads.resize((k + 1) * per_amplitude);
+    stage.references.resize((k + 1) * per_amplitude);
+    if (settings.progress)
+      settings.progress("large-deformation fit (nonlinear springs) up to %eps_G " +
+                        amplitude_label(amplitude));
+    std::string failure;
+    DisplacementFitResult fit;
+    try {
+      fit = fit_displacements_nonlinear(stage, options);
+      analysis::SpringNetwork fitted = data.network;
+      for (size_t s = 0; s < fitted.springs.size(); ++s)
+        fitted.springs[s].stiffness = fit.spring_stiffness[s];
+      for (size_t v = 0; v < fitted.volumes.size(); ++v)
+        fitted.volumes[v].modulus = fit.volume_modulus[v];
+      const std::string collapsed = collapsed_case(fitted, cells, stage, ids);
+      if (!collapsed.empty()) failure = "the fitted springs' equilibrium under " + collapsed;
+    } catch (const std::runtime_error& e) {
+      failure = std::string("no spring equilibrium under the fitted loads (") + e.what() + ")";
+    }
+    if (!failure.empty()) {
+      if (reached > 0.0) {  // keep the fit that reached the previous amplitude, and say so
+        result.stopped = "at %eps_G " + amplitude_label(amplitude) + " " + failure +
+                         "; fitted up to " + amplitude_label(reached);
+        return;
+      }
+      throw std::runtime_error("calibration.amplitudes: at %eps_G " + amplitude_label(amplitude) +
+                               " " + failure +
+                               "; use smaller amplitudes or volume and shear terms");
+    }
+    result.fit = fit;
+    reached = amplitude;
+    result.reached_amplitude = amplitude;
+    options.initial = result.fit.group_stiffness;
+  }
+}
+
 }  // namespace
 
 analysis::LoadCase scaled_load_case(const analysis::LoadCase& load_case, double factor,
@@ -228,6 +390,7 @@ std::vector<LargeDeformationCase> evaluate_large_deformation(
         mine.push_back(m);
       }
       out.control = error_metrics(ref, mine);
+      for (size_t a = 0; a < ref.size(); ++a) out.node_error.push_back(mine[a] - ref[a]);
     }
     cases.push_back(std::move(out));
   }
@@ -245,7 +408,12 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
   if (settings.progress)
     settings.progress("finite-strain IGA references: " + std::to_string(scaled.load_cases.size()) +
                       " scaled load cases");
-  const std::vector<Eigen::VectorXd> references = finite_strain_references(scaled, large.law);
+  analysis::NonlinearOptions nonlinear;
+  nonlinear.material = large.law;
+  std::vector<analysis::NonlinearLoadCaseResult> solved =
+      analysis::solve_static_nonlinear(scaled, nonlinear);
+  std::vector<Eigen::VectorXd> references;
+  for (const auto& r : solved) references.push_back(r.displacement);
   result.reference_seconds = seconds_since(start);
 
   start = std::chrono::steady_clock::now();
@@ -272,41 +440,8 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
     options.on_iteration = [&settings](int it, double cost) {
       settings.iteration("large-deformation fit", it, cost);
     };
-  // Continuation in amplitude: the cases up to each amplitude in turn, each fit starting from
-  // the previous one's stiffnesses, so that every fit starts where its loads have an
-  // equilibrium (a large amplitude may have none at the linear start: cells collapse).
-  const size_t per_amplitude = references.size() / large.amplitudes.size();
-  double reached = 0.0;
-  for (size_t k = 0; k < large.amplitudes.size(); ++k) {
-    const double amplitude = large.amplitudes[k];  // ascending (check_settings)
-    DisplacementFitData stage = data;
-    stage.loads.resize((k + 1) * per_amplitude);
-    stage.references.resize((k + 1) * per_amplitude);
-    if (settings.progress)
-      settings.progress("large-deformation fit (nonlinear springs) up to %eps_G " +
-                        amplitude_label(amplitude));
-    try {
-      result.fit = fit_displacements_nonlinear(stage, options);
-    } catch (const std::runtime_error& e) {
-      if (reached > 0.0) {  // keep the fit that reached the previous amplitude, and say so
-        result.stopped = "no spring equilibrium under the fitted loads at %eps_G " +
-                         amplitude_label(amplitude) + "; fitted up to " + amplitude_label(reached) +
-                         " (" + e.what() + ")";
-        break;
-      }
-      throw std::runtime_error(
-          "calibration.amplitudes: the spring model finds no equilibrium under the fitted loads "
-          "at %eps_G " +
-          amplitude_label(amplitude) +
-          (reached > 0.0 ? " (fitted up to " + amplitude_label(reached) + ")" : "") +
-          ": its cells collapse before the solid's do; use smaller amplitudes or volume and "
-          "shear terms (" +
-          e.what() + ")");
-    }
-    reached = amplitude;
-    result.reached_amplitude = amplitude;
-    options.initial = result.fit.group_stiffness;
-  }
+  choose_start(scaled, linear, data, references.size() / large.amplitudes.size(), result, options);
+  continue_in_amplitude(scaled, settings, large, data, options, result);
   result.fit_seconds = seconds_since(start);
 
   auto& network = result.model.network;
@@ -315,16 +450,21 @@ LargeDeformationResult calibrate_large_deformation(const analysis::Problem& prob
   for (size_t v = 0; v < network.volumes.size(); ++v)
     network.volumes[v].modulus = result.fit.volume_modulus[v];
   analysis::Problem reached_cases = scaled;
+  const size_t per_amplitude = references.size() / large.amplitudes.size();
   const size_t fitted_cases =
       per_amplitude *
-      static_cast<size_t>(std::find(large.amplitudes.begin(), large.amplitudes.end(), reached) -
-                          large.amplitudes.begin() + 1);
+      static_cast<size_t>(
+          std::find(large.amplitudes.begin(), large.amplitudes.end(), result.reached_amplitude) -
+          large.amplitudes.begin() + 1);
   reached_cases.load_cases.resize(fitted_cases);
   result.fitted = evaluate_large_deformation(
       reached_cases, result.model,
       std::vector<Eigen::VectorXd>(references.begin(),
                                    references.begin() + static_cast<std::ptrdiff_t>(fitted_cases)));
   for (size_t c = 0; c < result.fitted.size(); ++c) result.fitted[c].load_factor = factors[c];
+  result.scaled_cases = reached_cases.load_cases;
+  solved.resize(fitted_cases);
+  result.references = std::move(solved);
   return result;
 }
 

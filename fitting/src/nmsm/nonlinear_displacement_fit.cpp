@@ -34,26 +34,66 @@ Eigen::VectorXd free_residual(const SpringNetwork& network, const FreeDofSet& do
   return dofs.restrict(Eigen::VectorXd(force + analysis::spring_forces(network, x0 + u)));
 }
 
-// Newton with backtracking from u (updated in place); true when |r| <= kAccept |f|.
+// The potential Pi(u) = E(x0 + u) - f . u whose stationary points are the equilibria.
+double potential(const SpringNetwork& network, const Eigen::VectorXd& x0,
+                 const Eigen::VectorXd& force, const Eigen::VectorXd& u) {
+  return analysis::spring_energy(network, x0 + u) - force.dot(u);
+}
+
+// Factorises the free tangent, shifted by tau I (growing from 1e-8 of its largest diagonal entry)
+// until the factor has positive pivots; false when no shift does. `shifted` says whether one
+// was needed. An indefinite tangent (past a limit point, cells in compression) gives a Newton
+// step towards a saddle or a maximum of Pi, which is where Newton on |r| alone used to stall.
+bool factor_positive(const Eigen::SparseMatrix<double>& tangent, Ldlt& solver, bool& shifted) {
+  shifted = false;
+  solver.compute(tangent);
+  if (solver.info() == Eigen::Success && solver.vectorD().minCoeff() > 0.0) return true;
+  const double diagonal = tangent.diagonal().cwiseAbs().maxCoeff();
+  Eigen::SparseMatrix<double> identity(tangent.rows(), tangent.cols());
+  identity.setIdentity();
+  shifted = true;
+  for (double tau = 1e-8 * diagonal; tau < 1e8 * diagonal; tau *= 4.0) {
+    solver.compute(tangent + tau * identity);
+    if (solver.info() == Eigen::Success && solver.vectorD().minCoeff() > 0.0) return true;
+  }
+  return false;
+}
+
+// Newton from u (updated in place) minimising Pi on the free DOFs; true when |r| <= kAccept |f|.
+// A step is accepted on an Armijo decrease of Pi or, with an unshifted (positive definite)
+// tangent, on a decrease of |r|: near the solution Pi's changes drown in round-off while |r|
+// still converges quadratically. So it finds a stable equilibrium (a local minimum of Pi),
+// which exists whenever the terms' energy grows faster than linearly in every free direction
+// (springs and cell terms do), where Newton on |r| stopped at a singular tangent.
 bool newton(const SpringNetwork& network, const FreeDofSet& dofs, const Eigen::VectorXd& x0,
             const Eigen::VectorXd& force, Eigen::VectorXd& u) {
   const double scale = std::max(dofs.restrict(force).norm(), 1e-300);
   Eigen::VectorXd r = free_residual(network, dofs, x0, force, u);
+  double pi = potential(network, x0, force, u);
   Ldlt solver;
-  for (int it = 0; it < 50 && r.norm() > kTarget * scale; ++it) {
-    solver.compute(dofs.restrict(analysis::tangent_stiffness(network, x0 + u)));
-    if (solver.info() != Eigen::Success) break;
-    const Eigen::VectorXd delta = dofs.expand(solver.solve(r));
+  for (int it = 0; it < 100 && r.norm() > kTarget * scale; ++it) {
+    bool shifted = false;
+    if (!factor_positive(dofs.restrict(analysis::tangent_stiffness(network, x0 + u)), solver,
+                         shifted))
+      break;
+    const Eigen::VectorXd step = solver.solve(r);  // -grad Pi = r on the free DOFs
+    const Eigen::VectorXd delta = dofs.expand(step);
     if (!delta.allFinite()) break;
-    double t = 1.0;
-    Eigen::VectorXd trial = free_residual(network, dofs, x0, force, u + delta);
-    while (!(trial.norm() < r.norm()) && t > 1e-4) {
-      t *= 0.5;
-      trial = free_residual(network, dofs, x0, force, u + t * delta);
+    const double slope = -r.dot(step);  // d Pi / dt at t = 0, negative
+    bool accepted = false;
+    for (double t = 1.0; t > 1e-6 && !accepted; t *= 0.5) {
+      const Eigen::VectorXd trial_u = u + t * delta;
+      const double trial_pi = potential(network, x0, force, trial_u);
+      const Eigen::VectorXd trial_r = free_residual(network, dofs, x0, force, trial_u);
+      if (!std::isfinite(trial_pi) || !trial_r.allFinite()) continue;
+      if (trial_pi <= pi + 1e-4 * t * slope || (!shifted && trial_r.norm() < r.norm())) {
+        u = trial_u;
+        r = trial_r;
+        pi = trial_pi;
+        accepted = true;
+      }
     }
-    if (!(trial.norm() < r.norm())) break;  // no progress: roundoff or a limit point
-    u += t * delta;
-    r = trial;
+    if (!accepted) break;  // no progress: round-off
   }
   return r.norm() <= kAccept * scale && u.allFinite();
 }

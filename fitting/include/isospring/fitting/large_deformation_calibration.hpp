@@ -12,7 +12,8 @@
 //
 // Stages: linear references for the scaling; nonlinear references; calibrate() on the scaled
 // cases with those references (mesh, masses, supports, gamma: a linear fit to the finite-strain
-// data) as the start; the nonlinear fit from there. At small amplitude the finite-strain
+// data) and on their linear references; the nonlinear fit from whichever of the two explains
+// the first amplitude better, continued in amplitude. At small amplitude the finite-strain
 // reference and the spring equilibrium both tend to their linearisations, so the result tends to
 // the linear calibration.
 #include <string>
@@ -45,20 +46,31 @@ struct LargeDeformationCase {
   double percent_eps_g = 0.0;  // %eps_G of the finite-strain reference
   bool solved = false;         // the spring model found an equilibrium (else control is empty)
   ErrorMetrics control;        // the model's nonlinear equilibrium on the control points
+  std::vector<Eigen::Vector3d> node_error;  // u_model - u_ref per DofMap node (when solved)
 };
 
 struct LargeDeformationResult {
   /// calibrate() on the scaled cases against the finite-strain references (linear springs):
   /// the mesh, grouping and gamma, and the start of the nonlinear fit.
   CalibrationResult start;
+  /// The nonlinear fit started from the linear calibration on LINEAR references of the same
+  /// cases instead of `start`: it explained the first amplitude's finite-strain cases better by
+  /// its nonlinear equilibrium (`start` keeps the mesh and grouping either way).
+  bool started_from_linear_references = false;
   SpringModelOnProblem model;  // the nonlinear fit's stiffnesses
   DisplacementFitResult fit;   // the nonlinear fit
   /// Per fitted case and amplitude ("id@amplitude"), the model against its reference.
   std::vector<LargeDeformationCase> fitted;
-  /// The largest amplitude fitted: the last of `amplitudes` unless the spring model found no
-  /// equilibrium at a later one, when `stopped` says so and the fit up to this one is kept.
+  /// The largest amplitude fitted: the last of `amplitudes` unless at a later one the fit found
+  /// no spring equilibrium or the fitted springs' equilibrium (from rest) under a fitted case
+  /// inverts a net cell (V/V0 <= 0: the net folds through itself, which the solid's reference
+  /// never does); then `stopped` says which case and the fit up to this one is kept.
   double reached_amplitude = 0.0;
   std::string stopped;
+  /// The fitted cases as scaled and their finite-strain references, amplitude-major, up to the
+  /// reached amplitude (ids "id@amplitude", as in `fitted`).
+  std::vector<analysis::LoadCase> scaled_cases;
+  std::vector<analysis::NonlinearLoadCaseResult> references;
   double reference_seconds = 0.0;  // linear and nonlinear IGA solves
   double fit_seconds = 0.0;        // linear start and nonlinear fit
 };

@@ -12,9 +12,11 @@
 // One factorisation of K_T per case and one solve per group. At rest (u -> 0) this is the
 // linear fit's -K^-1 K_g u.
 //
-// Each case's equilibrium is found by Newton from the previous evaluation's equilibrium (the
-// optimiser moves k a little per step), falling back to load stepping from rest; a case that
-// does not converge fails the evaluation and the optimiser shortens its step.
+// Each case's equilibrium is found by Newton on the potential Pi(u) = E(x0 + u) - f . u from the
+// previous evaluation's equilibrium (the optimiser moves k a little per step), falling back to
+// load stepping from rest; where the tangent is indefinite it is shifted until positive definite
+// and steps must lower Pi, so the equilibrium found is a stable one. A case that does not
+// converge fails the evaluation and the optimiser shortens its step.
 #include <Eigen/Core>
 
 #include "isospring/fitting/displacement_fit.hpp"
@@ -37,9 +39,9 @@ DisplacementFitResult fit_displacements_nonlinear(const DisplacementFitData& dat
                                                   const DisplacementFitOptions& options);
 
 /// The nonlinear static equilibrium u of `network` under `force` (flat particle forces) with
-/// `constrained` DOFs (constrained_dofs: fixed particles plus extras) held at zero: Newton from
-/// `start` (empty: from rest with up to 64 load steps). False when it does not converge to
-/// |r| <= 1e-11 |f|.
+/// `constrained` DOFs (constrained_dofs: fixed particles plus extras) held at zero: Newton on the
+/// potential (see above) from `start`, else from rest in 1, 4, 16 or 64 load steps. False when
+/// it does not converge to |r| <= 1e-10 |f|.
 bool spring_equilibrium(const analysis::SpringNetwork& network, const Eigen::VectorXd& force,
                         const std::vector<int>& extra_constrained, Eigen::VectorXd& u,
                         const Eigen::VectorXd& start = {});

@@ -17,6 +17,9 @@
 //     "field_samples": 11,                  // per direction, for the field error metrics
 //     "matrix_approach": true,              // also fit ||K_IGA - K_NMSM||_F and report it
 //     "acceleration_objective": true,       // also fit the [S15 4.1-4.5] objective, report it
+//     "amplitudes": [5, 20],                // with a finite-strain material.model: target %eps_G
+//                                           // of the large-deformation fit, ascending; or
+//                                           // {"max": 20, "steps": 4} (5, 10, 15, 20)
 //     "target_percent_e_rms": 2.0,          // > 0: warn when the worst fitted or held-out
 //                                           // %e_rms exceeds it
 //     "generalisation": {                   // choose the freedom by cross-validation
@@ -48,6 +51,13 @@ struct CalibrationRequest {
   /// Set: calibrate with fitting::calibrate_for_generalisation.
   std::optional<fitting::GeneralisationOptions> generalisation;
   bool load_suite = false;  // append fitting::generate_load_suite's cases (train / validate)
+  /// "amplitudes": target %eps_G of the large-deformation calibration (with a finite-strain
+  /// material.model), ascending; empty when absent.
+  std::vector<double> amplitudes;
+  /// Whether matrix_approach / acceleration_objective were given (their defaults are for linear
+  /// calibration; the large-deformation one refuses them only when asked for).
+  bool matrix_approach_given = false;
+  bool acceleration_objective_given = false;
 };
 
 /// Validates and converts `calibration` (null: defaults); `file` names the case in messages.

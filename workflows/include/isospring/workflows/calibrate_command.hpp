@@ -25,6 +25,33 @@
 
 namespace isospring::workflows {
 
+/// One amplitude of a large-deformation calibration: its fitted cases (the case's fitted load
+/// cases scaled to this %eps_G) by the calibrated model's nonlinear equilibrium.
+struct LargeDeformationAmplitude {
+  double amplitude = 0.0;  // target %eps_G
+  int cases = 0;
+  double worst_percent_e_rms = 0.0;      // largest %e_rms over its cases
+  double percent_e_rms = 0.0;            // root mean square of their %e_rms
+  double reference_percent_eps_g = 0.0;  // mean %eps_G of the finite-strain references
+  /// The linear fit to the same references (the nonlinear fit's start) by its own nonlinear
+  /// equilibrium: worst %e_rms over the cases where it has one, and how many it has none on.
+  double start_worst_percent_e_rms = 0.0;
+  int start_without_equilibrium = 0;
+};
+
+/// With a finite-strain material.model (fitting::calibrate_large_deformation).
+struct LargeDeformationSummary {
+  std::string law;                 // "neo_hookean" or "svk"
+  std::vector<double> amplitudes;  // calibration.amplitudes
+  double reached_amplitude = 0.0;  // the largest fitted (see stopped)
+  std::string stopped;             // why the fit stopped before the last amplitude ("": it did not)
+  std::vector<LargeDeformationAmplitude> rows;           // per amplitude reached
+  std::vector<std::string> holdout_without_equilibrium;  // left out of `holdout`
+  /// Per load case of CalibrateCommandResult::problem: the finite-strain reference's control
+  /// displacements [patch][control point] (the viewer's reference fields).
+  std::vector<std::vector<std::vector<Eigen::Vector3d>>> reference_controls;
+};
+
 struct CalibrateCommandResult {
   std::filesystem::path input;  // the case file
   std::string case_name;
@@ -40,10 +67,15 @@ struct CalibrateCommandResult {
   double worst_fitted = 0.0;   // largest control-point %e_rms over the fitted cases
   double worst_holdout = 0.0;  // ... over the held-out cases (0 without any)
   double worst = 0.0;
+  /// Set for a finite-strain material.model: `problem` then holds the fitted cases as scaled
+  /// ("id@amplitude") and the held-out cases, `calibration` the nonlinear fit's model and errors.
+  std::optional<LargeDeformationSummary> large_deformation;
 };
 
-/// Calibrates `c` (taken by value: the load suite extends its problem). Throws
-/// nurbs::InputError for a bad "calibration" object and like fitting::calibrate. `progress` gets
+/// Calibrates `c` (taken by value: the load suite extends its problem). With a finite-strain
+/// material.model and calibration.amplitudes: the large-deformation calibration
+/// (fitting::calibrate_large_deformation). Throws nurbs::InputError for a bad "calibration"
+/// object and like fitting::calibrate. `progress` gets
 /// milestones, the fit's iterations (unless quiet) and the warnings.
 CalibrateCommandResult run_calibrate(io::Case c, const io::Progress& progress);
 
