@@ -5,9 +5,8 @@
 // checked too; a file with several solids is checked body by body; ../shared is skipped with a
 // message when it is absent.
 //
-// The grid has 6 x 6 x 6 cells over the part's box (the quadrature's accuracy is what is checked
-// here, and a coarser grid has fewer cut cells: the shipped parts took 73 s of CPU, a quarter of
-// it gmsh's t20 nut); the default grid is checked in test_immersed_domain.cpp.
+// The default grid (10 cells along the longest side): on coarser grids the cut-cell quadrature
+// missed 1e-6 on some closed parts (docs/immersed.md, "Every part, and shells that do not close").
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -70,9 +69,8 @@ struct Errors {
 // divergence theorem gives, V(c) = 1/3 int (x - c).n dA, depends on the point c by -g.c / 3:
 // OpenCascade's volume is one such value, the cells' volume (lines crossing the faces) another,
 // and neither is the part's volume better than about |g| d / (3 V) (d the box's diagonal). Three
-// shipped parts have such shells (|g| / area measured here: gmsh's t20 nut 8.1e-6, its housing
-// 4.9e-7, OCCT's screw 4.5e-7; the others 1.4e-8 or less): they are checked to 1e-5 (measured on
-// this grid: volume 3.8e-6, 4.3e-6 and 2.9e-7), the rest to 1e-6.
+// shipped parts have such shells (|g| / area: gmsh's t20 nut 8.1e-6, its housing 4.9e-7, OCCT's
+// screw 4.5e-7; the others 1.4e-8 or less): they are checked to 1e-5, the rest to 1e-6.
 Errors check(const CadSolid& solid, const std::string& label) {
   ImmersionOptions options;
   options.threads = 1;
