@@ -97,20 +97,32 @@ def solve(step, h, work):
                 for k in range(3):
                     if f[k] != 0.0:
                         out.write("%d,%d,%.13g\n" % (i, k + 1, f[k]))
-            out.write("*NODE PRINT,NSET=CORNERS\nU\n*END STEP\n")
+            out.write("*NODE PRINT,NSET=CORNERS\nU\n*EL PRINT,ELSET=ALL,TOTALS=ONLY\nELSE\n"
+                      "*END STEP\n")
         start = time.time()
         subprocess.run(["ccx", "-i", os.path.join(work, name)], cwd=work, check=True,
                        stdout=subprocess.DEVNULL)
         seconds = time.time() - start
-        disp = {}
+        disp, energy, section = {}, None, None
         lines = open(os.path.join(work, name + ".dat")).read().splitlines()
         for line in lines:
             parts = line.split()
-            if len(parts) == 4 and parts[0].isdigit():
+            text = line.strip()
+            if text.startswith("displacements"):
+                section = "u"
+            elif text.startswith("total internal energy") or text.startswith("total energy"):
+                section = "e"
+            elif section == "u" and len(parts) == 4 and parts[0].isdigit():
                 disp[int(parts[0])] = [float(v) * 1e-3 for v in parts[1:]]  # mm -> m
+            elif section == "e" and len(parts) == 1:
+                energy = float(parts[0]) * 1e-3  # N mm -> J
+                section = None
+        if energy is None:
+            raise SystemExit("%s: no total internal energy" % name)
         result["load_cases"][name] = {
             "traction_Pa": [t * 1e6 for t in traction],
             "ccx_seconds": seconds,
+            "strain_energy_J": energy,
             "corners": [{"at_m": [c * 1e-3 for c in CORNERS[k]], "u_m": disp[corner_ids[k]]}
                         for k in range(len(CORNERS))]}
     return result
