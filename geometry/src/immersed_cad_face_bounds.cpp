@@ -28,7 +28,6 @@ FaceSurfaceBound::FaceSurfaceBound(const TopoDS_Face& face) {
       kind_ = Kind::kPlane;
       origin_ = to_eigen(frame.Location().XYZ());
       axis_ = to_eigen(frame.Direction().XYZ());
-      axis_.cwiseAbs().maxCoeff(&normal_axis_);
       break;
     }
     case GeomAbs_Cylinder: {
@@ -81,20 +80,6 @@ double FaceSurfaceBound::distance_below(const Eigen::Vector3d& x) const {
       break;
   }
   return 0.0;
-}
-
-bool FaceSurfaceBound::misses_open_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                       double slack) const {
-  if (kind_ != Kind::kPlane) return false;
-  // The plane as x_k = c(x_i, x_j); its range over the box's extent in i and j.
-  const int k = normal_axis_, i = (k + 1) % 3, j = (k + 2) % 3;
-  const double c = origin_[k], si = axis_[i] / axis_[k], sj = axis_[j] / axis_[k];
-  const double at_lo = c - si * (lo[i] - origin_[i]) - sj * (lo[j] - origin_[j]);
-  const double spread = std::abs(si) * (hi[i] - lo[i]) + std::abs(sj) * (hi[j] - lo[j]);
-  const double c_min =
-      at_lo - (si > 0 ? si * (hi[i] - lo[i]) : 0.0) - (sj > 0 ? sj * (hi[j] - lo[j]) : 0.0);
-  const double c_max = c_min + spread;
-  return c_max <= lo[k] + slack || c_min >= hi[k] - slack;
 }
 
 }  // namespace isospring::geometry::detail

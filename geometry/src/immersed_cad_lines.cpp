@@ -199,9 +199,6 @@ std::vector<double> SolidProbe::crossings(const Eigen::Vector3d& point, int axis
 bool SolidProbe::near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
   const double radius = 0.5 * (hi - lo).norm() + merge_;
-  // A plane this close to a face of the box counts as on it (far below the quadrature's
-  // resolution: a sliver of the part that thin weighs 1e-12 of a cell).
-  const double slack = 1e-12 * (hi - lo).maxCoeff();
   std::optional<TopoDS_Vertex> vertex;  // made when a face needs OpenCascade's distance
   for (size_t f = 0; f < shape_.faces.size(); ++f) {
     if ((face_min_[f].array() > hi.array()).any() || (face_max_[f].array() < lo.array()).any())
@@ -212,8 +209,7 @@ bool SolidProbe::near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d&
       if (spline->may_meet(lo - margin, hi + margin)) return true;
       continue;
     }
-    if (bounds_[f].misses_open_box(lo, hi, slack) || bounds_[f].distance_below(centre) > radius)
-      continue;
+    if (bounds_[f].distance_below(centre) > radius) continue;
     if (!vertex) vertex = BRepBuilderAPI_MakeVertex(to_gp(centre));
     ++distances_;
     BRepExtrema_DistShapeShape distance(*vertex, shape_.faces[f], Extrema_ExtFlag_MIN);

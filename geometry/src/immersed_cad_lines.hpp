@@ -38,9 +38,9 @@ class SolidProbe {
   /// Axis coordinates in (lo, hi) where that line meets the boundary (crossings and touches).
   std::vector<double> crossings(const Eigen::Vector3d& point, int axis, double lo, double hi);
 
-  /// Could a face meet the open box (lo, hi)? (A face whose bounding box meets it and whose exact
+  /// Could a face meet the box [lo, hi]? (A face whose bounding box meets it and whose exact
   /// distance from the box centre is within the half-diagonal, unless its analytic surface
-  /// already rules it out (immersed_cad_face_bounds.hpp); a B-spline face whose Bezier pieces'
+  /// already puts it farther (immersed_cad_face_bounds.hpp); a B-spline face whose Bezier pieces'
   /// hulls meet it, as OpenCascade's distance to such a face can miss its interior;
   /// conservative.)
   bool near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
