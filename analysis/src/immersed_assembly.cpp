@@ -1,12 +1,12 @@
 // Immersed elasticity: active DOFs, the bulk stiffness and body load over the part's cell
 // quadrature, and the input checks (including the rigid-body check on the supported faces).
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "immersed_kernels.hpp"
+#include "immersed_pattern.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "rigid_modes.hpp"
 
@@ -61,10 +61,10 @@ Eigen::MatrixXd normal_operator(const Eigen::Vector3d& n, int dim) {
 // For the isotropic material, K(a i, b j) = sum_q w_q [lambda dN_a/dx_i dN_b/dx_j +
 // mu dN_a/dx_j dN_b/dx_i + mu delta_ij grad N_a . grad N_b]: every term is an entry of
 // A = G^T W G, G (points x dim * count) the basis gradients and W the weights: one matrix product
-// for the cell instead of B^T D B per point (cut cells have hundreds of points).
+// for the cell instead of B^T D B per point, over the cell's reduced rule.
 void cell_stiffness(const ImmersedContext& context, size_t c, std::vector<int>& cps,
                     Eigen::MatrixXd& local) {
-  const auto& cell = context.domain->cells[c];
+  const CellRule& cell = context.cell_rules[c];
   const Element& e = context.cell_elements[c];
   const int dim = context.basis.dim();
   const int count = context.basis.count();
@@ -188,9 +188,7 @@ void activate(detail::ImmersedContext& context, ImmersedSystem& system) {
     if (cell.points.empty() || cell.points.size() != cell.weights.size())
       throw nurbs::InputError("immersed domain: cell " + std::to_string(c) +
                               " has no points or a weight count that differs from its points");
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const auto& x : cell.points) centroid += x;
-    const detail::Element e = basis.element_of(centroid / static_cast<double>(cell.points.size()));
+    const detail::Element e = detail::element_of_cell(basis, cell.points);
     context.cell_elements.push_back(e);
     int& slot = context.cell_of_element[static_cast<size_t>(basis.flat(e))];
     if (slot >= 0)
@@ -200,6 +198,16 @@ void activate(detail::ImmersedContext& context, ImmersedSystem& system) {
     basis.control_points(e, cps);
     for (int cp : cps) system.node_of_control_point[static_cast<size_t>(cp)] = 0;
   }
+  // Each cell's rule reduced once: the stiffness, the body load and the Nitsche penalty's local
+  // eigenvalue problems (which take a cell's stiffness several times) all use it.
+  context.cell_rules.resize(domain.cells.size());
+  const long cells = static_cast<long>(domain.cells.size());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (long c = 0; c < cells; ++c) {
+    const auto& cell = domain.cells[static_cast<size_t>(c)];
+    context.cell_rules[static_cast<size_t>(c)] = detail::reduced_cell_rule(
+        basis, context.cell_elements[static_cast<size_t>(c)], cell.points, cell.weights);
+  }
   int nodes = 0;
   for (size_t a = 0; a < system.node_of_control_point.size(); ++a)
     if (system.node_of_control_point[a] == 0) {
@@ -208,54 +216,50 @@ void activate(detail::ImmersedContext& context, ImmersedSystem& system) {
     }
 }
 
-// Bulk stiffness and body load over the part's quadrature, the cells shared among OpenMP's
-// threads in round-robin chunks (cut cells, many times dearer than inside ones, lie together),
-// each thread with its own triplets and load, joined in thread order: the sum does not depend on
-// the timing (on the thread count only in the round-off of the summation order).
-void add_bulk(const detail::ImmersedContext& context, detail::ImmersedScatter& scatter) {
+// Bulk stiffness (in place, immersed_pattern.hpp) and body load over the cells' reduced rules,
+// colour by colour on OpenMP's threads: the cells of a colour share no control point, so neither
+// their matrix entries nor their loads race, and every sum runs in the same order whatever the
+// thread count.
+Eigen::SparseMatrix<double> add_bulk(const detail::ImmersedContext& context,
+                                     const ImmersedSystem& system, Eigen::VectorXd& force) {
   const auto& domain = *context.domain;
   const auto& options = *context.options;
   const int dim = domain.dimension;
   const Eigen::Vector3d load3 = options.body_force + options.material.density * options.gravity;
   const Eigen::VectorXd load = load3.head(dim);
-  const int threads = std::max(1, omp_get_max_threads());
-  std::vector<detail::ImmersedScatter> parts(static_cast<size_t>(threads));
-  for (detail::ImmersedScatter& part : parts) {
-    part.dim = scatter.dim;
-    part.node_of_control_point = scatter.node_of_control_point;
-    part.force = Eigen::VectorXd::Zero(scatter.force.size());
-  }
-  const long cells = static_cast<long>(domain.cells.size());
-#pragma omp parallel num_threads(threads)
-  {
-    detail::ImmersedScatter& mine = parts[static_cast<size_t>(omp_get_thread_num())];
-    detail::BasisAt at;
-    std::vector<int> cps;
-    Eigen::MatrixXd local;
-    Eigen::VectorXd local_force;
-#pragma omp for schedule(static, 8)
-    for (long c = 0; c < cells; ++c) {
-      detail::cell_stiffness(context, static_cast<size_t>(c), cps, local);
-      mine.add_matrix(cps, local);
-      if (load.isZero(0.0)) continue;
-      const auto& cell = domain.cells[static_cast<size_t>(c)];
-      local_force.setZero(context.basis.count() * dim);
-      for (size_t q = 0; q < cell.points.size(); ++q) {
-        context.basis.evaluate(context.cell_elements[static_cast<size_t>(c)], cell.points[q], at);
-        local_force.noalias() += cell.weights[q] * context.thickness *
-                                 detail::value_operator(at.values, dim).transpose() * load;
+  const detail::ImmersedPattern pattern(context, system.node_of_control_point,
+                                        static_cast<int>(system.control_point_of_node.size()), dim);
+  Eigen::SparseMatrix<double> stiffness = pattern.empty_matrix();
+  for (const std::vector<long>& colour : pattern.colours()) {
+    const long count = static_cast<long>(colour.size());
+#pragma omp parallel if (count > 16)
+    {
+      detail::BasisAt at;
+      std::vector<int> cps;
+      Eigen::MatrixXd local;
+      Eigen::VectorXd local_force;
+#pragma omp for schedule(dynamic, 8)
+      for (long k = 0; k < count; ++k) {
+        const size_t c = static_cast<size_t>(colour[static_cast<size_t>(k)]);
+        detail::cell_stiffness(context, c, cps, local);
+        pattern.add(c, local, stiffness);
+        if (load.isZero(0.0)) continue;
+        const detail::CellRule& rule = context.cell_rules[c];
+        local_force.setZero(context.basis.count() * dim);
+        for (size_t q = 0; q < rule.points.size(); ++q) {
+          context.basis.evaluate(context.cell_elements[c], rule.points[q], at);
+          local_force.noalias() += rule.weights[q] * context.thickness *
+                                   detail::value_operator(at.values, dim).transpose() * load;
+        }
+        for (size_t a = 0; a < cps.size(); ++a) {
+          const int node = system.node_of_control_point[static_cast<size_t>(cps[a])];
+          for (int i = 0; i < dim; ++i)
+            force[node * dim + i] += local_force[static_cast<Eigen::Index>(a) * dim + i];
+        }
       }
-      mine.add_vector(cps, local_force);
     }
   }
-  size_t total = scatter.triplets.size();
-  for (const detail::ImmersedScatter& part : parts) total += part.triplets.size();
-  scatter.triplets.reserve(total);
-  for (detail::ImmersedScatter& part : parts) {
-    scatter.triplets.insert(scatter.triplets.end(), part.triplets.begin(), part.triplets.end());
-    std::vector<Eigen::Triplet<double>>().swap(part.triplets);
-    scatter.force += part.force;
-  }
+  return stiffness;
 }
 
 }  // namespace
@@ -264,7 +268,7 @@ ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
                                  const ImmersedOptions& options) {
   check_options(domain, options);
   detail::ImmersedContext context{
-      &domain, &options, detail::BackgroundBasis(domain), {}, 1.0, {}, {}, {}, {}};
+      &domain, &options, detail::BackgroundBasis(domain), {}, 1.0, {}, {}, {}, {}, {}};
   context.lame = lame_parameters(options.material, options.formulation);
   context.thickness = options.formulation == Formulation::kSolid ? 1.0 : options.material.thickness;
   context.elasticity = detail::voigt_elasticity(context.lame, domain.dimension);
@@ -278,11 +282,14 @@ ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
   scatter.node_of_control_point = &system.node_of_control_point;
   scatter.force = Eigen::VectorXd::Zero(dofs);
   context.ghost = detail::ghost_faces(context);
-  add_bulk(context, scatter);
+  const Eigen::SparseMatrix<double> bulk = add_bulk(context, system, scatter.force);
   system.max_nitsche_penalty = detail::add_face_terms(context, scatter);
   if (options.ghost_penalty > 0) system.ghost_faces = detail::add_ghost_penalty(context, scatter);
-  system.stiffness.resize(dofs, dofs);
-  system.stiffness.setFromTriplets(scatter.triplets.begin(), scatter.triplets.end());
+  // The Nitsche and ghost-penalty terms (few cells) as triplets, added to the bulk.
+  Eigen::SparseMatrix<double> terms(dofs, dofs);
+  terms.setFromTriplets(scatter.triplets.begin(), scatter.triplets.end());
+  std::vector<Eigen::Triplet<double>>().swap(scatter.triplets);
+  system.stiffness = bulk + terms;
   system.force = std::move(scatter.force);
   return system;
 }

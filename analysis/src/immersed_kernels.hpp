@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "immersed_basis.hpp"
+#include "immersed_cell_rule.hpp"
 #include "isospring/analysis/elasticity.hpp"
 #include "isospring/analysis/immersed.hpp"
 
@@ -44,6 +45,7 @@ struct ImmersedContext {
   Eigen::MatrixXd elasticity;           // voigt
   std::vector<Element> cell_elements;   // element of each domain cell
   std::vector<int> cell_of_element;     // flat element -> cell index, -1 when inactive
+  std::vector<CellRule> cell_rules;     // each cell's reduced rule (immersed_cell_rule.hpp)
   std::set<std::pair<int, int>> ghost;  // ghost-penalty faces (see ghost_faces)
 };
 
@@ -57,6 +59,14 @@ std::set<std::pair<int, int>> ghost_faces(const ImmersedContext& context);
 /// One face's penalty matrix over the union of both elements' control points `cps`.
 void ghost_face_matrix(const ImmersedContext& context, const std::pair<int, int>& face,
                        std::vector<int>& cps, Eigen::MatrixXd& local);
+/// The background element of a cell (the one holding its points' centroid, as the assembly
+/// assigns it).
+Element element_of_cell(const BackgroundBasis& basis, const std::vector<Eigen::Vector3d>& points);
+/// Displacement and gradient at x from the basis of element e (x on its closure)
+/// (immersed_solve.cpp).
+ImmersedPointValue value_on_element(const BackgroundBasis& basis, const Element& e,
+                                    const ImmersedResult& result, const Eigen::Vector3d& x,
+                                    BasisAt& at);
 /// Bulk stiffness of one domain cell over its element's basis (immersed_assembly.cpp).
 void cell_stiffness(const ImmersedContext& context, size_t cell, std::vector<int>& cps,
                     Eigen::MatrixXd& local);

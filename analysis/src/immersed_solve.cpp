@@ -14,6 +14,30 @@
 
 namespace isospring::analysis {
 
+namespace detail {
+
+Element element_of_cell(const BackgroundBasis& basis, const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& x : points) centroid += x;
+  return basis.element_of(centroid / static_cast<double>(points.size()));
+}
+
+ImmersedPointValue value_on_element(const BackgroundBasis& basis, const Element& e,
+                                    const ImmersedResult& result, const Eigen::Vector3d& x,
+                                    BasisAt& at) {
+  basis.evaluate(e, x, at);
+  ImmersedPointValue out;
+  for (size_t a = 0; a < at.control_points.size(); ++a) {
+    const Eigen::Vector3d& u =
+        result.control_displacements[static_cast<size_t>(at.control_points[a])];
+    out.displacement += at.values[static_cast<Eigen::Index>(a)] * u;
+    out.gradient.leftCols(basis.dim()) += u * at.gradients.row(static_cast<Eigen::Index>(a));
+  }
+  return out;
+}
+
+}  // namespace detail
+
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -52,31 +76,29 @@ Eigen::VectorXd solve_system(const ImmersedSystem& system, const ImmersedOptions
 ImmersedPointValue point_value(const detail::BackgroundBasis& basis, const ImmersedResult& result,
                                const Eigen::Vector3d& x) {
   detail::BasisAt at;
-  basis.evaluate(basis.element_of(x), x, at);
-  ImmersedPointValue out;
-  for (size_t a = 0; a < at.control_points.size(); ++a) {
-    const Eigen::Vector3d& u =
-        result.control_displacements[static_cast<size_t>(at.control_points[a])];
-    out.displacement += at.values[static_cast<Eigen::Index>(a)] * u;
-    out.gradient.leftCols(basis.dim()) += u * at.gradients.row(static_cast<Eigen::Index>(a));
-  }
-  return out;
+  return detail::value_on_element(basis, basis.element_of(x), result, x, at);
 }
 
+// Over each cell's reduced rule (the energy density is in Q_2p on the cell's element).
 double strain_energy(const geometry::ImmersedDomain& domain, const ImmersedResult& result,
                      const ImmersedOptions& options) {
   const detail::BackgroundBasis basis(domain, false);
   double energy = 0;
   const double thickness =
       options.formulation == Formulation::kSolid ? 1.0 : options.material.thickness;
-  for (const auto& cell : domain.cells)
-    for (size_t q = 0; q < cell.points.size(); ++q) {
-      const Eigen::Matrix3d grad = point_value(basis, result, cell.points[q]).gradient;
+  detail::BasisAt at;
+  for (const auto& cell : domain.cells) {
+    const detail::Element e = detail::element_of_cell(basis, cell.points);
+    const detail::CellRule rule = detail::reduced_cell_rule(basis, e, cell.points, cell.weights);
+    for (size_t q = 0; q < rule.points.size(); ++q) {
+      const Eigen::Matrix3d grad =
+          detail::value_on_element(basis, e, result, rule.points[q], at).gradient;
       const Eigen::Matrix3d strain = 0.5 * (grad + grad.transpose());
       const Eigen::Matrix3d stress =
           stress_from_strain(strain, options.material, options.formulation);
-      energy += 0.5 * cell.weights[q] * thickness * (stress.cwiseProduct(strain)).sum();
+      energy += 0.5 * rule.weights[q] * thickness * (stress.cwiseProduct(strain)).sum();
     }
+  }
   return energy;
 }
 

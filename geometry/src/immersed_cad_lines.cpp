@@ -13,6 +13,7 @@
 #include <gp_Pln.hxx>
 
 #include <algorithm>
+#include <optional>
 
 namespace isospring::geometry::detail {
 
@@ -46,6 +47,7 @@ SolidProbe::SolidProbe(const CadSolid::Shape& shape) : shape_(shape), classifier
     BRepBndLib::AddOptimal(face, face_box, false, false);
     face_min_.push_back(corner(face_box, false) - Eigen::Vector3d::Constant(merge_));
     face_max_.push_back(corner(face_box, true) + Eigen::Vector3d::Constant(merge_));
+    bounds_.emplace_back(face);
   }
   make_intersectors();
 }
@@ -54,6 +56,7 @@ SolidProbe::SolidProbe(const SolidProbe& other)
     : shape_(other.shape_),
       face_min_(other.face_min_),
       face_max_(other.face_max_),
+      bounds_(other.bounds_),
       box_min_(other.box_min_),
       box_max_(other.box_max_),
       merge_(other.merge_),
@@ -196,7 +199,7 @@ std::vector<double> SolidProbe::crossings(const Eigen::Vector3d& point, int axis
 bool SolidProbe::near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
   const double radius = 0.5 * (hi - lo).norm() + merge_;
-  const TopoDS_Vertex vertex = BRepBuilderAPI_MakeVertex(to_gp(centre));
+  std::optional<TopoDS_Vertex> vertex;  // made when a face needs OpenCascade's distance
   for (size_t f = 0; f < shape_.faces.size(); ++f) {
     if ((face_min_[f].array() > hi.array()).any() || (face_max_[f].array() < lo.array()).any())
       continue;
@@ -206,8 +209,10 @@ bool SolidProbe::near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d&
       if (spline->may_meet(lo - margin, hi + margin)) return true;
       continue;
     }
+    if (bounds_[f].distance_below(centre) > radius) continue;
+    if (!vertex) vertex = BRepBuilderAPI_MakeVertex(to_gp(centre));
     ++distances_;
-    BRepExtrema_DistShapeShape distance(vertex, shape_.faces[f], Extrema_ExtFlag_MIN);
+    BRepExtrema_DistShapeShape distance(*vertex, shape_.faces[f], Extrema_ExtFlag_MIN);
     if (!distance.IsDone() || distance.Value() <= radius) return true;
   }
   return false;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cad_solid_shape.hpp"
+#include "immersed_cad_face_bounds.hpp"
 #include "immersed_cad_face_hits.hpp"
 
 namespace isospring::geometry::detail {
@@ -38,8 +39,9 @@ class SolidProbe {
   std::vector<double> crossings(const Eigen::Vector3d& point, int axis, double lo, double hi);
 
   /// Could a face meet the box [lo, hi]? (A face whose bounding box meets it and whose exact
-  /// distance from the box centre is within the half-diagonal; a B-spline face whose Bezier
-  /// pieces' hulls meet it, as OpenCascade's distance to such a face can miss its interior;
+  /// distance from the box centre is within the half-diagonal, unless its analytic surface
+  /// already puts it farther (immersed_cad_face_bounds.hpp); a B-spline face whose Bezier pieces'
+  /// hulls meet it, as OpenCascade's distance to such a face can miss its interior;
   /// conservative.)
   bool near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
@@ -70,6 +72,7 @@ class SolidProbe {
   const CadSolid::Shape& shape_;
   std::vector<std::unique_ptr<FaceLineIntersector>> intersectors_;
   std::vector<Eigen::Vector3d> face_min_, face_max_;  // bounding boxes, enlarged by tolerance
+  std::vector<FaceSurfaceBound> bounds_;              // per face (immersed_cad_face_bounds.hpp)
   Eigen::Vector3d box_min_, box_max_;                 // of the solid (exact, optimal)
   double merge_ = 0.0;  // crossings closer than this along a line are one
   BRepClass3d_SolidClassifier classifier_;
