@@ -128,6 +128,7 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
   for (int g : group_of_element_) ++springs_in_group[g];
   one_spring_per_group_ =
       std::all_of(springs_in_group.begin(), springs_in_group.end(), [](int n) { return n == 1; });
+  merged_jacobian_ = merged_jacobian_ && !one_spring_per_group_;
   solver_.cholmod().print = 0;  // a non-positive-definite trial is reported by info(), not printed
   solver_.analyzePattern(k_);
 }
@@ -215,6 +216,14 @@ void DisplacementModel::build_scatter() {
     }
     for (size_t i = first; i < term_slot_.size(); ++i) where[term_slot_[i]] = -1;
   }
+  // du/dtheta through the summed K_g when that visits fewer entries than the elements do (cell
+  // terms of a few large groups). Strain points grouped by rest volume may not: a group holds
+  // the points of one Gauss weight in every knot span, so its K_g covers much of K. With one
+  // element per parameter, gram() and dual_k_form() read every element's force: never.
+  size_t element_entries = 0;
+  for (int e = springs; e < num_elements(); ++e)
+    element_entries += static_cast<size_t>(entry_begin_[e + 1] - entry_begin_[e]);
+  merged_jacobian_ = !term_slot_.empty() && 2 * term_slot_.size() < element_entries;
 }
 
 bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
@@ -294,10 +303,9 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
     const Eigen::Index offset = static_cast<Eigen::Index>(c) * rows_per_case_;
     // The element's strain g_e . u (a spring's stretch along its rest direction, a cell's
     // volume change over sqrt(|V0|)), times k, spread as g_e onto its free DOFs.
-    // With one spring per parameter (gram() and dual_k_form() read every element's force) each
-    // element is visited; otherwise only the springs, and the other elements' columns come from
-    // the summed K_g: sum_{e in g} k_g g_e (g_e^T u) = k_g K_g u.
-    const int visited = one_spring_per_group_ ? num_elements() : static_cast<int>(springs_.size());
+    // Each element is visited, or (merged_jacobian_) only the springs, and the other elements'
+    // columns come from the summed K_g: sum_{e in g} k_g g_e (g_e^T u) = k_g K_g u.
+    const int visited = merged_jacobian_ ? static_cast<int>(springs_.size()) : num_elements();
     auto for_each_entry = [&](auto&& emit) {
       for (int s = 0; s < visited; ++s) {
         double stretch = 0.0;

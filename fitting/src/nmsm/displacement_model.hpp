@@ -100,6 +100,7 @@ class DisplacementModel {
   // k[term_group_[i]] term_coefficient_[i] (K_g's upper triangle, at term_row_, term_col_).
   std::vector<int> term_slot_, term_row_, term_col_, term_group_;  // row <= col (free indices)
   std::vector<double> term_coefficient_;
+  bool merged_jacobian_ = false;  // du/dtheta of the non-spring elements from K_g (build_scatter)
   bool one_spring_per_group_ = false;
   // The theta solver_ is factorised at (valid when factored_) and its displacements per case.
   bool factored_ = false;
