@@ -110,6 +110,7 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     springs_.push_back(data_s);
     add_element(particle_dofs, values, grouping.group_of_spring[s]);
   }
+  merged_begin_ = num_elements();
   if (!net.volumes.empty() && grouping.group_of_volume.size() != net.volumes.size())
     throw nurbs::InputError("calibration: the stiffness grouping does not cover every volume term");
   for (size_t v = 0; v < net.volumes.size(); ++v) {
@@ -121,6 +122,7 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     // sharing its parameter.
     for (const Eigen::VectorXd& column : analysis::rest_stiffness_columns(net, term))
       add_element(analysis::volume_dofs(term, dim_), column, g);
+    if (term.points.empty()) merged_begin_ = num_elements();  // strain points only after it
   }
 
   build_scatter();
@@ -140,7 +142,7 @@ bool DisplacementModel::same_dofs(int e, int f) const {
 }
 
 void DisplacementModel::build_scatter() {
-  const int springs = static_cast<int>(springs_.size());
+  const int scattered = merged_begin_;
   // K's pattern: every element's upper-triangle entries g_a g_b at (f_a, f_b), f_a <= f_b. Entries
   // with g_a g_b = 0 (a spring along an axis) stay in it, so that the pattern (and the symbolic
   // factorisation) does not depend on the stiffness values. Consecutive elements on the same
@@ -163,10 +165,10 @@ void DisplacementModel::build_scatter() {
     const int* last = k_.innerIndexPtr() + k_.outerIndexPtr()[c + 1];
     return static_cast<int>(std::lower_bound(first, last, r) - k_.innerIndexPtr());
   };
-  // Springs: one scatter per spring, k_s n_a n_b in spring order (plain spring fits add the same
-  // numbers in the same order as ever, bit for bit).
+  // Springs and cell terms: one scatter per element, k_e g_a g_b in element order (models
+  // without strain points add the same numbers in the same order as ever, bit for bit).
   begin_.push_back(0);
-  for (int s = 0; s < springs; ++s) {
+  for (int s = 0; s < scattered; ++s) {
     for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
       for (int b = entry_begin_[s]; b < entry_begin_[s + 1]; ++b) {
         const int r = entry_free_[a], c = entry_free_[b];
@@ -176,12 +178,12 @@ void DisplacementModel::build_scatter() {
       }
     begin_.push_back(static_cast<int>(coefficient_.size()));
   }
-  // Cell and strain-point elements: K depends linearly on the parameters, K = sum_g k_g K_g, so
-  // their g g^T are summed per group and K entry once here. A strain point's 6 columns of 27 x 3
-  // DOFs scatter 6 x 3,321 entries; 1,728 points (the cube at 3 per direction) made 34 million
-  // multiply-adds per evaluation, now the few entries of the summed K_g.
+  // Strain-point elements: K depends linearly on the parameters, K = sum_g k_g K_g, so their
+  // g g^T are summed per group and K entry once here. A strain point's 6 columns of 27 x 3 DOFs
+  // scatter 6 x 3,321 entries; 1,728 points (the cube at 3 per direction) made 34 million
+  // multiply-adds per evaluation, now the entries of the summed K_g.
   std::vector<std::vector<int>> members(static_cast<size_t>(groups_));
-  for (int e = springs; e < num_elements(); ++e) members[group_of_element_[e]].push_back(e);
+  for (int e = scattered; e < num_elements(); ++e) members[group_of_element_[e]].push_back(e);
   std::vector<int> where(static_cast<size_t>(k_.nonZeros()), -1);
   std::vector<int> slots;  // the element's upper-triangle slots, kept while its DOFs repeat
   for (int g = 0; g < groups_; ++g) {
@@ -216,12 +218,12 @@ void DisplacementModel::build_scatter() {
     }
     for (size_t i = first; i < term_slot_.size(); ++i) where[term_slot_[i]] = -1;
   }
-  // du/dtheta through the summed K_g when that visits fewer entries than the elements do (cell
-  // terms of a few large groups). Strain points grouped by rest volume may not: a group holds
-  // the points of one Gauss weight in every knot span, so its K_g covers much of K. With one
-  // element per parameter, gram() and dual_k_form() read every element's force: never.
+  // du/dtheta through the summed K_g when that visits fewer entries than the elements do. Strain
+  // points grouped by rest volume may not: a group holds the points of one Gauss weight in every
+  // knot span, so its K_g covers much of K. With one element per parameter, gram() and
+  // dual_k_form() read every element's force: never.
   size_t element_entries = 0;
-  for (int e = springs; e < num_elements(); ++e)
+  for (int e = scattered; e < num_elements(); ++e)
     element_entries += static_cast<size_t>(entry_begin_[e + 1] - entry_begin_[e]);
   merged_jacobian_ = !term_slot_.empty() && 2 * term_slot_.size() < element_entries;
 }
@@ -303,9 +305,9 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
     const Eigen::Index offset = static_cast<Eigen::Index>(c) * rows_per_case_;
     // The element's strain g_e . u (a spring's stretch along its rest direction, a cell's
     // volume change over sqrt(|V0|)), times k, spread as g_e onto its free DOFs.
-    // Each element is visited, or (merged_jacobian_) only the springs, and the other elements'
-    // columns come from the summed K_g: sum_{e in g} k_g g_e (g_e^T u) = k_g K_g u.
-    const int visited = merged_jacobian_ ? static_cast<int>(springs_.size()) : num_elements();
+    // Each element is visited, or (merged_jacobian_) those before merged_begin_, and the strain
+    // points' columns come from the summed K_g: sum_{e in g} k_g g_e (g_e^T u) = k_g K_g u.
+    const int visited = merged_jacobian_ ? merged_begin_ : num_elements();
     auto for_each_entry = [&](auto&& emit) {
       for (int s = 0; s < visited; ++s) {
         double stretch = 0.0;

@@ -92,11 +92,14 @@ class DisplacementModel {
   std::vector<double> scale_;          // per case: 1 / (o_max sqrt(n))
   std::vector<Eigen::VectorXd> load_;  // per case, on the free DOFs
   Eigen::VectorXd scaled_reference_;
-  // Scatter of spring s: entries [begin_[s], begin_[s + 1]) of slot_ (position in the value
-  // array of k_) and coefficient_ (+-n_a n_b).
+  // Elements [0, merged_begin_): springs and cell terms, scattered one by one; the rest are
+  // strain-point elements, scattered summed per group.
+  int merged_begin_ = 0;
+  // Scatter of element s < merged_begin_: entries [begin_[s], begin_[s + 1]) of slot_ (position
+  // in the value array of k_) and coefficient_ (g_a g_b).
   std::vector<int> begin_, slot_;
   std::vector<double> coefficient_;
-  // Scatter of the other elements, summed per group and slot: K[term_slot_[i]] +=
+  // Scatter of the strain-point elements, summed per group and slot: K[term_slot_[i]] +=
   // k[term_group_[i]] term_coefficient_[i] (K_g's upper triangle, at term_row_, term_col_).
   std::vector<int> term_slot_, term_row_, term_col_, term_group_;  // row <= col (free indices)
   std::vector<double> term_coefficient_;
