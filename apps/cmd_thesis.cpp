@@ -1,5 +1,6 @@
 // `isospring thesis -o OUTDIR [--quick]`: regenerates the [S15] chapter-5 tables beside the
 // published numbers; the work is workflows::run_thesis (isospring/workflows/thesis_command.hpp).
+#include <algorithm>
 #include <memory>
 
 #include "cli_util.hpp"
@@ -16,8 +17,21 @@ struct ThesisOptions {
   bool quiet = false;
   bool frontier = false;
   std::vector<std::string> combine;  // --frontier --combine: report.json files of earlier runs
+  std::vector<std::string> kinds;    // --frontier --kind: keys of kKindKeys
   workflows::ThesisCommandOptions run;
 };
+
+// --kind's keys, in the order of workflows::frontier_kinds().
+const std::vector<std::string> kKindKeys = {"springs",  "volume",   "volume-shear", "points-1",
+                                            "points-2", "points-3", "reduced"};
+
+std::vector<workflows::FrontierKind> chosen_kinds(const std::vector<std::string>& keys) {
+  const std::vector<workflows::FrontierKind> all = workflows::frontier_kinds();
+  std::vector<workflows::FrontierKind> kinds;
+  for (size_t k = 0; k < kKindKeys.size(); ++k)
+    if (std::find(keys.begin(), keys.end(), kKindKeys[k]) != keys.end()) kinds.push_back(all[k]);
+  return kinds;
+}
 
 // --frontier: the outputs are rewritten after every object, so a run stopped early keeps the
 // objects that finished.
@@ -28,6 +42,7 @@ void run_frontier(const ThesisOptions& options) {
   workflows::FrontierOptions run;
   run.objects = options.run.objects;
   run.quick = options.run.quick;
+  run.kinds = chosen_kinds(options.kinds);
   run.on_object = [&](const workflows::FrontierResult& partial) {
     workflows::write_frontier_outputs(out_dir, partial);
   };
@@ -47,6 +62,8 @@ void run_frontier(const ThesisOptions& options) {
 void run_thesis(const ThesisOptions& options) {
   if (!options.combine.empty() && !options.frontier)
     throw CLI::ValidationError("--combine", "only with --frontier");
+  if (!options.kinds.empty() && !options.frontier)
+    throw CLI::ValidationError("--kind", "only with --frontier");
   if (options.frontier) return run_frontier(options);
   const io::Progress progress("thesis", options.quiet);
   // Checked first: the tables take minutes, a folder that cannot be written must fail at once.
@@ -86,6 +103,11 @@ void setup_thesis(CLI::App& app) {
                   "Generalisation table or frontier: only this object (repeatable; default all "
                   "six)")
       ->check(CLI::IsMember({"square", "circle", "ellipse", "cube", "torus", "coupled_spheroid"}));
+  cmd->add_option("--kind", options->kinds,
+                  "Frontier: only this model kind (repeatable; default all): springs, volume, "
+                  "volume-shear, points-1, points-2, points-3 (strain points per direction), "
+                  "reduced (of the most accurate kind run); --combine merges such runs by kind")
+      ->check(CLI::IsMember(kKindKeys));
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options] { run_thesis(*options); });
 }

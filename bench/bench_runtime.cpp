@@ -5,6 +5,8 @@
 //                 particle), with damping
 //   CellVolume    one volume term per cell (trilinear det J at 8 Gauss points)
 //   CellShear     one shear term per cell (mean Green strain over 8 corners)
+//   CellArea2D    the membranes' cells: an n^2 sheet (n = 32, 100, 316) with one area term
+//   CellShear2D   (bilinear det J at 4 Gauss points) or one shear term (4 corners) per cell
 //   PointVolume   strain points of a degree-2 net: 1 Gauss point per knot span ("1") or the
 //   PointShear    analysis' full rule, 3 per direction ("27"), each over 27 particles
 //   Reduced       a reduced model of r = 32 / 64 basis vectors: the step (O(r^2)) plus the whole
@@ -152,6 +154,33 @@ enum Kind { kSprings, kCellVolume, kCellShear, kPointVolume, kPointShear };
 
 using Handle = std::unique_ptr<isospring_model, void (*)(isospring_model*)>;
 
+// An n^2 sheet of spacing 1 cm in the plane (2D model) with one area or shear term per cell.
+Handle sheet_cells(int n, int term) {
+  std::vector<double> rest, masses;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      rest.insert(rest.end(), {kSpacing * i, kSpacing * j});
+      masses.push_back(1e-3);
+    }
+  char error[300];
+  Handle m(isospring_model_create(2, masses.size(), rest.data(), masses.data(), nullptr, error,
+                                  sizeof(error)),
+           isospring_model_free);
+  check(m != nullptr, error);
+  std::vector<int> corners;
+  std::vector<double> moduli, areas;
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      for (int a = 0; a < 4; ++a) corners.push_back((x + (a & 1)) + n * (y + ((a >> 1) & 1)));
+      moduli.push_back(1e4);
+      areas.push_back(kSpacing * kSpacing);
+    }
+  check(isospring_model_add_cells(m.get(), term, moduli.size(), corners.data(), moduli.data(),
+                                  areas.data(), error, sizeof(error)),
+        error);
+  return m;
+}
+
 // One model per (kind, n, points), built once per process.
 isospring_model* model_of(Kind kind, int n, int per_direction) {
   static std::map<std::array<int, 3>, Handle> cache;
@@ -256,6 +285,38 @@ void BM_PointShear27Jvp(benchmark::State& s) {
   run(s, kPointShear, 3, true);
 }
 
+// The 2D cells at 10^3, 10^4 and 10^5 particles (fitting/step_cost.hpp prices membranes' cells
+// with the 10^4 rows).
+void run_sheet(benchmark::State& state, int term, bool jvp) {
+  const Handle m = sheet_cells(static_cast<int>(state.range(0)), term);
+  const std::vector<double> x = state_of(m.get(), 0.01 * kSpacing, true),
+                            v = state_of(m.get(), 0.1, false);
+  std::vector<double> out(x.size());
+  for (auto _ : state) {
+    if (jvp)
+      isospring_model_force_jvp(m.get(), x.data(), v.data(), v.data(), v.data(), out.data());
+    else
+      isospring_model_forces(m.get(), x.data(), v.data(), out.data());
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["particles"] = static_cast<double>(isospring_model_particle_count(m.get()));
+  state.counters["terms"] = static_cast<double>(isospring_model_term_count(m.get(), term));
+}
+
+void BM_CellArea2D(benchmark::State& s) {
+  run_sheet(s, ISOSPRING_TERM_CELL_VOLUME, false);
+}
+void BM_CellArea2DJvp(benchmark::State& s) {
+  run_sheet(s, ISOSPRING_TERM_CELL_VOLUME, true);
+}
+void BM_CellShear2D(benchmark::State& s) {
+  run_sheet(s, ISOSPRING_TERM_CELL_SHEAR, false);
+}
+void BM_CellShear2DJvp(benchmark::State& s) {
+  run_sheet(s, ISOSPRING_TERM_CELL_SHEAR, true);
+}
+
 #define SIZES(name) BENCHMARK(name)->Arg(10)->Arg(22)->Arg(46)->Unit(benchmark::kMicrosecond)
 SIZES(BM_Springs);
 SIZES(BM_SpringsJvp);
@@ -267,6 +328,12 @@ SIZES(BM_PointVolume1);
 SIZES(BM_PointVolume1Jvp);
 SIZES(BM_PointShear1);
 SIZES(BM_PointShear1Jvp);
+#define SHEET_SIZES(name) \
+  BENCHMARK(name)->Arg(32)->Arg(100)->Arg(316)->Unit(benchmark::kMicrosecond)
+SHEET_SIZES(BM_CellArea2D);
+SHEET_SIZES(BM_CellArea2DJvp);
+SHEET_SIZES(BM_CellShear2D);
+SHEET_SIZES(BM_CellShear2DJvp);
 BENCHMARK(BM_PointVolume27)->Arg(10)->Arg(22)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PointVolume27Jvp)->Arg(10)->Arg(22)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PointShear27)->Arg(10)->Arg(22)->Unit(benchmark::kMicrosecond);

@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "isospring/analysis/spring_mechanics.hpp"
 
@@ -82,21 +83,32 @@ std::vector<int> constrained_dofs(const SpringNetwork& network, const std::vecto
   return dofs;
 }
 
-SpringSolveResult solve_spring_linear(const SpringNetwork& network, const Eigen::VectorXd& force,
-                                      const std::vector<int>& extra_constrained) {
-  const FreeDofSet dofs(static_cast<int>(force.size()),
-                        constrained_dofs(network, extra_constrained));
-  const Eigen::SparseMatrix<double> k = dofs.restrict(rest_stiffness(network));
-  Factorization solver;
-  factorize(solver, k, "linear spring solve", true);
-  const Eigen::VectorXd f = dofs.restrict(force);
-  const Eigen::VectorXd u = solver.solve(f);
+SpringLinearSolver::SpringLinearSolver(const SpringNetwork& network,
+                                       const std::vector<int>& extra_constrained)
+    : dofs_(static_cast<int>(network.positions.size()) * network.dimension,
+            constrained_dofs(network, extra_constrained)),
+      k_(dofs_.restrict(rest_stiffness(network))) {
+  factorize(solver_, k_, "linear spring solve", true);
+}
+
+SpringSolveResult SpringLinearSolver::solve(const Eigen::VectorXd& force) const {
+  if (force.size() != static_cast<Eigen::Index>(dofs_.num_dofs()))
+    throw std::invalid_argument("linear spring solve: the force vector has " +
+                                std::to_string(force.size()) + " entries for " +
+                                std::to_string(dofs_.num_dofs()) + " particle components");
+  const Eigen::VectorXd f = dofs_.restrict(force);
+  const Eigen::VectorXd u = solver_.solve(f);
   SpringSolveResult result;
-  result.displacement = dofs.expand(u);
+  result.displacement = dofs_.expand(u);
   result.iterations = 1;
-  result.relative_residual = relative_norm(k * u - f, f);
+  result.relative_residual = relative_norm(k_ * u - f, f);
   result.converged = true;
   return result;
+}
+
+SpringSolveResult solve_spring_linear(const SpringNetwork& network, const Eigen::VectorXd& force,
+                                      const std::vector<int>& extra_constrained) {
+  return SpringLinearSolver(network, extra_constrained).solve(force);
 }
 
 SpringSolveResult solve_spring_newton(const SpringNetwork& network, const Eigen::VectorXd& force,

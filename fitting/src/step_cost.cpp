@@ -10,11 +10,14 @@ namespace isospring::fitting {
 
 double estimated_step_us(const analysis::SpringNetwork& network, const StepCosts& costs) {
   double us = costs.spring * static_cast<double>(network.springs.size());
+  const bool plane = network.dimension == 2;
   for (const analysis::VolumeTerm& t : network.volumes) {
     if (!t.points.empty())
       us += costs.point_particle * static_cast<double>(t.points.size());
+    else if (t.kind == analysis::CellEnergy::kShear)
+      us += plane ? costs.cell_shear_2d : costs.cell_shear;
     else
-      us += t.kind == analysis::CellEnergy::kShear ? costs.cell_shear : costs.cell_volume;
+      us += plane ? costs.cell_area_2d : costs.cell_volume;
   }
   return us;
 }

@@ -81,8 +81,7 @@ void check_pareto(const FrontierObject& square) {
 // times a force evaluation, so the measurement should be about 2.5 times the estimate; a model
 // of 36 particles adds per-call overhead the large lattices amortise, and the shared machine
 // adds noise (CPU time, median). Measured 1.7-1.8 (load average 16). Accepted: between 1 and 5
-// times the estimate. (Not for 2D cell terms: step_cost prices a cell at the 3D cell's cost, 8
-// Gauss points of a trilinear volume; a 2D cell costs about 0.4 of it, measured.)
+// times the estimate (2D cell terms: test_frontier_cells.cpp).
 void check_step_costs(const FrontierObject& square) {
   for (const FrontierRow& r : square.rows) {
     EXPECT_GT(r.measured_step_us, 0.0) << r.kind.name;
@@ -163,7 +162,7 @@ void check_report_round_trip(const FrontierResult& result) {
   FrontierResult other = back;
   other.objects[0].name = "circle";
   const FrontierResult combined = combine_frontier_results({back, other, result});
-  ASSERT_EQ(combined.objects.size(), 2u);  // the square once (the later run's), the circle
+  ASSERT_EQ(combined.objects.size(), 2u);  // the square once (rows merged by kind), the circle
   EXPECT_EQ(combined.objects[0].name, "square");
   EXPECT_EQ(combined.objects[1].name, "circle");
   EXPECT_THROW((void)frontier_result_from_json(nlohmann::json::object(), "x.json"),

@@ -44,14 +44,6 @@ std::string machine_at_start() {
          load_average();
 }
 
-void mark_pareto(FrontierObject& object) {
-  std::vector<fitting::CostError> points;
-  for (const FrontierRow& row : object.rows)
-    points.push_back({row.failure.empty() ? row.measured_step_us : NAN, row.worst_validation});
-  const std::vector<bool> optimal = fitting::pareto_optimal(points);
-  for (size_t i = 0; i < object.rows.size(); ++i) object.rows[i].pareto = optimal[i];
-}
-
 // Runs one object into result.objects.back(), calling options.on_object after every kind (the
 // object marked incomplete until its last).
 void run_object(const std::string& name, const std::vector<FrontierKind>& kinds,
@@ -75,7 +67,7 @@ void run_object(const std::string& name, const std::vector<FrontierKind>& kinds,
   std::optional<fitting::CalibrationResult> best;
   int best_row = -1;
   auto report = [&] {
-    mark_pareto(object);
+    frontier::mark_pareto(object);
     object.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.on_object) options.on_object(result);
@@ -117,6 +109,18 @@ void run_object(const std::string& name, const std::vector<FrontierKind>& kinds,
 }
 
 }  // namespace
+
+namespace frontier {
+
+void mark_pareto(FrontierObject& object) {
+  std::vector<fitting::CostError> points;
+  for (const FrontierRow& row : object.rows)
+    points.push_back({row.failure.empty() ? row.measured_step_us : NAN, row.worst_validation});
+  const std::vector<bool> optimal = fitting::pareto_optimal(points);
+  for (size_t i = 0; i < object.rows.size(); ++i) object.rows[i].pareto = optimal[i];
+}
+
+}  // namespace frontier
 
 std::vector<FrontierKind> frontier_kinds() {
   return {{"springs", false, false, 0, false},

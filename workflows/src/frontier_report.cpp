@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "frontier_stages.hpp"
+#include "isospring/fitting/pareto.hpp"
 #include "isospring/io/json_text.hpp"
 #include "isospring/io/plot.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -134,16 +136,43 @@ FrontierResult read_frontier_report(const std::filesystem::path& path) {
 }
 
 FrontierResult combine_frontier_results(const std::vector<FrontierResult>& results) {
+  const std::vector<FrontierKind> kinds = frontier_kinds();
+  auto order = [&](const FrontierRow& row) {
+    const auto k = std::find_if(kinds.begin(), kinds.end(), [&](const FrontierKind& kind) {
+      return kind.name == row.kind.name;
+    });
+    return k - kinds.begin();  // unknown kinds last
+  };
   FrontierResult combined;
   for (const FrontierResult& r : results) {
     combined.machine += (combined.machine.empty() ? "" : " | ") + r.machine;
     for (const FrontierObject& o : r.objects) {
       auto same = std::find_if(combined.objects.begin(), combined.objects.end(),
                                [&](const FrontierObject& c) { return c.name == o.name; });
-      if (same != combined.objects.end())
-        *same = o;
-      else
+      if (same == combined.objects.end()) {
         combined.objects.push_back(o);
+        continue;
+      }
+      // The later run's rows replace the earlier run's of the same kind (runs of single kinds
+      // complete an object), in frontier_kinds() order; the Pareto set is of the merged rows.
+      FrontierObject merged = o;
+      for (const FrontierRow& earlier : same->rows)
+        if (std::none_of(o.rows.begin(), o.rows.end(), [&](const FrontierRow& row) {
+              return row.kind.name == earlier.kind.name;
+            }))
+          merged.rows.push_back(earlier);
+      std::stable_sort(
+          merged.rows.begin(), merged.rows.end(),
+          [&](const FrontierRow& a, const FrontierRow& b) { return order(a) < order(b); });
+      merged.seconds += same->seconds;
+      const bool every_kind =
+          std::all_of(kinds.begin(), kinds.end(), [&](const FrontierKind& kind) {
+            return std::any_of(merged.rows.begin(), merged.rows.end(),
+                               [&](const FrontierRow& row) { return row.kind.name == kind.name; });
+          });
+      merged.complete = (o.complete && same->complete) || (o.complete && every_kind);
+      frontier::mark_pareto(merged);
+      *same = std::move(merged);
     }
   }
   return combined;

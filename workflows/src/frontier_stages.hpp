@@ -38,6 +38,10 @@ FrontierRow reduced_row(const ObjectSetup& setup, const fitting::CalibrationResu
 /// SOFA.
 std::vector<std::string> accepting_engines(const analysis::SpringNetwork& network);
 
+/// The rows' Pareto flags: optimal on (measured step, worst held-out %e_rms) among the rows of
+/// the object that did not fail (fitting::pareto_optimal).
+void mark_pareto(FrontierObject& object);
+
 /// "270 springs (reach 2) + 64 strain points, per spring w 1e-4 (gamma 0.2)".
 std::string model_description(const FrontierRow& row);
 

@@ -28,12 +28,15 @@ std::vector<Eigen::Vector3d> to_points(const Eigen::VectorXd& flat, int dim) {
   return points;
 }
 
+analysis::SpringLinearSolver network_solver(const FitSetup& setup,
+                                            const analysis::SpringNetwork& network) {
+  return analysis::SpringLinearSolver(network, setup.data.constrained_dofs);
+}
+
 std::vector<Eigen::Vector3d> model_points(const FitSetup& setup,
-                                          const analysis::SpringNetwork& network, int c) {
+                                          const analysis::SpringLinearSolver& solver, int c) {
   const int dim = setup.dim;
-  const Eigen::VectorXd u =
-      analysis::solve_spring_linear(network, setup.loads[c], setup.data.constrained_dofs)
-          .displacement;
+  const Eigen::VectorXd u = solver.solve(setup.loads[c]).displacement;
   const int nodes = static_cast<int>(setup.particle_of_node.size());
   Eigen::VectorXd node_u(static_cast<Eigen::Index>(nodes) * dim);
   for (int a = 0; a < nodes; ++a)
@@ -47,6 +50,7 @@ void evaluate_cases(const analysis::Problem& problem, const CalibrationSettings&
                     std::vector<CaseErrors>& holdout_errors) {
   const std::vector<int>& fitted = setup.fitted;
   const std::vector<int>& held_out = setup.held_out;
+  const analysis::SpringLinearSolver solver = network_solver(setup, network);
   for (size_t c = 0; c < problem.load_cases.size(); ++c) {
     const bool is_fit =
         std::find(fitted.begin(), fitted.end(), static_cast<int>(c)) != fitted.end();
@@ -54,7 +58,7 @@ void evaluate_cases(const analysis::Problem& problem, const CalibrationSettings&
         std::find(held_out.begin(), held_out.end(), static_cast<int>(c)) != held_out.end();
     if (!is_fit && !is_holdout) continue;
     const auto ref_points = to_points(setup.reference.load_cases[c].displacement, setup.dim);
-    const auto model = model_points(setup, network, static_cast<int>(c));
+    const auto model = model_points(setup, solver, static_cast<int>(c));
     CaseErrors errors;
     errors.id = problem.load_cases[c].id;
     errors.control = error_metrics(ref_points, model);

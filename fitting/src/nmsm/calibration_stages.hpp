@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/spring_static.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/fitting/calibration.hpp"
 
@@ -97,8 +98,14 @@ void set_fitted(analysis::SpringNetwork& network, const DisplacementFitResult& f
 /// A flat vector (point * dim + component) as points.
 std::vector<Eigen::Vector3d> to_points(const Eigen::VectorXd& flat, int dim);
 
-/// Control-point displacements (DofMap node order, as points) of `network` under load case c.
+/// The linear solver of a calibrated network under the setup's supports (factorised once for
+/// every load case it is measured on).
+analysis::SpringLinearSolver network_solver(const FitSetup& setup,
+                                            const analysis::SpringNetwork& network);
+
+/// Control-point displacements (DofMap node order, as points) of the network of `solver`
+/// (network_solver) under load case c.
 std::vector<Eigen::Vector3d> model_points(const FitSetup& setup,
-                                          const analysis::SpringNetwork& network, int c);
+                                          const analysis::SpringLinearSolver& solver, int c);
 
 }  // namespace isospring::fitting::detail

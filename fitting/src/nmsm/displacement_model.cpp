@@ -110,6 +110,7 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     springs_.push_back(data_s);
     add_element(particle_dofs, values, grouping.group_of_spring[s]);
   }
+  merged_begin_ = num_elements();
   if (!net.volumes.empty() && grouping.group_of_volume.size() != net.volumes.size())
     throw nurbs::InputError("calibration: the stiffness grouping does not cover every volume term");
   for (size_t v = 0; v < net.volumes.size(); ++v) {
@@ -121,42 +122,110 @@ DisplacementModel::DisplacementModel(const DisplacementFitData& data, const Grou
     // sharing its parameter.
     for (const Eigen::VectorXd& column : analysis::rest_stiffness_columns(net, term))
       add_element(analysis::volume_dofs(term, dim_), column, g);
+    if (term.points.empty()) merged_begin_ = num_elements();  // strain points only after it
   }
 
-  // Upper-triangle entries of every element, g_a g_b at (f_a, f_b) with f_a <= f_b. Entries with
-  // g_a g_b = 0 (a spring along an axis) stay in the pattern so that the pattern (and the
-  // symbolic factorisation) does not depend on the stiffness values.
+  build_scatter();
+  std::vector<int> springs_in_group(static_cast<size_t>(groups_), 0);
+  for (int g : group_of_element_) ++springs_in_group[g];
+  one_spring_per_group_ =
+      std::all_of(springs_in_group.begin(), springs_in_group.end(), [](int n) { return n == 1; });
+  merged_jacobian_ = merged_jacobian_ && !one_spring_per_group_;
+  solver_.cholmod().print = 0;  // a non-positive-definite trial is reported by info(), not printed
+  solver_.analyzePattern(k_);
+}
+
+bool DisplacementModel::same_dofs(int e, int f) const {
+  return std::equal(
+      entry_free_.begin() + entry_begin_[e], entry_free_.begin() + entry_begin_[e + 1],
+      entry_free_.begin() + entry_begin_[f], entry_free_.begin() + entry_begin_[f + 1]);
+}
+
+void DisplacementModel::build_scatter() {
+  const int scattered = merged_begin_;
+  // K's pattern: every element's upper-triangle entries g_a g_b at (f_a, f_b), f_a <= f_b. Entries
+  // with g_a g_b = 0 (a spring along an axis) stay in it, so that the pattern (and the symbolic
+  // factorisation) does not depend on the stiffness values. Consecutive elements on the same
+  // DOFs (a shear term's columns, a strain point's volume and shear terms) add their clique once.
   std::vector<Eigen::Triplet<double>> pattern;
-  std::vector<std::pair<int, int>> entry_position;
-  begin_.push_back(0);
-  for (size_t e = 0; e + 1 < entry_begin_.size(); ++e) {
+  for (int e = 0; e < num_elements(); ++e) {
+    if (e > 0 && same_dofs(e, e - 1)) continue;
     for (int a = entry_begin_[e]; a < entry_begin_[e + 1]; ++a)
-      for (int b = entry_begin_[e]; b < entry_begin_[e + 1]; ++b) {
-        const int r = entry_free_[a], c = entry_free_[b];
-        if (r > c) continue;
-        pattern.emplace_back(r, c, 1.0);
-        entry_position.emplace_back(r, c);
-        coefficient_.push_back(entry_value_[a] * entry_value_[b]);
-      }
-    begin_.push_back(static_cast<int>(coefficient_.size()));
+      for (int b = entry_begin_[e]; b < entry_begin_[e + 1]; ++b)
+        if (entry_free_[a] <= entry_free_[b])
+          pattern.emplace_back(entry_free_[a], entry_free_[b], 1.0);
   }
   const int n = dofs_.num_free();
   k_.resize(n, n);
   k_.setFromTriplets(pattern.begin(), pattern.end());
   k_.makeCompressed();
-  // A spring stretched along an axis has n_a n_b = 0 entries: they stay in the pattern so that
-  // the pattern (and the symbolic factorisation) does not depend on the stiffness values.
-  for (const auto& [r, c] : entry_position) {
+  pattern = {};
+  auto slot_of = [&](int r, int c) {
     const int* first = k_.innerIndexPtr() + k_.outerIndexPtr()[c];
     const int* last = k_.innerIndexPtr() + k_.outerIndexPtr()[c + 1];
-    slot_.push_back(static_cast<int>(std::lower_bound(first, last, r) - k_.innerIndexPtr()));
+    return static_cast<int>(std::lower_bound(first, last, r) - k_.innerIndexPtr());
+  };
+  // Springs and cell terms: one scatter per element, k_e g_a g_b in element order (models
+  // without strain points add the same numbers in the same order as ever, bit for bit).
+  begin_.push_back(0);
+  for (int s = 0; s < scattered; ++s) {
+    for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
+      for (int b = entry_begin_[s]; b < entry_begin_[s + 1]; ++b) {
+        const int r = entry_free_[a], c = entry_free_[b];
+        if (r > c) continue;
+        slot_.push_back(slot_of(r, c));
+        coefficient_.push_back(entry_value_[a] * entry_value_[b]);
+      }
+    begin_.push_back(static_cast<int>(coefficient_.size()));
   }
-  std::vector<int> springs_in_group(static_cast<size_t>(groups_), 0);
-  for (int g : group_of_element_) ++springs_in_group[g];
-  one_spring_per_group_ =
-      std::all_of(springs_in_group.begin(), springs_in_group.end(), [](int n) { return n == 1; });
-  solver_.cholmod().print = 0;  // a non-positive-definite trial is reported by info(), not printed
-  solver_.analyzePattern(k_);
+  // Strain-point elements: K depends linearly on the parameters, K = sum_g k_g K_g, so their
+  // g g^T are summed per group and K entry once here. A strain point's 6 columns of 27 x 3 DOFs
+  // scatter 6 x 3,321 entries; 1,728 points (the cube at 3 per direction) made 34 million
+  // multiply-adds per evaluation, now the entries of the summed K_g.
+  std::vector<std::vector<int>> members(static_cast<size_t>(groups_));
+  for (int e = scattered; e < num_elements(); ++e) members[group_of_element_[e]].push_back(e);
+  std::vector<int> where(static_cast<size_t>(k_.nonZeros()), -1);
+  std::vector<int> slots;  // the element's upper-triangle slots, kept while its DOFs repeat
+  for (int g = 0; g < groups_; ++g) {
+    const size_t first = term_slot_.size();
+    int slots_of = -1;
+    for (int e : members[g]) {
+      if (slots_of < 0 || !same_dofs(e, slots_of)) {
+        slots.clear();
+        for (int a = entry_begin_[e]; a < entry_begin_[e + 1]; ++a)
+          for (int b = entry_begin_[e]; b < entry_begin_[e + 1]; ++b)
+            if (entry_free_[a] <= entry_free_[b])
+              slots.push_back(slot_of(entry_free_[a], entry_free_[b]));
+        slots_of = e;
+      }
+      size_t next = 0;
+      for (int a = entry_begin_[e]; a < entry_begin_[e + 1]; ++a)
+        for (int b = entry_begin_[e]; b < entry_begin_[e + 1]; ++b) {
+          if (entry_free_[a] > entry_free_[b]) continue;
+          const int slot = slots[next++];
+          const double coefficient = entry_value_[a] * entry_value_[b];
+          if (where[slot] < 0) {
+            where[slot] = static_cast<int>(term_slot_.size());
+            term_slot_.push_back(slot);
+            term_row_.push_back(entry_free_[a]);
+            term_col_.push_back(entry_free_[b]);
+            term_group_.push_back(g);
+            term_coefficient_.push_back(coefficient);
+          } else {
+            term_coefficient_[where[slot]] += coefficient;
+          }
+        }
+    }
+    for (size_t i = first; i < term_slot_.size(); ++i) where[term_slot_[i]] = -1;
+  }
+  // du/dtheta through the summed K_g when that visits fewer entries than the elements do. Strain
+  // points grouped by rest volume may not: a group holds the points of one Gauss weight in every
+  // knot span, so its K_g covers much of K. With one element per parameter, gram() and
+  // dual_k_form() read every element's force: never.
+  size_t element_entries = 0;
+  for (int e = scattered; e < num_elements(); ++e)
+    element_entries += static_cast<size_t>(entry_begin_[e + 1] - entry_begin_[e]);
+  merged_jacobian_ = !term_slot_.empty() && 2 * term_slot_.size() < element_entries;
 }
 
 bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
@@ -179,6 +248,8 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
       const double k = k_group[group_of_element_[s]];
       for (int e = begin_[s]; e < begin_[s + 1]; ++e) values[slot_[e]] += k * coefficient_[e];
     }
+    for (size_t i = 0; i < term_slot_.size(); ++i)
+      values[term_slot_[i]] += k_group[term_group_[i]] * term_coefficient_[i];
     solver_.factorize(k_);
     // A network the spring solves would refuse as singular (groups at the stiffness floor left
     // holding a near-mechanism) is no trial point: the fit must not end where the calibrated
@@ -234,8 +305,11 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
     const Eigen::Index offset = static_cast<Eigen::Index>(c) * rows_per_case_;
     // The element's strain g_e . u (a spring's stretch along its rest direction, a cell's
     // volume change over sqrt(|V0|)), times k, spread as g_e onto its free DOFs.
+    // Each element is visited, or (merged_jacobian_) those before merged_begin_, and the strain
+    // points' columns come from the summed K_g: sum_{e in g} k_g g_e (g_e^T u) = k_g K_g u.
+    const int visited = merged_jacobian_ ? merged_begin_ : num_elements();
     auto for_each_entry = [&](auto&& emit) {
-      for (int s = 0; s < num_elements(); ++s) {
+      for (int s = 0; s < visited; ++s) {
         double stretch = 0.0;
         if (s < static_cast<int>(springs_.size())) {
           const SpringData& sp = springs_[static_cast<size_t>(s)];
@@ -251,6 +325,13 @@ bool DisplacementModel::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& 
         spring_force_[c][s] = factor;
         for (int a = entry_begin_[s]; a < entry_begin_[s + 1]; ++a)
           emit(entry_free_[a], g, factor * entry_value_[a]);
+      }
+      if (visited == num_elements()) return;
+      for (size_t i = 0; i < term_slot_.size(); ++i) {
+        const int g = term_group_[i], r = term_row_[i], col = term_col_[i];
+        const double k = k_group[g] * term_coefficient_[i];
+        emit(r, g, k * u[c][col]);
+        if (r != col) emit(col, g, k * u[c][r]);
       }
     };
     if (use_inverse) {

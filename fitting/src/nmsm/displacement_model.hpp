@@ -68,6 +68,10 @@ class DisplacementModel {
 
  private:
   int num_elements() const { return static_cast<int>(group_of_element_.size()); }
+  /// Whether elements e and f have the same free DOFs in the same order.
+  bool same_dofs(int e, int f) const;
+  /// K's pattern (k_) and the scatter of every element into it (begin_ ... term_coefficient_).
+  void build_scatter();
 
   struct SpringData {
     Eigen::Vector3d n;         // unit rest direction
@@ -88,10 +92,18 @@ class DisplacementModel {
   std::vector<double> scale_;          // per case: 1 / (o_max sqrt(n))
   std::vector<Eigen::VectorXd> load_;  // per case, on the free DOFs
   Eigen::VectorXd scaled_reference_;
-  // Scatter of element s: entries [begin_[s], begin_[s + 1]) of slot_ (position in the value
-  // array of k_) and coefficient_ (+-n_a n_b).
+  // Elements [0, merged_begin_): springs and cell terms, scattered one by one; the rest are
+  // strain-point elements, scattered summed per group.
+  int merged_begin_ = 0;
+  // Scatter of element s < merged_begin_: entries [begin_[s], begin_[s + 1]) of slot_ (position
+  // in the value array of k_) and coefficient_ (g_a g_b).
   std::vector<int> begin_, slot_;
   std::vector<double> coefficient_;
+  // Scatter of the strain-point elements, summed per group and slot: K[term_slot_[i]] +=
+  // k[term_group_[i]] term_coefficient_[i] (K_g's upper triangle, at term_row_, term_col_).
+  std::vector<int> term_slot_, term_row_, term_col_, term_group_;  // row <= col (free indices)
+  std::vector<double> term_coefficient_;
+  bool merged_jacobian_ = false;  // du/dtheta of the non-spring elements from K_g (build_scatter)
   bool one_spring_per_group_ = false;
   // The theta solver_ is factorised at (valid when factored_) and its displacements per case.
   bool factored_ = false;

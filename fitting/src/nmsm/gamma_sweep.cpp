@@ -172,10 +172,11 @@ void fit_and_score(const SweepInputs& in, const Grouping& groups, SweepEntry& en
   analysis::SpringNetwork network = in.mesh.network;
   set_fitted(network, fit, grouping);
   double score = 0.0;
+  const analysis::SpringLinearSolver solver = network_solver(setup, network);
   for (int c : setup.fitted) {
     entry.control.push_back(
         error_metrics(to_points(setup.reference.load_cases[c].displacement, setup.dim),
-                      model_points(setup, network, c)));
+                      model_points(setup, solver, c)));
     score += entry.control.back().percent_e_rms * entry.control.back().percent_e_rms;
   }
   score = std::sqrt(score / static_cast<double>(entry.control.size()));

@@ -80,13 +80,14 @@ void evaluate_immersed_cases(const geometry::ImmersedDomain& domain,
     surface = surface_points(domain);
   }
   result.model_control_displacements.assign(cases.size(), {});
+  const analysis::SpringLinearSolver solver = network_solver(setup, network);
   for (size_t c = 0; c < cases.size(); ++c) {
     const int index = static_cast<int>(c);
     const bool is_fit = std::count(setup.fitted.begin(), setup.fitted.end(), index) > 0;
     const bool is_holdout = std::count(setup.held_out.begin(), setup.held_out.end(), index) > 0;
     if (!is_fit && !is_holdout) continue;
     const auto reference = to_points(setup.reference.load_cases[c].displacement, setup.dim);
-    const auto model = model_points(setup, network, index);
+    const auto model = model_points(setup, solver, index);
     CaseErrors errors;
     errors.id = cases[c].id;
     errors.control = error_metrics(reference, model);

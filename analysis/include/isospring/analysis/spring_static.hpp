@@ -3,6 +3,7 @@
 // spring forces). Fixed particles do not move; forces are flat vectors (spring_mechanics.hpp).
 #include <Eigen/Core>
 #include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
 #include <vector>
 
 #include "isospring/analysis/spring_network.hpp"
@@ -14,6 +15,7 @@ class FreeDofSet {
  public:
   FreeDofSet(int num_dofs, const std::vector<int>& constrained);
   int num_free() const { return static_cast<int>(free_.size()); }
+  int num_dofs() const { return static_cast<int>(index_.size()); }
   const std::vector<int>& free_dofs() const { return free_; }
   /// Global DOF -> free index, -1 when constrained.
   int free_index(int dof) const { return index_[static_cast<size_t>(dof)]; }
@@ -49,6 +51,23 @@ std::vector<int> constrained_dofs(const SpringNetwork& network, const std::vecto
 /// hold the network in place).
 SpringSolveResult solve_spring_linear(const SpringNetwork& network, const Eigen::VectorXd& force,
                                       const std::vector<int>& extra_constrained = {});
+
+/// solve_spring_linear for many loads on one network: K_rest restricted to the free DOFs is
+/// assembled and factorised once (a strain-point model's K takes seconds to assemble), then each
+/// solve is solve_spring_linear's, operation for operation. Throws like solve_spring_linear on
+/// construction.
+class SpringLinearSolver {
+ public:
+  explicit SpringLinearSolver(const SpringNetwork& network,
+                              const std::vector<int>& extra_constrained = {});
+  /// `force`: flat, one entry per particle component.
+  SpringSolveResult solve(const Eigen::VectorXd& force) const;
+
+ private:
+  FreeDofSet dofs_;
+  Eigen::SparseMatrix<double> k_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
+};
 
 /// Newton's method with the analytic tangent stiffness and a backtracking line search, starting
 /// from the linear solution of the first load step. `converged` is false when the tolerance is not

@@ -15,6 +15,10 @@ struct StepCosts {
   double cell_volume = 0.39;       // 3,615 us for 9,261 cells
   double cell_shear = 0.063;       // 587 us for 9,261 cells
   double point_particle = 0.0055;  // per particle of a strain point (volume or shear term)
+  // The membranes' (2D) cells: bilinear area at 4 Gauss points, shear over 4 corners
+  // (bench_runtime's n^2 sheets, 10^4 particles).
+  double cell_area_2d = 0.043;   // 419 us for 9,801 cells
+  double cell_shear_2d = 0.033;  // 322 us for 9,801 cells
 };
 
 /// Estimated microseconds of one force evaluation of `network` by the runtime.
