@@ -14,6 +14,7 @@
 // displacements come from the same problem on a mesh refined twice in every direction (which has
 // a node at every node of the truth mesh). Mesh convergence is measured, not assumed: the change
 // between the two meshes at the markers is stored in truth.json beside the noise.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -26,6 +27,7 @@
 #include "calculix_dataset.hpp"
 #include "identify_suite_datasets.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/nurbs/refine.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -50,11 +52,69 @@ json truth_case(const Dataset& d, const Specimen& s, int refinement) {
   return truth;
 }
 
-// The spec ccx solves: true problem at `refinement` x the truth mesh, the hidden material; the
-// markers' nodes only, or every node.
+// A position as text precise to well below the mesh's round-off, for matching nodes of
+// different meshes.
+std::string node_key(const Eigen::Vector3d& x) {
+  // Snapped to zero below 1e-12 m: the same node may be computed as 0 and as -1e-20.
+  const Eigen::Vector3d y = x.unaryExpr([](double v) { return std::abs(v) < 1e-12 ? 0.0 : v; });
+  char buffer[100];
+  std::snprintf(buffer, sizeof(buffer), "%.9e %.9e %.9e", y.x(), y.y(), y.z());
+  return buffer;
+}
+
+// Knots that split the `count` spans at the start (at_end: the end) of a direction into `splits`.
+std::vector<double> split_end_spans(const nurbs::KnotVector& knots, int count, int splits,
+                                    bool at_end) {
+  const std::vector<double> u = knots.unique();
+  const int spans = static_cast<int>(u.size()) - 1;
+  std::vector<double> out;
+  for (int i = 0; i < std::min(count, spans); ++i) {
+    const int span = at_end ? spans - 1 - i : i;
+    for (int k = 1; k < splits; ++k) out.push_back(u[span] + (u[span + 1] - u[span]) * k / splits);
+  }
+  return out;
+}
+
+// The graded truth mesh (Grading): the clamp's spans along the specimen's axis (its patches run
+// along it in the same parametric direction, the clamp at its start) and the outermost spans of
+// the other directions split.
+nurbs::Patch graded(const nurbs::Patch& patch, const Grading& g, int axis) {
+  nurbs::Patch out = patch;
+  if (g.clamp_spans > 0 && g.clamp_splits > 1)
+    out = nurbs::refine_knots(
+        out, axis, split_end_spans(out.knots(axis), g.clamp_spans, g.clamp_splits, false));
+  for (int d = 0; d < out.param_dim() && g.lateral_splits > 1; ++d) {
+    if (d == axis) continue;
+    std::vector<double> knots = split_end_spans(out.knots(d), 1, g.lateral_splits, false);
+    const std::vector<double> end = split_end_spans(out.knots(d), 1, g.lateral_splits, true);
+    knots.insert(knots.end(), end.begin(), end.end());
+    out = nurbs::refine_knots(out, d, knots);
+  }
+  return out;
+}
+
+// The markers' positions: nodes of the uniform truth mesh on the observed faces, every
+// stride-th, in the order of its nodes (a graded mesh keeps each of them as a node).
+std::vector<Eigen::Vector3d> marker_positions(const Dataset& d, const Specimen& s,
+                                              const fs::path& folder) {
+  const io::Case truth = io::build_case_from_json(truth_case(d, s, 1), folder / "t.json");
+  std::vector<Eigen::Vector3d> out;
+  int seen = 0;
+  for (const Eigen::Vector3d& x : io::make_calculix_deck(truth.problem).nodes)
+    if (s.is_marker(x) && seen++ % s.stride == 0) out.push_back(x);
+  return out;
+}
+
+// The spec ccx solves: true problem at `refinement` x the truth mesh (graded as the dataset asks,
+// then every span split), the hidden material; the markers' nodes only, or every node.
 testing::CalculixDatasetSpec truth_spec(const Dataset& d, const Specimen& s, int refinement,
                                         const fs::path& folder, bool markers_only) {
-  const io::Case truth = io::build_case_from_json(truth_case(d, s, refinement), folder / "t.json");
+  const bool uniform = d.grading.empty();
+  io::Case truth =
+      io::build_case_from_json(truth_case(d, s, uniform ? refinement : 1), folder / "t.json");
+  if (!uniform)
+    for (auto& patch : truth.problem.patches)
+      patch = nurbs::refine_uniform(graded(patch, d.grading, s.gradient_axis), refinement);
   testing::CalculixDatasetSpec spec;
   spec.truth = truth.problem;
   spec.nonlinear = d.hidden.nonlinear;
@@ -78,13 +138,36 @@ testing::CalculixDatasetSpec truth_spec(const Dataset& d, const Specimen& s, int
       return x[axis] - start < slab ? factor * E : E;
     };
   }
-  if (markers_only) {
+  if (markers_only && uniform) {
     spec.is_marker = s.is_marker;
     spec.stride = s.stride;
+  } else if (markers_only) {
+    std::set<std::string> keys;
+    for (const auto& x : marker_positions(d, s, folder)) keys.insert(node_key(x));
+    spec.is_marker = [keys](const Eigen::Vector3d& x) { return keys.count(node_key(x)) > 0; };
   } else {
     spec.is_marker = [](const Eigen::Vector3d&) { return true; };
   }
   return spec;
+}
+
+// A graded mesh's markers in the uniform truth mesh's order (load case by load case), the order
+// the noise is drawn in, so that the same seed puts the same noise on the same marker; checked
+// complete.
+std::vector<fitting::Marker> in_uniform_order(std::vector<fitting::Marker> markers,
+                                              const std::vector<Eigen::Vector3d>& positions) {
+  std::map<std::string, size_t> index, load_case_rank;
+  for (size_t i = 0; i < positions.size(); ++i) index[node_key(positions[i])] = i;
+  for (const auto& m : markers) load_case_rank.emplace(m.load_case, load_case_rank.size());
+  if (markers.size() != positions.size() * load_case_rank.size())
+    throw std::runtime_error("the graded mesh has " + std::to_string(markers.size()) + " of the " +
+                             std::to_string(positions.size() * load_case_rank.size()) +
+                             " markers of the uniform mesh");
+  std::stable_sort(markers.begin(), markers.end(), [&](const auto& a, const auto& b) {
+    return std::pair(load_case_rank[a.load_case], index.at(node_key(a.position))) <
+           std::pair(load_case_rank[b.load_case], index.at(node_key(b.position)));
+  });
+  return markers;
 }
 
 void write_markers(const fs::path& path, const std::vector<fitting::Marker>& markers, int dim) {
@@ -105,11 +188,7 @@ void write_markers(const fs::path& path, const std::vector<fitting::Marker>& mar
 std::vector<fitting::Marker> refined_markers(const std::vector<fitting::Marker>& markers,
                                              const std::vector<fitting::Marker>& fine, int dim,
                                              double* change) {
-  auto key = [](const std::string& lc, const Eigen::Vector3d& x) {
-    char buffer[160];
-    std::snprintf(buffer, sizeof(buffer), "%s %.9e %.9e %.9e", lc.c_str(), x.x(), x.y(), x.z());
-    return std::string(buffer);
-  };
+  auto key = [](const std::string& lc, const Eigen::Vector3d& x) { return lc + " " + node_key(x); };
   std::map<std::string, Eigen::Vector3d> fine_at;
   for (const auto& m : fine) fine_at[key(m.load_case, m.position)] = m.displacement;
   std::map<std::string, std::pair<double, int>> sums;
@@ -172,8 +251,8 @@ int generate(const fs::path& out, const std::set<std::string>& only) {
     fs::create_directories(folder);
     fs::remove_all(work);
     fs::create_directories(work);
-    const testing::CalculixDataset base =
-        testing::make_calculix_dataset(truth_spec(d, s, 1, work, true), work / "base");
+    const testing::CalculixDatasetSpec base_spec = truth_spec(d, s, 1, work, true);
+    const testing::CalculixDataset base = testing::make_calculix_dataset(base_spec, work / "base");
     const testing::CalculixDataset fine =
         testing::make_calculix_dataset(truth_spec(d, s, 2, work, false), work / "fine");
     for (const auto* set : {&base, &fine})
@@ -183,8 +262,10 @@ int generate(const fs::path& out, const std::set<std::string>& only) {
       }
     const int dim = s.declared.contains("analysis") ? 2 : 3;
     double change = 0.0;
-    std::vector<fitting::Marker> markers =
-        refined_markers(base.markers, fine.markers, dim, &change);
+    std::vector<fitting::Marker> markers = refined_markers(
+        d.grading.empty() ? base.markers
+                          : in_uniform_order(base.markers, marker_positions(d, s, work)),
+        fine.markers, dim, &change);
     const double max_displacement = [&] {
       double largest = 0.0;
       for (const auto& m : markers)
@@ -220,29 +301,42 @@ int generate(const fs::path& out, const std::set<std::string>& only) {
         {"frame_rotation",
          {d.hidden.frame_rotation.x(), d.hidden.frame_rotation.y(), d.hidden.frame_rotation.z()}}};
     json elements = s.truth_elements, finer = json::array();
-    for (int n : s.truth_elements) finer.push_back(2 * n);
-    const json truth = {{"dataset", d.name},
-                        {"specimen", d.specimen},
-                        {"effects", d.effects},
-                        {"note", d.note},
-                        {"youngs_modulus", s.true_modulus},
-                        {"declared_youngs_modulus", s.declared["material"]["E"]},
-                        {"hidden", hidden},
-                        {"noise_fraction", d.noise_fraction},
-                        {"noise_sigma", sigma},
-                        {"max_displacement", max_displacement},
-                        {"markers", markers.size()},
-                        {"seed", d.seed},
-                        {"calculix",
-                         {{"elements_per_patch", elements},
-                          {"element_type", dim == 3 ? "C3D20R" : "CPS8R"},
-                          {"mesh_check_elements_per_patch", finer},
-                          {"data_from", "the refined mesh (mesh_check_elements_per_patch)"},
-                          {"mesh_change_at_markers_rms", change},
-                          {"mesh_change_over_noise", change / sigma},
-                          // 20-node elements converge at second order in displacement: the refined
-                          // mesh's own error is about the change / (2^2 - 1).
-                          {"estimated_data_error_over_noise", change / 3.0 / sigma}}}};
+    if (!d.grading.empty()) {  // one patch: its spans per direction
+      elements = json::array();
+      const nurbs::Patch& patch = base_spec.truth.patches.front();
+      for (int dir = 0; dir < patch.param_dim(); ++dir)
+        elements.push_back(patch.knots(dir).num_elements());
+    }
+    for (int n : elements) finer.push_back(2 * n);
+    json truth = {{"dataset", d.name},
+                  {"specimen", d.specimen},
+                  {"effects", d.effects},
+                  {"note", d.note},
+                  {"youngs_modulus", s.true_modulus},
+                  {"declared_youngs_modulus", s.declared["material"]["E"]},
+                  {"hidden", hidden},
+                  {"noise_fraction", d.noise_fraction},
+                  {"noise_sigma", sigma},
+                  {"max_displacement", max_displacement},
+                  {"markers", markers.size()},
+                  {"seed", d.seed},
+                  {"calculix",
+                   {{"elements_per_patch", elements},
+                    {"element_type", dim == 3 ? "C3D20R" : "CPS8R"},
+                    {"mesh_check_elements_per_patch", finer},
+                    {"data_from", "the refined mesh (mesh_check_elements_per_patch)"},
+                    {"mesh_change_at_markers_rms", change},
+                    {"mesh_change_over_noise", change / sigma},
+                    // 20-node elements converge at second order in displacement: the refined
+                    // mesh's own error is about the change / (2^2 - 1).
+                    {"estimated_data_error_over_noise", change / 3.0 / sigma}}}};
+    if (!d.grading.empty())
+      truth["calculix"]["graded_mesh"] = {
+          {"uniform_elements_per_patch", s.truth_elements},
+          {"clamp_spans_split", d.grading.clamp_spans},
+          {"clamp_span_splits", d.grading.clamp_splits},
+          {"lateral_outer_span_splits", d.grading.lateral_splits},
+          {"markers", "nodes of the uniform mesh (every one is a node of the graded mesh)"}};
     std::ofstream(folder / "truth.json") << truth.dump(2) << "\n";
     fs::remove_all(work);
     const double seconds =

@@ -121,8 +121,15 @@ std::vector<Dataset> datasets() {
   std::vector<Dataset> all;
   auto add = [&](std::string name, std::string specimen_name, std::vector<std::string> effects,
                  double noise, unsigned seed, Hidden hidden, std::string note) {
-    all.push_back({std::move(name), std::move(specimen_name), std::move(effects), noise, seed,
-                   hidden, std::move(note)});
+    all.push_back({std::move(name),
+                   std::move(specimen_name),
+                   std::move(effects),
+                   noise,
+                   seed,
+                   hidden,
+                   std::move(note),
+                   0.0,
+                   {}});
   };
   const Hidden none;
   Hidden gravity;
@@ -197,6 +204,10 @@ std::vector<Dataset> datasets() {
       add("cantilever_" + effect + suffix, "cantilever", effects, 2e-3, seed++, hidden,
           note + ", nu = " + (nu == 0.45 ? "0.45" : "0.49") + ", noise 0.2 %");
       all.back().poisson_ratio = nu;
+      // A soft slab at the clamp of a nearly incompressible body: the uniform 60 x 12 x 12
+      // reference is not converged there (its mesh check fails); graded towards the clamp, the
+      // slab and the faces it meets.
+      if (nu == 0.49 && hidden.soft_layer > 0.0) all.back().grading = {1, 4, 2};
     }
   }
   return all;

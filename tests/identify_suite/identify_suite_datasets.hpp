@@ -27,6 +27,16 @@ struct Hidden {
   Eigen::Vector3d frame_rotation = Eigen::Vector3d::Zero();     // [rad] about the centre
 };
 
+/// A reference mesh finer where the solution varies fastest: spans of the truth mesh split before
+/// the mesh check doubles every span. Splits are powers of 2, so every node of the uniform truth
+/// mesh (the markers' positions) stays a node. Empty: the uniform truth mesh.
+struct Grading {
+  int clamp_spans = 0;     // spans next to the clamp (along the specimen's axis) split ...
+  int clamp_splits = 1;    // ... into this many
+  int lateral_splits = 1;  // the outermost span at each lateral face split into this many
+  bool empty() const { return clamp_spans == 0 && lateral_splits == 1; }
+};
+
 struct Dataset {
   std::string name;
   std::string specimen;              // cantilever, plate_with_hole, tube
@@ -38,6 +48,8 @@ struct Dataset {
   /// Poisson's ratio, declared and true alike; 0: the specimen's own (0.3 or 0.35). The
   /// tissue-like datasets (soft tissue, gels, elastomers) use 0.45 and 0.49.
   double poisson_ratio = 0.0;
+  /// The reference mesh graded towards the clamp where the uniform one fails its mesh check.
+  Grading grading;
 };
 
 /// The suite: 14 datasets on three specimens, clean ones at two noise levels, and 18 tissue-like
