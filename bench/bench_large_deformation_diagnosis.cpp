@@ -94,24 +94,6 @@ bool residual_newton(const SpringNetwork& network, const FreeDofSet& dofs,
   return r.norm() <= 1e-10 * scale && u.allFinite();
 }
 
-// The particle forces of every load case of `problem` on `model`.
-std::vector<Eigen::VectorXd> particle_forces(const analysis::Problem& problem,
-                                             const SpringModelOnProblem& model) {
-  const analysis::DofMap dofs(problem);
-  const int dim = dofs.dofs_per_node();
-  std::vector<Eigen::VectorXd> forces;
-  for (const auto& lc : problem.load_cases) {
-    const Eigen::VectorXd node_load = analysis::assemble_load(problem, dofs, lc);
-    Eigen::VectorXd f =
-        Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.network.positions.size()) * dim);
-    for (size_t a = 0; a < model.particle_of_node.size(); ++a)
-      f.segment(model.particle_of_node[a] * dim, dim) +=
-          node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
-    forces.push_back(f);
-  }
-  return forces;
-}
-
 // Smallest eigenvalue of the neo-Hookean tangent on the free DOFs at u, relative to rest.
 double reference_stability(const analysis::Problem& problem, const Eigen::VectorXd& u) {
   const analysis::DofMap dofs(problem);
@@ -139,7 +121,7 @@ void diagnose(const char* label, const analysis::Problem& problem,
       extreme_eigenvalues(dofs.restrict(analysis::tangent_stiffness(network, x0)));
   std::printf("  %s: rest tangent eigenvalues min %.3e max %.3e (ratio %.2e)\n", label, rest[0],
               rest[1], rest[0] / rest[1]);
-  const auto forces = particle_forces(problem, model);
+  const auto forces = fitting::particle_loads(problem, model);
   const auto evaluated = fitting::evaluate_large_deformation(problem, model, references);
   for (size_t c = 0; c < forces.size(); ++c) {
     const int steps = 256;

@@ -2,7 +2,6 @@
 #include "immersed_cell_rule.hpp"
 
 #include <array>
-#include <map>
 
 #include "isospring/nurbs/basis.hpp"
 #include "isospring/nurbs/quadrature.hpp"
@@ -10,13 +9,6 @@
 namespace isospring::analysis::detail {
 
 namespace {
-
-const nurbs::GaussRule& gauss(int n) {
-  static thread_local std::map<int, nurbs::GaussRule> rules;
-  auto found = rules.find(n);
-  if (found == rules.end()) found = rules.emplace(n, nurbs::gauss_legendre(n)).first;
-  return found->second;
-}
 
 // The Lagrange polynomials of the nodes at t, c_i prod_{j != i} (t - t_j) with c_i the inverse
 // of prod_{j != i} (t_i - t_j). The nodes are Gauss points, whose Lebesgue constant stays small,
@@ -53,7 +45,7 @@ CellRule reduced_cell_rule(const BackgroundBasis& basis, const Element& e,
   std::array<std::vector<double>, 3> nodes;
   std::vector<Lagrange> polynomials;
   for (int d = 0; d < dim; ++d) {
-    nodes[static_cast<size_t>(d)] = gauss(n[static_cast<size_t>(d)]).points;
+    nodes[static_cast<size_t>(d)] = nurbs::gauss_legendre_cached(n[static_cast<size_t>(d)]).points;
     polynomials.emplace_back(nodes[static_cast<size_t>(d)]);
   }
   CellRule rule;

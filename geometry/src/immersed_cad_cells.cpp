@@ -4,20 +4,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 
 #include "isospring/nurbs/quadrature.hpp"
 
 namespace isospring::geometry::detail {
 
 namespace {
-
-const nurbs::GaussRule& gauss(int n) {
-  static thread_local std::map<int, nurbs::GaussRule> rules;
-  auto found = rules.find(n);
-  if (found == rules.end()) found = rules.emplace(n, nurbs::gauss_legendre(n)).first;
-  return found->second;
-}
 
 // [lo, hi] cut at the break points inside it.
 std::vector<double> pieces(double lo, double hi, std::vector<double> breaks) {
@@ -75,7 +67,7 @@ CutCellRule line_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen:
   const Eigen::Vector3d e = hair(lo, hi);
   const std::array<double, 2> d_ends{lo[d] + e[d], hi[d] - e[d]};
   CutCellRule rule;
-  const nurbs::GaussRule& g = gauss(order);
+  const nurbs::GaussRule& g = nurbs::gauss_legendre_cached(order);
   rule.crossed = outer.size() > 2;
   int full = 0, empty = 0;  // lines wholly inside / outside the part
   for (size_t i = 0; i + 1 < outer.size(); ++i)

@@ -1,6 +1,7 @@
 #include "isospring/nurbs/quadrature.hpp"
 
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "isospring/nurbs/error.hpp"
@@ -46,6 +47,13 @@ GaussRule gauss_legendre(int n) {
   }
   if (n % 2 == 1) rule.points[static_cast<size_t>(n / 2)] = 0.0;
   return rule;
+}
+
+const GaussRule& gauss_legendre_cached(int n) {
+  static thread_local std::map<int, GaussRule> rules;
+  auto found = rules.find(n);
+  if (found == rules.end()) found = rules.emplace(n, gauss_legendre(n)).first;
+  return found->second;
 }
 
 }  // namespace isospring::nurbs

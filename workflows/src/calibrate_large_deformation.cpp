@@ -124,24 +124,6 @@ std::vector<LargeDeformationAmplitude> amplitude_rows(
   return rows;
 }
 
-// Every load case of `problem` as forces on the model's particles (model.json's load cases).
-std::vector<Eigen::VectorXd> particle_loads(const analysis::Problem& problem,
-                                            const fitting::SpringModelOnProblem& model) {
-  std::vector<Eigen::VectorXd> loads;
-  const analysis::DofMap dofs(problem);
-  const int dim = dofs.dofs_per_node();
-  for (const auto& lc : problem.load_cases) {
-    const Eigen::VectorXd node_load = analysis::assemble_load(problem, dofs, lc);
-    Eigen::VectorXd f =
-        Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.network.positions.size()) * dim);
-    for (size_t a = 0; a < model.particle_of_node.size(); ++a)
-      f.segment(model.particle_of_node[a] * dim, dim) +=
-          node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
-    loads.push_back(f);
-  }
-  return loads;
-}
-
 // The held-out cases' finite-strain references (DofMap vectors), their control displacements
 // appended to `summary`'s viewer references.
 std::vector<Eigen::VectorXd> held_out_references(const analysis::Problem& held,
@@ -239,7 +221,7 @@ CalibrateCommandResult run_calibrate_large_deformation(io::Case c, io::Calibrati
                                          summary.reference_controls[n_fitted + k],
                                          settings.field_samples));
   }
-  result.particle_loads = particle_loads(problem, fit.model);
+  result.particle_loads = fitting::particle_loads(problem, fit.model);
   for (const auto& lc : problem.load_cases) result.load_ids.push_back(lc.id);
 
   double worst_fitted = 0.0, worst_holdout = 0.0;

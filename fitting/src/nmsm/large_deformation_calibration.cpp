@@ -349,6 +349,23 @@ SpringModelOnProblem spring_model_of(const analysis::Problem& problem,
   return model;
 }
 
+std::vector<Eigen::VectorXd> particle_loads(const analysis::Problem& problem,
+                                            const SpringModelOnProblem& model) {
+  const analysis::DofMap dofs(problem);
+  const int dim = dofs.dofs_per_node();
+  const auto particles = static_cast<Eigen::Index>(model.network.positions.size());
+  std::vector<Eigen::VectorXd> loads;
+  for (const auto& load_case : problem.load_cases) {
+    const Eigen::VectorXd node_load = analysis::assemble_load(problem, dofs, load_case);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(particles * dim);
+    for (size_t a = 0; a < model.particle_of_node.size(); ++a)
+      f.segment(model.particle_of_node[a] * dim, dim) +=
+          node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
+    loads.push_back(std::move(f));
+  }
+  return loads;
+}
+
 std::vector<Eigen::VectorXd> finite_strain_references(const analysis::Problem& problem,
                                                       analysis::HyperelasticMaterial law) {
   analysis::NonlinearOptions options;
@@ -368,13 +385,10 @@ std::vector<LargeDeformationCase> evaluate_large_deformation(
   const std::vector<int> node_of = node_of_particle(model.particle_of_node, particles);
   if (references.size() != problem.load_cases.size())
     throw std::invalid_argument("evaluate_large_deformation: one reference per load case");
+  const std::vector<Eigen::VectorXd> forces = particle_loads(problem, model);
   std::vector<LargeDeformationCase> cases;
   for (size_t c = 0; c < problem.load_cases.size(); ++c) {
-    const Eigen::VectorXd node_load = analysis::assemble_load(problem, dofs, problem.load_cases[c]);
-    Eigen::VectorXd force = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(particles) * dim);
-    for (size_t a = 0; a < model.particle_of_node.size(); ++a)
-      force.segment(model.particle_of_node[a] * dim, dim) +=
-          node_load.segment(static_cast<Eigen::Index>(a) * dim, dim);
+    const Eigen::VectorXd& force = forces[c];
     LargeDeformationCase out;
     out.id = problem.load_cases[c].id;
     out.percent_eps_g = percent_eps_g(model.network, node_of, references[c], dim, 1.0);

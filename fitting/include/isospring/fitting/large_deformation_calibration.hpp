@@ -88,6 +88,11 @@ std::vector<double> load_factors_for_eps_g(const analysis::Problem& problem,
 SpringModelOnProblem spring_model_of(const analysis::Problem& problem,
                                      const CalibrationResult& calibration);
 
+/// Every load case of `problem` as forces on the model's particles (the nodes' consistent loads
+/// summed onto the particle each node belongs to), in the order of problem.load_cases.
+std::vector<Eigen::VectorXd> particle_loads(const analysis::Problem& problem,
+                                            const SpringModelOnProblem& model);
+
 /// Calibrates as described above: settings.fit_cases (empty: every case not in holdout_cases)
 /// are scaled to every amplitude; gamma, gamma_sweep, mesh, mass model, bounds and iterations
 /// come from `settings`; per-spring freedom, matrix approach and given references are refused.

@@ -13,4 +13,8 @@ struct GaussRule {
 /// iteration on the Legendre polynomial to machine precision.
 GaussRule gauss_legendre(int n);
 
+/// gauss_legendre(n) computed once per thread and kept, for loops that ask for the same few rules
+/// millions of times (cut-cell quadrature); the reference stays valid for the thread's lifetime.
+const GaussRule& gauss_legendre_cached(int n);
+
 }  // namespace isospring::nurbs
