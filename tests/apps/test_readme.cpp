@@ -62,6 +62,9 @@ const std::vector<NotRun> kNotRun{
     {"docs/calibration.md", "isospring thesis --generalisation-only",
      "a fragment naming the run that measured the numbers quoted (minutes per object); the "
      "README's quick example runs its square"},
+    {"docs/frontier.md", "isospring thesis --frontier --combine A/report.json B/report.json -o all",
+     "joins the reports of two earlier runs (A and B name them); FrontierCells.* in "
+     "tests/workflows combines two runs and checks the merged rows and Pareto flags"},
     {"docs/frontier.md", "isospring thesis --frontier -o frontier",
      "the full run: the six objects, tens of minutes on 2 cores; the page's square run "
      "(`--quick --object square`) is run instead"},

@@ -177,12 +177,14 @@ TEST(ImmersedCalibration, AlignedBlockIsTheBodyFittedCalibration) {
   // Stiffnesses: Levenberg-Marquardt stops where the cost's relative decrease falls below its
   // tolerance, and along the cost's flat directions (groups that barely change the fitted
   // displacements) a 1e-12 change of the loads moves that point: by 1.6e-7 with two threads and
-  // 1.2e-6 with one (the loads' round-off follows the assembly's summation order) in the
-  // measurements. The errors below, the well-determined outcome, agree to 1e-10.
+  // 1.2e-6 with one (the loads' round-off follows the assembly's summation order), and by
+  // 1.1e-5 once the fit summed its stiffness per group in another order, in the measurements.
+  // 1e-4 still fails for any wrong particle, spring, mass or support (an O(1) change). The
+  // errors below, the well-determined outcome, agree to 1e-10.
   for (size_t g = 0; g < fitted.fit_result.group_stiffness.size(); ++g)
     EXPECT_NEAR(
         immersed.calibration.fit_result.group_stiffness[g] / fitted.fit_result.group_stiffness[g],
-        1.0, 1e-5);
+        1.0, 1e-4);
   // The held-out traction case: its load agrees to the face quadrature's 1e-9.
   ASSERT_EQ(immersed.calibration.holdout.size(), 1u);
   EXPECT_NEAR(immersed.calibration.holdout[0].control.percent_e_rms /
