@@ -12,6 +12,7 @@
 
 #include "displacement_model.hpp"
 #include "dual_levenberg_marquardt.hpp"
+#include "fitted_stiffness.hpp"
 #include "isospring/analysis/thread_scope.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "iteration_reporter.hpp"
@@ -266,14 +267,7 @@ DisplacementFitResult fit_displacements(const DisplacementFitData& data,
   else
     solve_with_ceres(model, options, log_floor, prior, theta, result);
 
-  for (int g = 0; g < groups; ++g) {
-    result.group_stiffness.push_back(std::exp(theta[g]));
-    // Within 1e-9 in log: the bound is active (both solvers project onto it exactly).
-    if (theta[g] <= log_floor + 1e-9) ++result.groups_at_lower_bound;
-  }
-  for (int g : grouping.group_of_spring)
-    result.spring_stiffness.push_back(result.group_stiffness[g]);
-  for (int g : grouping.group_of_volume) result.volume_modulus.push_back(result.group_stiffness[g]);
+  detail::set_fitted_stiffnesses(theta, log_floor, grouping, result);
   Eigen::VectorXd r;
   Eigen::VectorXd final_theta = Eigen::Map<Eigen::VectorXd>(theta.data(), groups);
   if (!model.evaluate(final_theta, r, nullptr))

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "fitted_stiffness.hpp"
 #include "isospring/analysis/spring_mechanics.hpp"
 #include "isospring/analysis/spring_static.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -322,13 +323,7 @@ DisplacementFitResult fit_displacements_nonlinear(const DisplacementFitData& dat
   result.cost = summary.final_cost;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.message;
-  for (int g = 0; g < groups; ++g) {
-    result.group_stiffness.push_back(std::exp(theta[g]));
-    if (theta[g] <= log_floor + 1e-9) ++result.groups_at_lower_bound;
-  }
-  for (int g : grouping.group_of_spring)
-    result.spring_stiffness.push_back(result.group_stiffness[g]);
-  for (int g : grouping.group_of_volume) result.volume_modulus.push_back(result.group_stiffness[g]);
+  detail::set_fitted_stiffnesses(theta, log_floor, grouping, result);
   Eigen::VectorXd r;
   if (!model.evaluate(Eigen::Map<Eigen::VectorXd>(theta.data(), groups), r, nullptr))
     throw std::runtime_error(
