@@ -12,12 +12,16 @@
 //     numbers there,
 //   - the reference's own stability: the smallest eigenvalue of the neo-Hookean IGA tangent at
 //     the reference on the free DOFs, relative to its value at rest.
-// One iteration per object; prints one line per load.
+// One iteration per object; prints one line per load. `fit_path` takes the square with volume
+// and shear terms apart: its fit's cost from rest at the starts and the end, along the segment
+// between them, each amplitude fitted alone from several starts, the case that leaves the
+// solid's branch fitted alone; `fit_without` the continuation without some training cases.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <cstdio>
+#include <limits>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
@@ -210,6 +214,224 @@ void run_object(benchmark::State& state, int dims, int elements) {
     }
   }
 }
+
+// ---- The square's springs + volume + shear fit: where Levenberg-Marquardt ends against its start.
+
+// The nonlinear objective (1/2 sum of squared residuals, as Ceres reports it) of the first
+// `cases` fitted cases at log-stiffnesses theta, every equilibrium from rest; per-case %e_rms
+// into `percent`. Infinity when an equilibrium is not found.
+double cost_from_rest(const fitting::DisplacementFitData& data, size_t cases,
+                      const fitting::Grouping& grouping, const Eigen::VectorXd& theta,
+                      std::vector<double>* percent = nullptr) {
+  fitting::DisplacementFitData first = data;
+  first.loads.resize(cases);
+  first.references.resize(cases);
+  Eigen::VectorXd r;
+  if (!fitting::nonlinear_displacement_residuals(first, grouping, theta, r, nullptr))
+    return std::numeric_limits<double>::infinity();
+  if (percent) {
+    percent->clear();
+    const Eigen::Index rows = r.size() / static_cast<Eigen::Index>(cases);
+    for (size_t c = 0; c < cases; ++c)
+      percent->push_back(100.0 * r.segment(static_cast<Eigen::Index>(c) * rows, rows).norm());
+  }
+  return 0.5 * r.squaredNorm();
+}
+
+Eigen::VectorXd log_of(const std::vector<double>& k) {
+  Eigen::VectorXd theta(static_cast<Eigen::Index>(k.size()));
+  for (size_t g = 0; g < k.size(); ++g) theta[static_cast<Eigen::Index>(g)] = std::log(k[g]);
+  return theta;
+}
+
+void print_point(const char* label, const fitting::DisplacementFitData& data, size_t per_amplitude,
+                 const fitting::Grouping& grouping, const Eigen::VectorXd& theta) {
+  std::vector<double> percent;
+  std::printf("  %-34s k [", label);
+  for (Eigen::Index g = 0; g < theta.size(); ++g) std::printf(" %.3g", std::exp(theta[g]));
+  std::printf(" ]\n");
+  for (size_t stage = 1; stage * per_amplitude <= data.loads.size(); ++stage) {
+    const double cost = cost_from_rest(data, stage * per_amplitude, grouping, theta, &percent);
+    std::printf("    cases up to amplitude %zu: cost %.5g, %%e_rms", stage, cost);
+    for (double p : percent) std::printf(" %.1f", p);
+    std::printf("\n");
+  }
+  std::fflush(stdout);
+}
+
+// The training cases of `suite` scaled to every amplitude (amplitude-major, ids "id@amplitude"),
+// as calibrate_large_deformation scales them.
+analysis::Problem scaled_training(const analysis::Problem& suite,
+                                  const std::vector<std::string>& training,
+                                  const std::vector<double>& amplitudes,
+                                  const fitting::SpringMeshOptions& mesh) {
+  analysis::Problem fitted = suite, scaled = suite;
+  fitted.load_cases.clear();
+  scaled.load_cases.clear();
+  for (const auto& lc : suite.load_cases)
+    if (std::find(training.begin(), training.end(), lc.id) != training.end())
+      fitted.load_cases.push_back(lc);
+  for (double amplitude : amplitudes) {
+    const std::vector<double> f = fitting::load_factors_for_eps_g(fitted, mesh, amplitude);
+    for (size_t c = 0; c < f.size(); ++c) {
+      char id[64];
+      std::snprintf(id, sizeof id, "%s@%g", fitted.load_cases[c].id.c_str(), amplitude);
+      scaled.load_cases.push_back(fitting::scaled_load_case(fitted.load_cases[c], f[c], id));
+    }
+  }
+  return scaled;
+}
+
+void print_fit(const char* label, const fitting::DisplacementFitData& data,
+               const fitting::DisplacementFitOptions& options) {
+  try {
+    const fitting::DisplacementFitResult fit = fitting::fit_displacements_nonlinear(data, options);
+    std::printf("    %s: cost %.4g, %d iterations, %d at the lower bound, %%e_rms", label, fit.cost,
+                fit.iterations, fit.groups_at_lower_bound);
+    for (double p : fit.percent_e_rms) std::printf(" %.1f", p);
+    std::printf("\n");
+  } catch (const std::exception& e) {
+    std::printf("    %s: failed (%s)\n", label, e.what());
+  }
+  std::fflush(stdout);
+}
+
+// The square with volume and shear terms (bench_large_deformation's object): the continuation's
+// costs from rest at its two linear starts and its end, the cost along the segment from the
+// start to the end, each amplitude's cases fitted alone from several starts, self-weight along
+// x at %eps_G 20 fitted alone.
+void fit_path(benchmark::State& state) {
+  for (auto _ : state) {
+    std::vector<std::string> training, test;
+    const analysis::Problem suite = bench_large::suite_problem(2, 3, training, test);
+    fitting::CalibrationSettings settings;
+    settings.gamma = 0.2;
+    settings.field_metrics = false;
+    settings.fit_cases = training;
+    settings.mesh.volume_terms = true;
+    settings.mesh.shear_terms = true;
+    fitting::LargeDeformationSettings large;
+    large.amplitudes = {5.0, 10.0, 20.0};
+    const fitting::LargeDeformationResult result =
+        fitting::calibrate_large_deformation(suite, settings, large);
+    std::printf("  continuation: reached %g %s; started from the %s\n", result.reached_amplitude,
+                result.stopped.c_str(),
+                result.started_from_linear_references ? "linear references' calibration"
+                                                      : "finite-strain references' fit");
+    const analysis::Problem scaled =
+        scaled_training(suite, training, large.amplitudes, settings.mesh);
+    fitting::DisplacementFitData data;
+    data.network = result.model.network;
+    data.constrained_dofs = result.model.extra_constrained;
+    data.particle_of_node = result.model.particle_of_node;
+    data.loads = fitting::particle_loads(scaled, result.model);
+    data.references =
+        fitting::finite_strain_references(scaled, analysis::HyperelasticMaterial::kNeoHookean);
+    const size_t per_amplitude = training.size();
+    const fitting::Grouping& grouping = result.start.grouping;
+    fitting::CalibrationSettings plain = settings;
+    plain.fit_cases.clear();
+    const fitting::CalibrationResult on_linear = fitting::calibrate(scaled, plain);
+    const std::vector<double>* starts[3] = {&result.start.fit_result.group_stiffness,
+                                            &on_linear.fit_result.group_stiffness,
+                                            &result.fit.group_stiffness};
+    const char* start_label[3] = {"finite-strain references' fit", "linear references' calibration",
+                                  "continuation's fit"};
+    for (int s = 0; s < 3; ++s)
+      print_point(start_label[s], data, per_amplitude, grouping, log_of(*starts[s]));
+    const Eigen::VectorXd from = log_of(*starts[result.started_from_linear_references ? 1 : 0]);
+    const Eigen::VectorXd to = log_of(result.fit.group_stiffness);
+    for (size_t stage = 1; stage <= 3; ++stage) {
+      std::printf(
+          "  cost from rest along the segment start -> continuation's fit, cases up to "
+          "amplitude %zu:",
+          stage);
+      for (int i = 0; i <= 10; ++i)
+        std::printf(" %.4g", cost_from_rest(data, stage * per_amplitude, grouping,
+                                            from + 0.1 * i * (to - from)));
+      std::printf("\n");
+    }
+    for (size_t k = 0; k < 3; ++k) {
+      std::printf("  amplitude %g alone (its %zu cases), from each start:\n", large.amplitudes[k],
+                  per_amplitude);
+      fitting::DisplacementFitData alone = data;
+      alone.loads.assign(data.loads.begin() + k * per_amplitude,
+                         data.loads.begin() + (k + 1) * per_amplitude);
+      alone.references.assign(data.references.begin() + k * per_amplitude,
+                              data.references.begin() + (k + 1) * per_amplitude);
+      for (int s = 0; s < 3; ++s) {
+        fitting::DisplacementFitOptions options;
+        options.grouping = grouping;
+        options.initial = *starts[s];
+        print_fit(start_label[s], alone, options);
+      }
+    }
+    const size_t gravity_x =
+        std::find(training.begin(), training.end(), "gravity_x") - training.begin();
+    std::printf("  gravity_x@20 alone, from each start:\n");
+    fitting::DisplacementFitData one = data;
+    one.loads = {data.loads[2 * per_amplitude + gravity_x]};
+    one.references = {data.references[2 * per_amplitude + gravity_x]};
+    for (int s = 0; s < 3; ++s) {
+      fitting::DisplacementFitOptions options;
+      options.grouping = grouping;
+      options.initial = *starts[s];
+      print_fit(start_label[s], one, options);
+    }
+  }
+}
+
+// The square's continuation (volume and shear terms, %eps_G 5, 10, 20) without the training
+// cases `dropped`: where it stops, its fitted cases and the held-out end loads.
+void fit_without(benchmark::State& state, std::vector<std::string> dropped) {
+  for (auto _ : state) {
+    std::vector<std::string> training, test;
+    const analysis::Problem suite = bench_large::suite_problem(2, 3, training, test);
+    fitting::CalibrationSettings settings;
+    settings.gamma = 0.2;
+    settings.field_metrics = false;
+    settings.mesh.volume_terms = true;
+    settings.mesh.shear_terms = true;
+    for (const auto& id : training)
+      if (std::find(dropped.begin(), dropped.end(), id) == dropped.end())
+        settings.fit_cases.push_back(id);
+    fitting::LargeDeformationSettings large;
+    large.amplitudes = {5.0, 10.0, 20.0};
+    std::printf("  continuation without");
+    for (const auto& id : dropped) std::printf(" %s", id.c_str());
+    try {
+      const auto r = fitting::calibrate_large_deformation(suite, settings, large);
+      std::printf(": reached %g %s; fitted %%e_rms", r.reached_amplitude, r.stopped.c_str());
+      for (const auto& c : r.fitted) std::printf(" %s %.1f", c.id.c_str(), c.control.percent_e_rms);
+      std::printf("\n  held out (worst of stretch, bending, in-plane moment):");
+      const double strains[3] = {0.03, 0.15, 0.30}, degrees[3] = {5, 20, 40};
+      for (int a = 0; a < 3; ++a) {
+        const bench_large::HeldOut h = bench_large::held_out(suite, test, strains[a], degrees[a]);
+        double worst = 0.0;
+        int failed = 0;
+        for (const auto& c : fitting::evaluate_large_deformation(h.problem, r.model, h.references))
+          c.solved ? void(worst = std::max(worst, c.control.percent_e_rms)) : void(++failed);
+        std::printf(" %.2f (%d without equilibrium)", worst, failed);
+      }
+      std::printf("\n");
+    } catch (const std::exception& e) {
+      std::printf(": failed: %s\n", e.what());
+    }
+    std::fflush(stdout);
+  }
+}
+
+BENCHMARK(fit_path)->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(fit_without, gravity_x, std::vector<std::string>{"gravity_x"})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(fit_without, gravity, std::vector<std::string>{"gravity_x", "gravity_y"})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(fit_without, gravity_x_and_edge_y,
+                  std::vector<std::string>{"gravity_x", "p0_v0_y", "p0_v1_y"})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
 
 BENCHMARK_CAPTURE(run_object, cube, 3, 1)->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(run_object, square, 2, 3)->Iterations(1)->Unit(benchmark::kSecond);

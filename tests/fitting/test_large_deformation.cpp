@@ -9,12 +9,14 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 #include "isospring/analysis/spring_network.hpp"
 #include "isospring/fitting/large_deformation_calibration.hpp"
 #include "isospring/fitting/load_suite.hpp"
 #include "isospring/fitting/nonlinear_displacement_fit.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "isospring/nurbs/refine.hpp"
 #include "nmsm_test_models.hpp"
 
 namespace isospring::fitting {
@@ -190,6 +192,111 @@ TEST(LargeDeformation, FitsLargeLoadsBetterAndMeasuresHeldOutEndLoads) {
   // the large-deformation fit stops paying off.
   EXPECT_LT(fitted_large, fitted_linear - 0.6);
   EXPECT_LT(held_large, held_linear - 3.0);
+}
+
+// The 5^2 square in plane strain of bench_large_deformation (10 cm, degree 2, three elements
+// per direction, the control net at the Greville points; clamped on x = 0) with the load suite;
+// `training` gets every training case but the free end's stretch, bending and in-plane moment.
+analysis::Problem square_with_suite(std::vector<std::string>& training) {
+  analysis::Problem problem = testing::grid_problem({5, 5}, {0.1, 0.1});
+  const nurbs::KnotVector linear(1, {0, 0, 1, 1});
+  nurbs::Patch patch({linear, linear}, {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}, {0.1, 0.1, 0}});
+  patch = nurbs::elevate_degree(patch, 1);
+  for (int d = 0; d < 2; ++d) patch = nurbs::refine_uniform(patch, d, 3);
+  problem.patches = {patch};
+  LoadSuiteOptions options;
+  options.validation = false;
+  const LoadSuite suite = generate_load_suite(problem, options);
+  problem.load_cases = suite.cases;
+  for (const auto& id : suite.training)
+    if (id.rfind("p0_u1_", 0) != 0) training.push_back(id);
+  return problem;
+}
+
+TEST(LargeDeformation, ContinuationStopsBeforeACaseOnAnotherBranchDragsTheFit) {
+  // The square with volume and shear terms fitted at %eps_G 5, 10, 20 (8 cases each). The fit
+  // up to 10 explains its 16 cases within 10.4 %e_rms, but its equilibrium from rest under
+  // self-weight along x at 20 inverts a net cell (V/V0 = -0.03; 443 %e_rms from the fit up to
+  // 5). Fitting that amplitude anyway traded every other case for that one: it ended at 63-70
+  // %e_rms and so passed the after-the-fit rule (<= 100), with every fitted case, 5 included,
+  // at 40-70 %e_rms and stiffnesses spread over 0.016 .. 7.6e7. The continuation must stop
+  // before such a fit and keep the fit up to 10.
+  std::vector<std::string> training;
+  const analysis::Problem square = square_with_suite(training);
+  ASSERT_EQ(training.size(), 8u);
+  CalibrationSettings settings;
+  settings.gamma = 0.2;
+  settings.field_metrics = false;
+  settings.fit_cases = training;
+  settings.mesh.volume_terms = true;
+  settings.mesh.shear_terms = true;
+  LargeDeformationSettings large;
+  large.amplitudes = {5.0, 10.0, 20.0};
+  const LargeDeformationResult result = calibrate_large_deformation(square, settings, large);
+  EXPECT_EQ(result.reached_amplitude, 10.0);
+  EXPECT_NE(result.stopped.find("gravity_x@20"), std::string::npos) << result.stopped;
+  EXPECT_NE(result.stopped.find("before the fit"), std::string::npos) << result.stopped;
+  ASSERT_EQ(result.fitted.size(), 16u);
+  double worst = 0.0;
+  for (const auto& c : result.fitted) {
+    ASSERT_TRUE(c.solved) << c.id;
+    worst = std::max(worst, c.control.percent_e_rms);
+  }
+  // Measured 10.4 (gravity_x@10; the other 15 cases <= 6.3); the dragged fit was >= 41.7 on
+  // every case. 12 leaves room for another BLAS's last digits in the fit's path.
+  EXPECT_LT(worst, 12.0);
+}
+
+TEST(LargeDeformation, NonlinearFitEndsBelowItsStartFromRestAndDoesNotStall) {
+  // Plain springs on the square at %eps_G 5, started from the linear calibration: the fit's
+  // cost with every equilibrium from rest (as the model is used) must not exceed its start's,
+  // and the fit must not stall where its trial steps land on other branches of equilibria.
+  std::vector<std::string> training;
+  analysis::Problem square = square_with_suite(training);
+  std::vector<analysis::LoadCase> cases;
+  for (const auto& lc : square.load_cases)
+    if (std::find(training.begin(), training.end(), lc.id) != training.end()) cases.push_back(lc);
+  square.load_cases = cases;
+  const SpringMeshOptions mesh;
+  const auto factors = load_factors_for_eps_g(square, mesh, 5.0);
+  for (size_t c = 0; c < factors.size(); ++c)
+    square.load_cases[c] = scaled_load_case(square.load_cases[c], factors[c], cases[c].id);
+  CalibrationSettings settings;
+  settings.gamma = 0.2;
+  settings.field_metrics = false;
+  const CalibrationResult start = calibrate(square, settings);
+  const SpringModelOnProblem model = spring_model_of(square, start);
+  DisplacementFitData data;
+  data.network = model.network;
+  data.constrained_dofs = model.extra_constrained;
+  data.particle_of_node = model.particle_of_node;
+  data.loads = start.particle_loads;
+  data.references = finite_strain_references(square, HyperelasticMaterial::kNeoHookean);
+  DisplacementFitOptions options;
+  options.grouping = start.grouping;
+  options.initial = start.fit_result.group_stiffness;
+  const DisplacementFitResult fit = fit_displacements_nonlinear(data, options);
+  auto cost_from_rest = [&](const std::vector<double>& k) {
+    Eigen::VectorXd theta(static_cast<Eigen::Index>(k.size())), r;
+    for (size_t g = 0; g < k.size(); ++g) theta[static_cast<Eigen::Index>(g)] = std::log(k[g]);
+    return nonlinear_displacement_residuals(data, start.grouping, theta, r, nullptr)
+               ? 0.5 * r.squaredNorm()
+               : std::numeric_limits<double>::infinity();
+  };
+  const double at_start = cost_from_rest(options.initial);
+  const double at_end = cost_from_rest(fit.group_stiffness);
+  std::cout << "cost from rest: start " << at_start << ", fit " << at_end << " (" << fit.message
+            << ")\n";
+  ASSERT_TRUE(std::isfinite(at_start));
+  EXPECT_LE(at_end, at_start);
+  // Measured: start 5.51 (a case on another branch), fit 0.0973. With each equilibrium warm-
+  // started from the LAST evaluation (a rejected trial's, possibly on another branch) instead of
+  // the best point's, the objective depended on the optimiser's history and the fit stalled at
+  // 1.69 ("parameter tolerance": its trust region shrank around steps that evaluated on other
+  // branches). 0.2 separates the two with a factor of 2 to spare on either side.
+  EXPECT_LT(at_end, 0.2);
+  // The reported cost and per-case errors are those from rest.
+  EXPECT_NEAR(fit.cost, at_end, 1e-12 * at_end);
 }
 
 TEST(LargeDeformation, EquilibriumPastTheLimitPointIsTheSnappedThroughOne) {

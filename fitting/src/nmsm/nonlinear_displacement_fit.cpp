@@ -165,32 +165,49 @@ class NonlinearModel {
                                 " has a zero or non-finite reference displacement");
       scale_.push_back(1.0 / (o_max * std::sqrt(static_cast<double>(nodes))));
     }
-    last_.resize(data.loads.size());
   }
 
   int num_residuals() const { return static_cast<int>(data_.loads.size()) * rows_; }
   int num_parameters() const { return grouping_.num_groups(); }
 
+  // Residuals (and Jacobian) at theta. Each case's equilibrium is found by Newton from the
+  // equilibrium of the best point evaluated so far (lowest cost), else from rest: a warm start
+  // from the LAST evaluation made the objective depend on the optimiser's history, since a
+  // rejected trial step can leave a case on another branch of equilibria, and the next trial
+  // next to the current point then continued that branch (measured: a trust region shrinking
+  // onto a point of cost 4.7 whose neighbours evaluated at 31).
   bool evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& residuals,
                 Eigen::MatrixXd* jacobian) {
     if (!theta.allFinite() || !set_stiffness(theta)) return false;
     residuals.resize(num_residuals());
     if (jacobian) jacobian->setZero(num_residuals(), num_parameters());
+    std::vector<Eigen::VectorXd> equilibria(data_.loads.size());
     for (size_t c = 0; c < data_.loads.size(); ++c) {
-      Eigen::VectorXd u = last_[c].size() ? last_[c] : Eigen::VectorXd();
+      Eigen::VectorXd u = best_.empty() ? Eigen::VectorXd() : best_[c];
       if (!(u.size() && newton(network_, dofs_, x0_, data_.loads[c], u)) &&
           !solve_from_rest(network_, dofs_, x0_, data_.loads[c], u))
         return false;
-      last_[c] = u;
       const auto row0 = static_cast<Eigen::Index>(c) * rows_;
       for (int a = 0; a < rows_ / dim_; ++a)
         residuals.segment(row0 + a * dim_, dim_) =
             scale_[c] * (u.segment(data_.particle_of_node[a] * dim_, dim_) -
                          data_.references[c].segment(a * dim_, dim_));
       if (jacobian && !add_jacobian(c, u, *jacobian)) return false;
+      equilibria[c] = std::move(u);
     }
-    return residuals.allFinite();
+    if (!residuals.allFinite()) return false;
+    const double cost = residuals.squaredNorm();
+    if (best_.empty() || cost < best_cost_) {
+      best_cost_ = cost;
+      best_theta_ = theta;
+      best_ = std::move(equilibria);
+    }
+    return true;
   }
+
+  /// The lowest-cost point evaluated so far and its cost (sum of squared residuals).
+  const Eigen::VectorXd& best_theta() const { return best_theta_; }
+  double best_cost() const { return best_cost_; }
 
  private:
   bool set_stiffness(const Eigen::VectorXd& theta) {
@@ -232,7 +249,9 @@ class NonlinearModel {
   std::vector<SpringNetwork> group_networks_;
   Eigen::VectorXd x0_;
   std::vector<double> scale_;
-  std::vector<Eigen::VectorXd> last_;  // per case: the last equilibrium (warm start)
+  std::vector<Eigen::VectorXd> best_;  // per case: the best point's equilibrium (warm start)
+  Eigen::VectorXd best_theta_;
+  double best_cost_ = 0.0;
 };
 
 class NonlinearCost : public ceres::CostFunction {
@@ -301,6 +320,7 @@ DisplacementFitResult fit_displacements_nonlinear(const DisplacementFitData& dat
   NonlinearModel model(data, grouping);
   std::vector<double> theta;
   for (double k : k0) theta.push_back(std::log(k));
+  const std::vector<double> log_k0 = theta;
   ceres::Problem problem;
   std::vector<double*> blocks;
   for (auto& t : theta) blocks.push_back(&t);
@@ -320,14 +340,30 @@ DisplacementFitResult fit_displacements_nonlinear(const DisplacementFitData& dat
 
   DisplacementFitResult result;
   result.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  result.cost = summary.final_cost;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.message;
-  detail::set_fitted_stiffnesses(theta, log_floor, grouping, result);
-  Eigen::VectorXd r;
-  if (!model.evaluate(Eigen::Map<Eigen::VectorXd>(theta.data(), groups), r, nullptr))
+  // The model is judged (and used) by its equilibria from rest; the optimiser's by equilibria
+  // continued from its best point, which can lie on another branch. Keep the fit's best point
+  // unless, from rest, it explains the cases worse than the start (or not at all).
+  Eigen::VectorXd best = model.best_theta().size()
+                             ? model.best_theta()
+                             : Eigen::VectorXd(Eigen::Map<Eigen::VectorXd>(theta.data(), groups));
+  const Eigen::VectorXd initial = Eigen::Map<const Eigen::VectorXd>(log_k0.data(), groups);
+  Eigen::VectorXd r, r_initial;
+  const bool at_best = nonlinear_displacement_residuals(data, grouping, best, r, nullptr);
+  const bool at_initial =
+      nonlinear_displacement_residuals(data, grouping, initial, r_initial, nullptr);
+  if (at_initial && (!at_best || r_initial.squaredNorm() < r.squaredNorm())) {
+    best = initial;
+    r = r_initial;
+    result.message += "; kept the initial stiffnesses: from rest they explain the cases better";
+  } else if (!at_best) {
     throw std::runtime_error(
         "calibration: the fitted spring network has no equilibrium under a fitted load");
+  }
+  theta.assign(best.data(), best.data() + groups);
+  result.cost = 0.5 * r.squaredNorm();
+  detail::set_fitted_stiffnesses(theta, log_floor, grouping, result);
   const int rows = static_cast<int>(data.particle_of_node.size()) * data.network.dimension;
   const int dim = data.network.dimension;
   for (size_t c = 0; c < data.references.size(); ++c) {

@@ -13,10 +13,14 @@
 // linear fit's -K^-1 K_g u.
 //
 // Each case's equilibrium is found by Newton on the potential Pi(u) = E(x0 + u) - f . u from the
-// previous evaluation's equilibrium (the optimiser moves k a little per step), falling back to
-// load stepping from rest; where the tangent is indefinite it is shifted until positive definite
-// and steps must lower Pi, so the equilibrium found is a stable one. A case that does not
-// converge fails the evaluation and the optimiser shortens its step.
+// equilibrium of the best (lowest-cost) point evaluated so far (the optimiser moves k a little
+// per step; not the last evaluation, a rejected trial that may have left a case on another
+// branch), falling back to load stepping from rest; where the tangent is indefinite it is
+// shifted until positive definite and steps must lower Pi, so the equilibrium found is a stable
+// one. A case that does not converge fails the evaluation and the optimiser shortens its step.
+// The fit returns its best point unless, with every equilibrium from rest (as the model is
+// evaluated and as an engine starts), the initial stiffnesses explain the cases better: then
+// it returns those (and says so in `message`).
 #include <Eigen/Core>
 
 #include "isospring/fitting/displacement_fit.hpp"
