@@ -77,7 +77,14 @@ def generate_nested(level, optimise):
     gmsh.model.mesh.setOrder(2)
     if optimise or mesh_volume()[1] > 0:
         gmsh.model.mesh.optimize("HighOrderElastic")
-        gmsh.model.mesh.optimize("HighOrder")
+        try:
+            gmsh.model.mesh.optimize("HighOrder")
+        except Exception:  # gmsh raises a bare Exception
+            # It raises when some element's scaled Jacobian stays below its target; the mesh is
+            # still usable when no Jacobian at a Gauss point is nonpositive (what CalculiX
+            # refuses).
+            if mesh_volume()[1] > 0:
+                raise
 
 
 def mesh_part(step, h, clamp_face, part, level=0):
