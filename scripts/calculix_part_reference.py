@@ -16,9 +16,9 @@ would exceed `max_nodes`. With `nested` (true) the meshes are instead one linear
 `h_m` split uniformly 0, 1, 2, ... times (sizes exactly h, h/2, h/4; new boundary nodes on the
 CAD faces) and made quadratic: such a sequence has no scatter from remeshing, and the reference
 is the Richardson limit of the last three levels with their observed rate, its error Roache's
-grid convergence index 1.25 |f_last / f_inf - 1|. Each part's reference (the limits, or the last mesh when none
-converged), its estimated error, mesh sizes, DOFs, the mesh's volume against OpenCascade's and
-the whole history go to OUT.json (written atomically after every mesh; --resume continues a
+grid convergence index 1.25 |f_last / f_inf - 1|. Each part's reference (the limits, or the
+last mesh when none converged), its estimated error, mesh sizes, DOFs, the mesh's volume against
+OpenCascade's and the whole history go to OUT.json (written atomically after every mesh; --resume continues a
 history of the same problem and mesh rule). Nothing of isospring is used.
 
 Units: SI throughout (gmsh reads the STEP file in metres).
@@ -330,7 +330,8 @@ def solve(part, step, h, work, level=0):
         h *= 0.97
     largest, node, vector, energy = read_results(os.path.join(work, "part.dat"))
     nested = {"level": level, "relative_size": 0.5 ** level} if part.get("nested") else {}
-    return {"h_m": h / 2 ** level, **nested, "nodes": len(nodes), "dofs": 3 * len(nodes), "tets": len(tets),
+    return {"h_m": h / 2 ** level, **nested, "nodes": len(nodes), "dofs": 3 * len(nodes),
+            "tets": len(tets),
             "clamped_nodes": len(clamped), "clamp_face_area_m2": area,
             "max_displacement_m": largest, "max_displacement_at_m": list(nodes[node]),
             "max_displacement_vector_m": vector, "strain_energy_J": energy,
