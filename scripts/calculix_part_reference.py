@@ -18,8 +18,8 @@ CAD faces) and made quadratic: such a sequence has no scatter from remeshing, an
 is the Richardson limit of the last three levels with their observed rate, its error Roache's
 grid convergence index 1.25 |f_last / f_inf - 1|. Each part's reference (the limits, or the
 last mesh when none converged), its estimated error, mesh sizes, DOFs, the mesh's volume against
-OpenCascade's and the whole history go to OUT.json (written atomically after every mesh; --resume continues a
-history of the same problem and mesh rule). Nothing of isospring is used.
+OpenCascade's and the whole history go to OUT.json (written atomically after every mesh;
+--resume continues a history of the same problem and mesh rule). Nothing of isospring is used.
 
 Units: SI throughout (gmsh reads the STEP file in metres).
 
