@@ -12,10 +12,14 @@ by `refine`, default 1.4) until the Richardson limits (f = f_inf + C x^q, x = DO
 observed) of the largest nodal displacement and of the strain energy (sum of CalculiX's element
 energies ELSE) fitted to the last three meshes agree with the fit to the three before (rates
 within 25 %) and lie within `tolerance` (0.2 %) of the last mesh's values, or until the next mesh
-would exceed `max_nodes`. Each part's reference (the limits, or the last mesh when none
-converged), its estimated error, mesh sizes, DOFs, the mesh's volume against OpenCascade's and
-the whole history go to OUT.json (written atomically after every mesh; --resume continues a
-history of the same problem and mesh rule). Nothing of isospring is used.
+would exceed `max_nodes`. With `nested` (true) the meshes are instead one linear mesh of size
+`h_m` split uniformly 0, 1, 2, ... times (sizes exactly h, h/2, h/4; new boundary nodes on the
+CAD faces) and made quadratic: such a sequence has no scatter from remeshing, and the reference
+is the Richardson limit of the last three levels with their observed rate, its error Roache's
+grid convergence index 1.25 |f_last / f_inf - 1|. Each part's reference (the limits, or the
+last mesh when none converged), its estimated error, mesh sizes, DOFs, the mesh's volume against
+OpenCascade's and the whole history go to OUT.json (written atomically after every mesh;
+--resume continues a history of the same problem and mesh rule). Nothing of isospring is used.
 
 Units: SI throughout (gmsh reads the STEP file in metres).
 
@@ -36,8 +40,57 @@ GMSH_TO_C3D10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
 C3D10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
 
 
-def mesh_part(step, h, clamp_face, part):
-    """Nodes {tag: xyz}, C3D10 connectivity, clamped node tags and the clamped face's area."""
+def generate_with_retries(h, fields, optimise):
+    """Meshes at size h. gmsh's meshing or its untangling of curved elements can fail on one mesh
+    and succeed on a slightly different one: retry with the sizes 3 % smaller. Returns the h
+    used."""
+    for attempt in range(4):
+        try:
+            gmsh.model.mesh.generate(3)
+            if not optimise and mesh_volume()[1] > 0:
+                gmsh.model.mesh.optimize("HighOrderElastic")
+                gmsh.model.mesh.optimize("HighOrder")
+            return h
+        except Exception:  # gmsh raises a bare Exception
+            if attempt == 3:
+                raise
+            gmsh.model.mesh.clear()
+            h *= 0.97
+            gmsh.option.setNumber("Mesh.MeshSizeMax", h)
+            for f, fraction in fields:
+                gmsh.model.mesh.field.setNumber(f, "SizeMin", fraction * h)
+                gmsh.model.mesh.field.setNumber(f, "SizeMax", h)
+    return h
+
+
+def generate_nested(level, optimise):
+    """The linear mesh split `level` times, then made quadratic. Each split halves every edge
+    (a tetrahedron becomes eight), and gmsh places the new nodes of boundary edges on the CAD
+    faces, so the meshes of successive levels are nested up to that projection and their sizes
+    are exactly h / 2^level: the errors then follow C (h / 2^level)^q without the scatter that
+    independent meshes of similar sizes have (Richardson). No retry with other sizes, which
+    would break the nesting."""
+    gmsh.option.setNumber("Mesh.ElementOrder", 1)
+    gmsh.model.mesh.generate(3)
+    for _ in range(level):
+        gmsh.model.mesh.refine()
+    gmsh.model.mesh.setOrder(2)
+    if optimise or mesh_volume()[1] > 0:
+        gmsh.model.mesh.optimize("HighOrderElastic")
+        try:
+            gmsh.model.mesh.optimize("HighOrder")
+        except Exception:  # gmsh raises a bare Exception
+            # It raises when some element's scaled Jacobian stays below its target; the mesh is
+            # still usable when no Jacobian at a Gauss point is nonpositive (what CalculiX
+            # refuses).
+            if mesh_volume()[1] > 0:
+                raise
+
+
+def mesh_part(step, h, clamp_face, part, level=0):
+    """Nodes {tag: xyz}, C3D10 connectivity, clamped node tags and the clamped face's area.
+    With `nested`, the linear mesh of size h is split uniformly `level` times (every edge halved,
+    new boundary nodes on the CAD faces) before the midside nodes are added."""
     gmsh.clear()
     gmsh.option.setString("Geometry.OCCTargetUnit", "M")
     gmsh.model.occ.importShapes(step)
@@ -101,24 +154,10 @@ def mesh_part(step, h, clamp_face, part):
     # (`high_order_optimize`).
     optimise = part.get("high_order_optimize", False)
     gmsh.option.setNumber("Mesh.HighOrderOptimize", 2 if optimise else 0)
-    # gmsh's meshing or its untangling of curved elements can fail on one mesh and succeed on a
-    # slightly different one: retry with the sizes 3 % smaller.
-    for attempt in range(4):
-        try:
-            gmsh.model.mesh.generate(3)
-            if not optimise and mesh_volume()[1] > 0:
-                gmsh.model.mesh.optimize("HighOrderElastic")
-                gmsh.model.mesh.optimize("HighOrder")
-            break
-        except Exception:  # gmsh raises a bare Exception
-            if attempt == 3:
-                raise
-            gmsh.model.mesh.clear()
-            h *= 0.97
-            gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-            for f, fraction in fields:
-                gmsh.model.mesh.field.setNumber(f, "SizeMin", fraction * h)
-                gmsh.model.mesh.field.setNumber(f, "SizeMax", h)
+    if part.get("nested"):
+        generate_nested(level, optimise)
+    else:
+        h = generate_with_retries(h, fields, optimise)
     tags, coords, _ = gmsh.model.mesh.getNodes()
     nodes = {int(t): (coords[3 * i], coords[3 * i + 1], coords[3 * i + 2])
              for i, t in enumerate(tags)}
@@ -264,13 +303,14 @@ def read_results(path):
     return largest, at, vector, energy
 
 
-def solve(part, step, h, work):
+def solve(part, step, h, work, level=0):
     """One mesh and its CalculiX solution. CalculiX refuses a mesh with a curved element that
     gmsh left inverted (nonpositive Jacobian); such a mesh is made again with the sizes 3 %
-    smaller (a different mesh), up to three times."""
+    smaller (a different mesh), up to three times (not for nested meshes)."""
     for attempt in range(4):
         start = time.time()
-        nodes, tets, clamped, area, h, geometry = mesh_part(step, h, part["clamp_face"], part)
+        nodes, tets, clamped, area, h, geometry = mesh_part(step, h, part["clamp_face"], part,
+                                                            level)
         mesh_seconds = time.time() - start
         deck = os.path.join(work, "part.inp")
         write_deck(deck, nodes, tets, clamped, part)
@@ -283,15 +323,25 @@ def solve(part, step, h, work):
         print("%s: CalculiX failed on h %.4g m (%s); meshing again 3 %% finer" %
               (part["name"], h, errors[0].strip() if errors else "exit %d" % run.returncode),
               flush=True)
-        if attempt == 3:
-            raise SystemExit("%s: CalculiX failed on four meshes" % part["name"])
+        if attempt == 3 or part.get("nested"):
+            raise SystemExit("%s: CalculiX failed on %s" %
+                             (part["name"], "the nested mesh" if part.get("nested") else
+                              "four meshes"))
         h *= 0.97
     largest, node, vector, energy = read_results(os.path.join(work, "part.dat"))
-    return {"h_m": h, "nodes": len(nodes), "dofs": 3 * len(nodes), "tets": len(tets),
+    nested = {"level": level, "relative_size": 0.5 ** level} if part.get("nested") else {}
+    return {"h_m": h / 2 ** level, **nested, "nodes": len(nodes), "dofs": 3 * len(nodes),
+            "tets": len(tets),
             "clamped_nodes": len(clamped), "clamp_face_area_m2": area,
             "max_displacement_m": largest, "max_displacement_at_m": list(nodes[node]),
             "max_displacement_vector_m": vector, "strain_energy_J": energy,
             "mesh_seconds": mesh_seconds, "ccx_seconds": ccx_seconds, **geometry}
+
+
+def mesh_size(run):
+    """The size x of Richardson's model: h / 2^level, exact for nested meshes; else the mean
+    element size DOFs^(-1/3)."""
+    return run["relative_size"] if "relative_size" in run else run["dofs"] ** (-1.0 / 3.0)
 
 
 def richardson(runs, key):
@@ -301,7 +351,7 @@ def richardson(runs, key):
 
     Returns (f_inf, q, |f_last / f_inf - 1|) or None when the three values do not converge
     monotonically (changes of one sign, shrinking) with a rate between 0.3 and 8."""
-    (h0, f0), (h1, f1), (h2, f2) = [(r["dofs"] ** (-1.0 / 3.0), r[key]) for r in runs[-3:]]
+    (h0, f0), (h1, f1), (h2, f2) = [(mesh_size(r), r[key]) for r in runs[-3:]]
     d1, d2 = f1 - f0, f2 - f1
     if d1 == 0 or d2 == 0 or (d1 > 0) != (d2 > 0) or abs(d2) >= abs(d1):
         return None
@@ -337,6 +387,20 @@ def stable_limit(runs, key):
     return now[0], now[1], before[1], now[2] + spread
 
 
+def nested_limit(runs, key):
+    """For nested meshes (sizes h, h/2, h/4 exactly): the Richardson limit of the last three
+    with their observed rate q, and as its error Roache's grid convergence index for three
+    grids, 1.25 |f_last / f_inf - 1| (the fine grid's distance from the limit with a safety
+    factor; ASME V&V 20). Returns (limit, rate, rate, error) like `stable_limit`, or None when
+    the three values do not converge monotonically with a rate between 0.3 and 8."""
+    if len(runs) < 3:
+        return None
+    fit = richardson(runs, key)
+    if not fit:
+        return None
+    return fit[0], fit[1], fit[1], 1.25 * fit[2]
+
+
 def assess(part, runs):
     """Adds the changes from the previous mesh, the observed rates and (`stable_limit`) the
     Richardson limits to runs[-1]; True when both limits lie within `tolerance` of it."""
@@ -350,8 +414,9 @@ def assess(part, runs):
         fit = richardson(runs, key) if len(runs) >= 3 else None
         if fit:
             r["rate_" + name] = fit[1]
-    u = stable_limit(runs, "max_displacement_m")
-    e = stable_limit(runs, "strain_energy_J")
+    limit = nested_limit if part.get("nested") else stable_limit
+    u = limit(runs, "max_displacement_m")
+    e = limit(runs, "strain_energy_J")
     if not (u and e):
         return False
     r["richardson"] = {"max_displacement_m": u[0], "rate_max_displacement": u[1],
@@ -378,11 +443,13 @@ def converge(part, folder, earlier=(), on_mesh=None):
         if runs:
             if assess(part, runs):
                 return runs, True
-            if runs[-1]["nodes"] * refine ** 3 > part.get("max_nodes", 150000):
+            growth = 8 if part.get("nested") else refine ** 3
+            if runs[-1]["nodes"] * growth > part.get("max_nodes", 150000):
                 return runs, False
-        h = runs[-1]["h_m"] / refine if runs else part["h_m"]
+        nested = part.get("nested", False)
+        h = part["h_m"] if nested or not runs else runs[-1]["h_m"] / refine
         with tempfile.TemporaryDirectory() as work:
-            runs.append(solve(part, step, h, work))
+            runs.append(solve(part, step, h, work, len(runs) if nested else 0))
         assess(part, runs)
         if on_mesh:
             on_mesh(runs)
@@ -397,7 +464,7 @@ def converge(part, folder, earlier=(), on_mesh=None):
 # continued only when they are unchanged.
 PROBLEM_KEYS = ("file", "clamp_face", "gravity", "material", "h_m", "curvature", "edge_refine",
                 "clamp_refine", "edge_power", "refine", "refine_concave", "straight_midside",
-                "high_order_optimize")
+                "high_order_optimize", "nested")
 
 
 def main():
