@@ -81,7 +81,7 @@ TEST(CaseRefinementLadder, IntermediateElementsStayOnTheGeometrysSpans) {
 }
 
 // The suite's cantilever: a box clamped at u0.
-Case box_case(const nlohmann::json& boundary) {
+Case box_case(const nlohmann::json& boundary, const std::string& loaded = "u1") {
   const nlohmann::json document = {
       {"geometry", {{"type", "box"}, {"size", {0.1, 0.02, 0.02}}}},
       {"discretization", {{"degree", 2}, {"elements", {10, 2, 2}}}},
@@ -89,7 +89,7 @@ Case box_case(const nlohmann::json& boundary) {
       {"material", {{"E", 7.5e6}, {"nu", 0.49}}},
       {"boundary", boundary},
       {"load_cases",
-       {{{"id", "down"}, {"tractions", {{{"side", "u1"}, {"value", {0, 0, -2000}}}}}}}}};
+       {{{"id", "down"}, {"tractions", {{{"side", loaded}, {"value", {0, 0, -2000}}}}}}}}};
   return build_case_from_json(document, "case.json");
 }
 
@@ -140,7 +140,8 @@ TEST(GradedLadder, OnlyClampedSolidsAreGraded) {
   EXPECT_EQ(description, "degree 3,3,3, 20 x 4 x 4 elements");
   // Clamped at both ends: graded towards both.
   const std::optional<ClampGrading> both = clamp_grading(box_case(
-      {{{"side", "u0"}, {"fix", {"x", "y", "z"}}}, {{"side", "u1"}, {"fix", {"x", "y", "z"}}}}));
+      {{{"side", "u0"}, {"fix", {"x", "y", "z"}}}, {{"side", "u1"}, {"fix", {"x", "y", "z"}}}},
+      "w1"));
   ASSERT_TRUE(both.has_value());
   EXPECT_TRUE(both->directions[0].towards_start && both->directions[0].towards_end);
   EXPECT_EQ(both->label, "graded towards the clamp (u0, u1)");
