@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "isospring/io/graded_ladder.hpp"
+
 namespace isospring::io {
 
 namespace {
@@ -36,6 +38,15 @@ CaseDiscretization ladder_discretization(const Case& c, int level) {
   const int doublings = level - raise;
   for (int d = 0; d < dim; ++d) disc.elements[d] = c.discretization.elements[d] << doublings;
   return disc;
+}
+
+int case_ladder_ratio_from_level(const Case& c) {
+  if (!clamp_grading(c)) return 0;
+  int level = 1;
+  while (level < 12 &&
+         ladder_discretization(c, level).degree != ladder_discretization(c, level + 1).degree)
+    ++level;
+  return level;
 }
 
 std::optional<CaseDiscretization> intermediate_discretization(const Case& c, int level) {
@@ -73,22 +84,33 @@ std::string describe(const Case& c, const CaseDiscretization& disc) {
 
 }  // namespace
 
+namespace {
+
+// The problem at `disc`, on graded nets when the case is a clamped solid (graded_ladder.hpp).
+analysis::Problem level_problem(const Case& c, const CaseDiscretization& disc,
+                                const std::optional<ClampGrading>& grading,
+                                std::string* description) {
+  if (description) *description = describe(c, disc) + (grading ? ", " + grading->label : "");
+  return grading ? graded_problem_at(c, disc, *grading) : problem_at(c, disc);
+}
+
+}  // namespace
+
 fitting::DiscretizationLadder case_refinement_ladder(const Case& c) {
-  return [c](int level, std::string* description) -> std::optional<analysis::Problem> {
+  return [c, grading = clamp_grading(c)](
+             int level, std::string* description) -> std::optional<analysis::Problem> {
     if (level < 1 || level > 12) return std::nullopt;
-    const CaseDiscretization disc = ladder_discretization(c, level);
-    if (description) *description = describe(c, disc);
-    return problem_at(c, disc);
+    return level_problem(c, ladder_discretization(c, level), grading, description);
   };
 }
 
 fitting::DiscretizationLadder case_refinement_intermediate(const Case& c) {
-  return [c](int level, std::string* description) -> std::optional<analysis::Problem> {
+  return [c, grading = clamp_grading(c)](
+             int level, std::string* description) -> std::optional<analysis::Problem> {
     if (level > 12) return std::nullopt;
     const std::optional<CaseDiscretization> disc = intermediate_discretization(c, level);
     if (!disc) return std::nullopt;
-    if (description) *description = describe(c, *disc);
-    return problem_at(c, *disc);
+    return level_problem(c, *disc, grading, description);
   };
 }
 

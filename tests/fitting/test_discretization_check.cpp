@@ -387,4 +387,32 @@ TEST(DiscretizationCheck, NoiseEstimatedOnCoarseModelsStaysNearTheTruth) {
 }
 
 }  // namespace
+// Ratios only within one family of levels (DiscretizationOptions::ratio_from_level): with the
+// family starting at level 1, three levels (0, 1, 2) give no ratio, so the finest level's error
+// is its last difference; from level 0 on, the same levels give one.
+TEST(DiscretizationCheck, RatioOnlyFromLevelsOfOneFamily) {
+  const analysis::Problem coarse = bar(2, {6, 1, 1});
+  const std::vector<Marker> markers = surface_markers();
+  const auto placements = place_markers(coarse.patches, markers, 1e-12).placements;
+  DiscretizationOptions options;
+  options.ladder = bar_ladder(2, {6, 1, 1});
+  options.max_levels = 2;
+  const double tiny_noise = 1e-12;  // no level is in target: every level is solved
+  const DiscretizationCheck all =
+      check_discretization(coarse, markers, placements, 1e7, 0.3, tiny_noise, options);
+  options.ratio_from_level = 1;
+  const DiscretizationCheck family =
+      check_discretization(coarse, markers, placements, 1e7, 0.3, tiny_noise, options);
+  ASSERT_EQ(all.levels.size(), 3u);
+  ASSERT_EQ(family.levels.size(), 3u);
+  EXPECT_NE(all.levels[2].estimate.find("extrapolated with ratio"), std::string::npos)
+      << all.levels[2].estimate;
+  EXPECT_NE(family.levels[2].estimate.find("no convergence ratio"), std::string::npos)
+      << family.levels[2].estimate;
+  // Without a ratio the finest level's error is its last difference, |u_2 - u_1|.
+  const double last = rms_difference(solve_at(*options.ladder(2, nullptr), markers, placements),
+                                     solve_at(*options.ladder(1, nullptr), markers, placements));
+  EXPECT_NEAR(family.levels[2].error_rms, last, 1e-9 * last);
+}
+
 }  // namespace isospring::fitting

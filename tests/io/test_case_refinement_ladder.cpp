@@ -7,6 +7,7 @@
 
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/case_refinement_ladder.hpp"
+#include "isospring/io/graded_ladder.hpp"
 
 namespace isospring::io {
 namespace {
@@ -56,7 +57,8 @@ TEST(CaseRefinementLadder, IntermediateLevelIsOneAndAHalfTimesTheLevelBelow) {
   std::string description;
   const std::optional<analysis::Problem> problem = case_refinement_intermediate(c)(3, &description);
   ASSERT_TRUE(problem.has_value());
-  EXPECT_EQ(description, "degree 3,3,3, 3 x 9 x 24 elements");
+  // Clamped at w0: graded nets (graded_ladder.hpp), still on the tube's radii.
+  EXPECT_EQ(description, "degree 3,3,3, 3 x 9 x 24 elements, graded towards the clamp (w0)");
   const nurbs::Patch& patch = problem->patches.at(0);
   for (int d = 0; d < 3; ++d) EXPECT_EQ(patch.degree(d), 3);
   for (double u : {0.0, 0.37, 1.0})
@@ -76,6 +78,93 @@ TEST(CaseRefinementLadder, IntermediateElementsStayOnTheGeometrysSpans) {
   ASSERT_TRUE(between.has_value());
   EXPECT_EQ(between->elements, (std::array<int, 3>{2, 8, 5}));
   EXPECT_NO_THROW(problem_at(c, *between));
+}
+
+// The suite's cantilever: a box clamped at u0.
+Case box_case(const nlohmann::json& boundary, const std::string& loaded = "u1") {
+  const nlohmann::json document = {
+      {"geometry", {{"type", "box"}, {"size", {0.1, 0.02, 0.02}}}},
+      {"discretization", {{"degree", 2}, {"elements", {10, 2, 2}}}},
+      {"name", "cantilever"},
+      {"material", {{"E", 7.5e6}, {"nu", 0.49}}},
+      {"boundary", boundary},
+      {"load_cases",
+       {{{"id", "down"}, {"tractions", {{{"side", loaded}, {"value", {0, 0, -2000}}}}}}}}};
+  return build_case_from_json(document, "case.json");
+}
+
+TEST(GradedLadder, ClampedBoxIsGradedTowardsTheClampAndItsEdges) {
+  const Case c = box_case({{{"side", "u0"}, {"fix", {"x", "y", "z"}}}});
+  const std::optional<ClampGrading> grading = clamp_grading(c);
+  ASSERT_TRUE(grading.has_value());
+  EXPECT_EQ(grading->label, "graded towards the clamp (u0)");
+  std::string description;
+  const std::optional<analysis::Problem> level = case_refinement_ladder(c)(2, &description);
+  ASSERT_TRUE(level.has_value());
+  EXPECT_EQ(description, "degree 3,3,3, 20 x 4 x 4 elements, graded towards the clamp (u0)");
+  const nurbs::Patch& patch = level->patches.at(0);
+  // Breakpoints: (i / 20)^2 along u from the clamp, 0.5 (2i / 4)^2 and its mirror across.
+  const std::vector<double> u = patch.knots(0).unique(), v = patch.knots(1).unique();
+  ASSERT_EQ(u.size(), 21u);
+  for (int i = 0; i <= 20; ++i) EXPECT_NEAR(u[static_cast<size_t>(i)], i * i / 400.0, 1e-15);
+  ASSERT_EQ(v.size(), 5u);
+  EXPECT_NEAR(v[1], 0.125, 1e-15);
+  EXPECT_NEAR(v[2], 0.5, 1e-15);
+  EXPECT_NEAR(v[3], 0.875, 1e-15);
+  EXPECT_EQ(patch.knots(2).unique(), v);
+  // Same DOFs as the uniform net of level 2 and the same geometry: the box's affine map.
+  EXPECT_EQ(patch.num_points(), problem_at(c, ladder_discretization(c, 2)).patches[0].num_points());
+  for (double a : {0.0, 0.013, 0.5, 1.0})
+    for (double b : {0.0, 0.21, 1.0}) {
+      const Eigen::Vector3d x = patch.point(nurbs::Param{a, b, 1.0 - b});
+      EXPECT_LT((x - Eigen::Vector3d(0.1 * a, 0.02 * b, 0.02 * (1.0 - b))).norm(), 1e-16);
+    }
+  // The clamp and the load are where the case puts them.
+  ASSERT_EQ(level->supports.size(), 1u);
+  EXPECT_EQ(analysis::side_name(level->supports[0].side), "u0");
+  ASSERT_EQ(level->load_cases.size(), 1u);
+  // The level between 10 x 2 x 2 and 20 x 4 x 4 is graded too.
+  const std::optional<analysis::Problem> between = case_refinement_intermediate(c)(3, &description);
+  ASSERT_TRUE(between.has_value());
+  EXPECT_EQ(description, "degree 3,3,3, 30 x 6 x 6 elements, graded towards the clamp (u0)");
+  EXPECT_NEAR(between->patches[0].knots(0).unique()[1], 1.0 / 900.0, 1e-15);
+}
+
+TEST(GradedLadder, OnlyClampedSolidsAreGraded) {
+  // Pinned in one direction only, or a symmetry plane: no clamp, uniform nets.
+  EXPECT_FALSE(clamp_grading(box_case({{{"side", "u0"}, {"fix", {"x"}}}})).has_value());
+  EXPECT_FALSE(clamp_grading(box_case({{{"side", "u0"}, {"symmetry", true}}})).has_value());
+  std::string description;
+  ASSERT_TRUE(
+      case_refinement_ladder(box_case({{{"side", "u0"}, {"fix", {"x"}}}}))(2, &description));
+  EXPECT_EQ(description, "degree 3,3,3, 20 x 4 x 4 elements");
+  // Clamped at both ends: graded towards both.
+  const std::optional<ClampGrading> both = clamp_grading(box_case(
+      {{{"side", "u0"}, {"fix", {"x", "y", "z"}}}, {{"side", "u1"}, {"fix", {"x", "y", "z"}}}},
+      "w1"));
+  ASSERT_TRUE(both.has_value());
+  EXPECT_TRUE(both->directions[0].towards_start && both->directions[0].towards_end);
+  EXPECT_EQ(both->label, "graded towards the clamp (u0, u1)");
+}
+
+TEST(GradedLadder, AFullRingIsNotGradedAroundItsSeam) {
+  const Case c = tube_case({1, 4, 4}, 360.0);
+  const std::optional<ClampGrading> grading = clamp_grading(c);
+  ASSERT_TRUE(grading.has_value());
+  EXPECT_TRUE(grading->directions[0].graded());   // through the wall: towards both surfaces
+  EXPECT_FALSE(grading->directions[1].graded());  // around: one seam, no edge
+  EXPECT_TRUE(grading->directions[2].towards_start && !grading->directions[2].towards_end);
+  const analysis::Problem level = graded_problem_at(c, ladder_discretization(c, 2), *grading);
+  const nurbs::Patch& patch = level.patches.at(0);
+  EXPECT_EQ(patch.knots(1).num_elements(), 8);
+  for (double u : {0.0, 0.3, 1.0})
+    for (double v : {0.1, 0.45, 0.8})
+      for (double w : {0.0, 0.02, 1.0}) {
+        const Eigen::Vector3d x = patch.point(nurbs::Param{u, v, w});
+        const double radius = std::hypot(x.x(), x.y());
+        EXPECT_NEAR(radius, 0.02 + 0.006 * u, 1e-14);
+        EXPECT_NEAR(x.z(), 0.12 * w, 1e-14);
+      }
 }
 
 }  // namespace

@@ -89,6 +89,7 @@ IdentifyCommandResult run_identify(const Case& c, const IdentifyCommandOptions& 
   identify_options.progress = [&progress](const std::string& s) { progress(s); };
   identify_options.discretization.ladder = case_refinement_ladder(c);
   identify_options.discretization.intermediate = case_refinement_intermediate(c);
+  identify_options.discretization.ratio_from_level = case_ladder_ratio_from_level(c);
   if (options.max_dofs) identify_options.discretization.max_dofs = *options.max_dofs;
   if (!options.discretization_check) identify_options.discretization.enabled = false;
   r.identify = fitting::identify(c.problem, r.markers, placements, identify_options);

@@ -213,7 +213,8 @@ analysis::Volumetric volumetric_rule(const analysis::Problem& problem, double po
 // Errors against the finest level K solved so far: e_k = |u_K - u_k| + e_K (triangle
 // inequality), with e_K, the "tail", from the last two differences D = u_{j+1} - u_j as a
 // geometric series, r |D_{K-1}| / (1 - r) with r = |D_{K-1}| / |D_{K-2}|, or |D_{K-1}| itself
-// when there is no such ratio (r = 1/2 assumed).
+// when there is no such ratio (r = 1/2 assumed), as when the last three levels are not all of
+// one family (DiscretizationOptions::ratio_from_level).
 struct Tail {
   std::vector<Eigen::Vector3d> vector;  // per marker: estimated u_K - u_exact
   double rms = 0.0, max = 0.0;          // of `vector`
@@ -364,7 +365,7 @@ Tail LadderRun::tail_of(size_t finest) const {
   const Difference last = difference(predictions_[finest], predictions_[finest - 1], dim_);
   double scale = 1.0;
   t.how = "no convergence ratio: its error taken as the last difference";
-  if (finest >= 2) {
+  if (finest >= 2 && static_cast<int>(finest) - 2 >= options_.ratio_from_level) {
     const Difference before = difference(predictions_[finest - 1], predictions_[finest - 2], dim_);
     t.ratio = before.rms > 0.0 ? last.rms / before.rms : kNaN;
     if (t.ratio > 0.0 && t.ratio < 1.0) {

@@ -9,6 +9,10 @@
 // for the same DOFs it removes far more of the error of smooth fields than splitting does, and
 // the next levels' splitting catches what elevation alone misses on very coarse nets (one
 // element through a thickness).
+//
+// A single-patch solid with a clamped side gets graded nets instead (graded_ladder.hpp): the same
+// degrees and element counts, the spans crowded towards the clamp and its edges, where the
+// singular stresses are; its descriptions end in ", graded towards the clamp (u0)".
 #include "isospring/fitting/discretization_check.hpp"
 #include "isospring/io/case_file.hpp"
 
@@ -17,8 +21,15 @@ namespace isospring::io {
 /// Level l >= 1 as described above; level 0 is problem_at(c, c.discretization).
 CaseDiscretization ladder_discretization(const Case& c, int level);
 
-/// The ladder as identify takes it; its descriptions read "degree 3, 20 x 4 x 4 elements".
+/// The ladder as identify takes it; its descriptions read "degree 3, 20 x 4 x 4 elements"
+/// (graded: "..., graded towards the clamp (u0)").
 fitting::DiscretizationLadder case_refinement_ladder(const Case& c);
+
+/// The first level of the ladder's one family for the check's convergence ratios
+/// (fitting::DiscretizationOptions::ratio_from_level): on graded nets the first graded level
+/// with the final degrees (the case's own level 0 is uniform); 0 on uniform nets, whose ratios
+/// may come from every level.
+int case_ladder_ratio_from_level(const Case& c);
 
 /// Between levels l - 1 and l when both have the same degrees (l doubles the elements): the
 /// elements of level l - 1 times 1.5, rounded up (10 x 2 x 2 -> 15 x 3 x 3, between 10 x 2 x 2
