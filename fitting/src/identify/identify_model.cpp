@@ -47,6 +47,13 @@ std::shared_ptr<FactorizationCache> make_factorization_cache() {
   return std::make_shared<FactorizationCache>();
 }
 
+std::shared_ptr<FactorizationCache> copy_factorization_cache(FactorizationCache& cache) {
+  auto copy = make_factorization_cache();
+  const std::lock_guard<std::mutex> lock(cache.mutex);
+  copy->copy_factorization(cache);
+  return copy;
+}
+
 FactorizationStats factorization_stats(const FactorizationCache& cache) {
   return cache.stats;
 }
@@ -309,7 +316,14 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
       for (int k = 0; k < nf; ++k)
         rhs_free.block(k, static_cast<Eigen::Index>(l) * p, 1, p) =
             rhs[static_cast<size_t>(l)].row(free_dofs_[static_cast<size_t>(k)]);
-    derivatives_free = solve(rhs_free);
+    // Only the non-zero columns are solved (K^-1 0 = 0): parameters that act on the
+    // observations alone (rigid offsets, 6 per load case) would otherwise be most of them.
+    std::vector<Eigen::Index> nonzero;
+    for (Eigen::Index k = 0; k < rhs_free.cols(); ++k)
+      if (rhs_free.col(k).squaredNorm() > 0.0) nonzero.push_back(k);
+    derivatives_free = Eigen::MatrixXd::Zero(nf, rhs_free.cols());
+    if (!nonzero.empty())
+      derivatives_free(Eigen::all, nonzero) = solve(Eigen::MatrixXd(rhs_free(Eigen::all, nonzero)));
   }
 
   ModelEvaluation out;
