@@ -287,6 +287,10 @@ SwapSearch search_swaps(const SelectionInputs& s, Selection& selection, double n
       if (contains(chosen, candidate.get())) continue;
       std::vector<const Effect*> swapped = chosen;
       swapped[e] = candidate.get();
+      // A new fit is announced: the stage's fits are its time (a factorisation per evaluation
+      // once the stiffness has parameters beyond E).
+      if (!candidate->expensive() && !selection.linear_fits.count(swapped))
+        s.in.say("swap stage: fitting " + candidate->name() + " in place of " + chosen[e]->name());
       // Not large-deformation models (Newton fits): the score test handled them.
       const std::optional<Fit> swap_fit =
           fit_of(s, selection, swapped,
