@@ -94,20 +94,25 @@ struct FactorizationCache {
 
   // This cache's linear state as an independent copy of `other`'s: its analysis, its factor
   // (with the coefficients and fingerprint it was made for) and the low-rank solve's W and G.
-  // The caller holds other.mutex. Nothing is copied when `other` has no factor; a copy CHOLMOD
-  // refuses (memory) leaves this cache to factorise on its own.
+  // The caller holds other.mutex. Nothing is copied when `other` has no factor; a copy that
+  // fails (memory) leaves this cache as it was, to factorise on its own.
   void copy_factorization(const FactorizationCache& other) {
     if (!(other.factorized && other.cholesky)) return;
+    // Everything that allocates first: a failure (std::bad_alloc) leaves this cache unchanged.
     auto copy = std::make_unique<CopyableCholmod>();
     if (!copy->copy_from(*other.cholesky)) return;
+    std::vector<int> outer = other.analysed_outer, inner = other.analysed_inner;
+    std::vector<double> copied_fingerprint = other.fingerprint,
+                        copied_coefficients = other.coefficients;
+    Eigen::MatrixXd copied_w = other.w, copied_g = other.g;
     cholesky = std::move(copy);
-    analysed_outer = other.analysed_outer;
-    analysed_inner = other.analysed_inner;
+    analysed_outer = std::move(outer);
+    analysed_inner = std::move(inner);
     factorized = true;
-    fingerprint = other.fingerprint;
-    coefficients = other.coefficients;
-    w = other.w;
-    g = other.g;
+    fingerprint = std::move(copied_fingerprint);
+    coefficients = std::move(copied_coefficients);
+    w = std::move(copied_w);
+    g = std::move(copied_g);
     low_rank_ready = other.low_rank_ready;
   }
 

@@ -5,6 +5,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <optional>
 
 #include "identify/loop_state.hpp"
@@ -169,9 +170,11 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
     num_threads(std::max(1, std::min(in.element_threads, folds)))
   for (int f = 0; f < folds; ++f) {
     try {
-      {  // the loop's last factorisation, copied when the fold starts (one copy per thread alive)
+      try {  // the loop's last factorisation, copied when the fold starts (one per thread alive)
         const std::lock_guard<std::mutex> lock(setup.factorizations->mutex);
         fold_inputs.caches[static_cast<size_t>(f)]->copy_factorization(*setup.factorizations);
+      } catch (const std::bad_alloc&) {
+        // No memory for a copy: the fold factorises on its own, as it would without one.
       }
       if (f == 0)
         marker_check = markers_fold(fold_inputs);
