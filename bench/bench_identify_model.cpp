@@ -11,8 +11,15 @@
 // - SvkForce: the internal force alone, what a chord (modified Newton) step assembles;
 // - ForwardModelJacobianSolves: an evaluation with its Jacobian without a factorisation (the
 //   solves and right-hand sides of a graded model under three load cases);
-// - StiffnessAssembly/threads: analysis::assemble_stiffness of the box on 1 and 2 threads.
+// - StiffnessAssembly/threads: analysis::assemble_stiffness of the box on 1 and 2 threads;
+// - ForwardModelLowRankSprings: an evaluation with its Jacobian of the box on springs at its
+//   clamped side whose stiffness changes at every call: a Woodbury update of the cached factor;
+// - FactorizationCopy: the copy of a factorisation that a hold-out fold starts from (against
+//   ForwardModelRefactorisation's factorisation of the same K).
 #include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
 
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
@@ -207,6 +214,74 @@ void BM_SvkForce(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_SvkForce)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The box on springs at its clamped side (the side released, springs k exp(t1) there): theta =
+// (E / E_prior, log spring scale). `cache`: the factorisation cache the model solves with.
+fitting::ForwardModel spring_box_model(const analysis::Problem& problem,
+                                       const analysis::DofMap& dofs,
+                                       std::shared_ptr<fitting::FactorizationCache> cache) {
+  const fitting::LameMatrices parts = fitting::assemble_lame_stiffness(problem, dofs);
+  const auto lame = analysis::lame_parameters(problem.material, problem.formulation);
+  const fitting::SideSpringMatrices springs =
+      fitting::assemble_side_springs(problem, dofs, problem.supports[0].side);
+  fitting::ModelTerms terms;
+  terms.num_parameters = 2;
+  terms.stiffness.push_back({parts.lambda_part, fitting::linear_coefficient(0, lame.lambda)});
+  terms.stiffness.push_back({parts.mu_part, fitting::linear_coefficient(0, lame.mu)});
+  const double k = 1e3 * problem.material.youngs_modulus / 0.2;
+  terms.stiffness.push_back(
+      {springs.normal + springs.tangential, [k](const Eigen::VectorXd& t, Eigen::VectorXd* g) {
+         if (g) {
+           g->setZero(t.size());
+           (*g)[1] = k * std::exp(t[1]);
+         }
+         return k * std::exp(t[1]);
+       }});
+  terms.loads.push_back({0, analysis::assemble_load(problem, dofs, problem.load_cases[0]),
+                         fitting::constant_coefficient(1.0)});
+  const analysis::Constraints constraints = analysis::build_constraints(problem, dofs);
+  terms.released_dofs = constraints.dofs;
+  fitting::Observation obs;  // every 7th DOF
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int d = 0; d < dofs.num_dofs(); d += 7)
+    triplets.emplace_back(static_cast<int>(triplets.size()), d, 1.0);
+  obs.operator_.resize(static_cast<Eigen::Index>(triplets.size()), dofs.num_dofs());
+  obs.operator_.setFromTriplets(triplets.begin(), triplets.end());
+  return fitting::ForwardModel(terms, {obs}, constraints.dofs, constraints.values, dofs.num_dofs(),
+                               1, std::move(cache));
+}
+
+void BM_ForwardModelLowRankSprings(benchmark::State& state) {
+  const analysis::Problem problem = box_problem();
+  const analysis::DofMap dofs(problem);
+  const fitting::ForwardModel model = spring_box_model(problem, dofs, nullptr);
+  model.evaluate(Eigen::Vector2d(1.0, 0.0), true);  // the factorisation the updates start from
+  double log_k = 0.0;
+  for (auto _ : state) {
+    log_k = log_k > 0.0 ? -0.5 : 0.5;  // only the springs change: a low-rank update each
+    const fitting::ModelEvaluation eval = model.evaluate(Eigen::Vector2d(1.0, log_k), true);
+    benchmark::DoNotOptimize(eval.predictions[0].data());
+  }
+  const fitting::FactorizationStats stats = model.factorization_stats();
+  state.counters["dofs"] = dofs.num_dofs();
+  state.counters["factorisations"] = static_cast<double>(stats.factorizations);
+  state.counters["low_rank_updates"] = static_cast<double>(stats.low_rank_updates);
+}
+BENCHMARK(BM_ForwardModelLowRankSprings)->Unit(benchmark::kMillisecond);
+
+void BM_FactorizationCopy(benchmark::State& state) {
+  const analysis::Problem problem = box_problem();
+  const analysis::DofMap dofs(problem);
+  const auto cache = fitting::make_factorization_cache();
+  const fitting::ForwardModel model = spring_box_model(problem, dofs, cache);
+  model.evaluate(Eigen::Vector2d(1.0, 0.0), false);
+  for (auto _ : state) {
+    const auto copy = fitting::copy_factorization_cache(*cache);
+    benchmark::DoNotOptimize(copy.get());
+  }
+  state.counters["dofs"] = dofs.num_dofs();
+}
+BENCHMARK(BM_FactorizationCopy)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -16,11 +16,35 @@
 
 namespace isospring::fitting {
 
+// CHOLMOD's supernodal LL^T that can become an independent copy of another one's analysis and
+// factor (cholmod_copy_factor): a copy costs a memory copy of L, a factorisation of the same
+// matrix its flops (the hold-out folds start from the loop's factor).
+class CopyableCholmod
+    : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> {
+ public:
+  CopyableCholmod() { this->cholmod().print = 0; }  // a failed trial step is the caller's to handle
+  // This solver as `other`'s copy; false (this one unchanged) when CHOLMOD could not copy.
+  bool copy_from(const CopyableCholmod& other) {
+    if (!other.m_cholmodFactor) return false;
+    cholmod_factor* copy = cholmod_copy_factor(other.m_cholmodFactor, &this->cholmod());
+    if (!copy) return false;
+    if (this->m_cholmodFactor) cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
+    this->m_cholmodFactor = copy;
+    this->m_info = other.m_info;
+    this->m_analysisIsOk = other.m_analysisIsOk;
+    this->m_factorizationIsOk = other.m_factorizationIsOk;
+    this->m_isInitialized = other.m_isInitialized;
+    this->m_shiftOffset[0] = other.m_shiftOffset[0];
+    this->m_shiftOffset[1] = other.m_shiftOffset[1];
+    return true;
+  }
+};
+
 struct FactorizationCache {
   std::mutex mutex;  // evaluate() is const and may be called from several threads
   // The symbolic analysis (fill-reducing ordering, supernodes) depends on K_ff's pattern only:
   // it is kept for the pattern it was made for and every factorisation of that pattern reuses it.
-  std::unique_ptr<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>> cholesky;
+  std::unique_ptr<CopyableCholmod> cholesky;
   std::vector<int> analysed_outer, analysed_inner;  // the pattern `cholesky` was analysed for
   bool factorized = false;  // `cholesky` holds the factor of `coefficients` (else analysis only)
   std::vector<double> fingerprint;   // of the factorised model's terms and free DOFs
@@ -55,9 +79,7 @@ struct FactorizationCache {
         std::equal(analysed_outer.begin(), analysed_outer.end(), kff.outerIndexPtr()) &&
         std::equal(analysed_inner.begin(), analysed_inner.end(), kff.innerIndexPtr());
     if (!same_pattern) {
-      cholesky = std::make_unique<
-          Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>();
-      cholesky->cholmod().print = 0;  // a failed trial step is handled by the caller, not printed
+      cholesky = std::make_unique<CopyableCholmod>();
       cholesky->analyzePattern(kff);
       analysed_outer.assign(kff.outerIndexPtr(), kff.outerIndexPtr() + n + 1);
       analysed_inner.assign(kff.innerIndexPtr(), kff.innerIndexPtr() + nnz);
@@ -68,6 +90,30 @@ struct FactorizationCache {
     factorized = true;
     ++stats.factorizations;
     return true;
+  }
+
+  // This cache's linear state as an independent copy of `other`'s: its analysis, its factor
+  // (with the coefficients and fingerprint it was made for) and the low-rank solve's W and G.
+  // The caller holds other.mutex. Nothing is copied when `other` has no factor; a copy that
+  // fails (memory) leaves this cache as it was, to factorise on its own.
+  void copy_factorization(const FactorizationCache& other) {
+    if (!(other.factorized && other.cholesky)) return;
+    // Everything that allocates first: a failure (std::bad_alloc) leaves this cache unchanged.
+    auto copy = std::make_unique<CopyableCholmod>();
+    if (!copy->copy_from(*other.cholesky)) return;
+    std::vector<int> outer = other.analysed_outer, inner = other.analysed_inner;
+    std::vector<double> copied_fingerprint = other.fingerprint,
+                        copied_coefficients = other.coefficients;
+    Eigen::MatrixXd copied_w = other.w, copied_g = other.g;
+    cholesky = std::move(copy);
+    analysed_outer = std::move(outer);
+    analysed_inner = std::move(inner);
+    factorized = true;
+    fingerprint = std::move(copied_fingerprint);
+    coefficients = std::move(copied_coefficients);
+    w = std::move(copied_w);
+    g = std::move(copied_g);
+    low_rank_ready = other.low_rank_ready;
   }
 
   // s with c_j = s * coefficients_j to 1e-13 of c_j for every term with local[j] false (all

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <exception>
 #include <memory>
+#include <mutex>
+#include <new>
 #include <optional>
 
 #include "identify/loop_state.hpp"
@@ -39,25 +41,28 @@ std::optional<HoldoutCheck> markers_fold(const Folds& folds) {
     }
   const auto holdout_weights = make_weights(setup, folds.noise, fit_marker);
   const auto& cache = folds.caches[0];
-  const Model base = build_model(setup, {}, folds.nominal.fit.theta, cache);
-  const Fit base_fit = run_fit(setup, base, holdout_weights);
-  if (!(base_fit.ok && !validation.empty())) return std::nullopt;
+  if (validation.empty()) return std::nullopt;
   HoldoutCheck check;
   check.fit_markers = static_cast<int>(markers.size() - validation.size());
   check.validation_markers = static_cast<int>(validation.size());
+  // The final model first: the fold's cache starts with the loop's last factorisation, which is
+  // usually the final model's (the nominal model's only when they share their stiffness).
+  const bool with_effects = !folds.selection.chosen.empty();
+  if (with_effects) {
+    const Model full =
+        build_model(setup, folds.selection.chosen, folds.selection.current_fit.theta, cache);
+    const Fit full_fit = run_fit(setup, full, holdout_weights);
+    if (!full_fit.ok) return std::nullopt;
+    check.validation_after =
+        summarize(marker_misfit(setup, full, full_fit.theta, markers), validation, setup.dim);
+  }
+  const Model base = build_model(setup, {}, folds.nominal.fit.theta, cache);
+  const Fit base_fit = run_fit(setup, base, holdout_weights);
+  if (!base_fit.ok) return std::nullopt;
   check.validation_before =
       summarize(marker_misfit(setup, base, base_fit.theta, markers), validation, setup.dim);
   // Without effects the final model is the nominal one: same model, same weights, same fit.
-  if (folds.selection.chosen.empty()) {
-    check.validation_after = check.validation_before;
-    return check;
-  }
-  const Model full =
-      build_model(setup, folds.selection.chosen, folds.selection.current_fit.theta, cache);
-  const Fit full_fit = run_fit(setup, full, holdout_weights);
-  if (!full_fit.ok) return std::nullopt;
-  check.validation_after =
-      summarize(marker_misfit(setup, full, full_fit.theta, markers), validation, setup.dim);
+  if (!with_effects) check.validation_after = check.validation_before;
   return check;
 }
 
@@ -105,12 +110,11 @@ std::optional<LoadCaseHoldout> case_fold(const Folds& folds, size_t l) {
   LoadCaseHoldout out;
   out.id = folds.in.problem.load_cases[l].id;
   out.markers = static_cast<int>(setup.markers[l].size());
-  for (const bool final_model : {false, true}) {
-    // Without effects the final model is the nominal one: same model, same weights, same fit.
-    if (final_model && folds.selection.chosen.empty()) {
-      out.after = out.before;
-      break;
-    }
+  // The final model first (as in markers_fold); without effects it is the nominal one: same
+  // model, same weights, same fit.
+  const bool with_effects = !folds.selection.chosen.empty();
+  for (const bool final_model : {true, false}) {
+    if (final_model && !with_effects) continue;
     const Model model = final_model ? build_model(setup, folds.selection.chosen,
                                                   folds.selection.current_fit.theta, cache)
                                     : build_model(setup, {}, folds.nominal.fit.theta, cache);
@@ -127,6 +131,7 @@ std::optional<LoadCaseHoldout> case_fold(const Folds& folds, size_t l) {
     (final_model ? out.after : out.before) = summarize(residual, setup.markers[l], dim);
     if (final_model) out.local_parameters = local_parameters;
   }
+  if (!with_effects) out.after = out.before;
   return out;
 }
 
@@ -136,7 +141,10 @@ std::optional<LoadCaseHoldout> case_fold(const Folds& folds, size_t l) {
 // validate on the odd ones (fold 0), and leave one load case out (folds 1..). They run on the
 // machine's cores, each with a factorisation cache of its own (they differ in their weights, so
 // one shared cache would serialise them and factorise at every switch). Measured on the suite's
-// tube_graded (5,832 DOFs, a factorisation per evaluation): 19 s one after the other.
+// tube_graded (5,832 DOFs, a factorisation per evaluation): 19 s one after the other. Each
+// fold's cache starts as a copy of the loop's factorisation: the folds' fits start at the loop's
+// fit, where K is the loop's (up to the scale of E), so a fold whose model has no stiffness
+// parameter beyond E factorises nothing.
 void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nominal,
                  const Selection& selection, IdentifyResult& result) {
   const size_t num_cases = in.problem.load_cases.size();
@@ -162,10 +170,17 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
     num_threads(std::max(1, std::min(in.element_threads, folds)))
   for (int f = 0; f < folds; ++f) {
     try {
+      try {  // the loop's last factorisation, copied when the fold starts (one per thread alive)
+        const std::lock_guard<std::mutex> lock(setup.factorizations->mutex);
+        fold_inputs.caches[static_cast<size_t>(f)]->copy_factorization(*setup.factorizations);
+      } catch (const std::bad_alloc&) {
+        // No memory for a copy: the fold factorises on its own, as it would without one.
+      }
       if (f == 0)
         marker_check = markers_fold(fold_inputs);
       else
         case_folds[static_cast<size_t>(f - 1)] = case_fold(fold_inputs, static_cast<size_t>(f - 1));
+      fold_inputs.caches[static_cast<size_t>(f)].reset();  // its models are gone: free the factor
     } catch (...) {
       fold_errors[static_cast<size_t>(f)] = std::current_exception();
     }

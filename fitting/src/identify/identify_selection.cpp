@@ -180,11 +180,23 @@ void try_candidate(const SelectionInputs& s, Selection& selection, const Effect*
   const Model model = build_model(s.setup, trial, selection.current_fit.theta);
   s.in.say("trying " + effect->name());
   const auto fit_start = Clock::now();
+  // What the candidate cost in factorisations of K (the linear models'; Newton's tangents are
+  // counted by their own solvers), for the progress lines that profiles read.
+  const FactorizationStats stats_before = factorization_stats(*s.setup.factorizations);
+  auto report_cost = [&](const char* how) {
+    const FactorizationStats now = factorization_stats(*s.setup.factorizations);
+    s.in.say(effect->name() + " " + how + ": " +
+             std::to_string(now.factorizations - stats_before.factorizations) +
+             " factorisations, " +
+             std::to_string(now.low_rank_updates - stats_before.low_rank_updates) +
+             " low-rank updates, " + std::to_string(now.reuses - stats_before.reuses) + " reuses");
+  };
   CandidateTest test;
   test.effect = effect->name();
   test.parameters = effect->num_parameters();
   if (settled_by_score_test(s, selection, *effect, model, best, test)) {
     test.seconds = seconds_since(fit_start);
+    report_cost("settled by its score test");
     round.candidates.push_back(test);
     return;
   }
@@ -194,6 +206,7 @@ void try_candidate(const SelectionInputs& s, Selection& selection, const Effect*
                           check_expectations ? &covariance : nullptr, FitStart::kNewParameters);
   if (fit.ok && !model.forward->nonlinear()) selection.linear_fits[trial] = fit;
   test.seconds = seconds_since(fit_start);
+  report_cost("fitted");
   if (!fit.ok) {
     test.note = "fit failed: " + fit.message;
     round.candidates.push_back(test);
@@ -274,6 +287,10 @@ SwapSearch search_swaps(const SelectionInputs& s, Selection& selection, double n
       if (contains(chosen, candidate.get())) continue;
       std::vector<const Effect*> swapped = chosen;
       swapped[e] = candidate.get();
+      // A new fit is announced: the stage's fits are its time (a factorisation per evaluation
+      // once the stiffness has parameters beyond E).
+      if (!candidate->expensive() && !selection.linear_fits.count(swapped))
+        s.in.say("swap stage: fitting " + candidate->name() + " in place of " + chosen[e]->name());
       // Not large-deformation models (Newton fits): the score test handled them.
       const std::optional<Fit> swap_fit =
           fit_of(s, selection, swapped,

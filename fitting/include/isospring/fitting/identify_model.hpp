@@ -92,6 +92,9 @@ struct ModelEvaluation {
 /// W = K_c^-1 U and G = U^T W computed once per factorisation (|B| solves).
 struct FactorizationCache;
 std::shared_ptr<FactorizationCache> make_factorization_cache();
+/// A new cache whose factorisation is an independent copy of `cache`'s (CHOLMOD's analysis and
+/// factor, the low-rank solve's W and G): its models solve without factorising the same K again.
+std::shared_ptr<FactorizationCache> copy_factorization_cache(FactorizationCache& cache);
 
 /// What a cache did so far: for benchmarks, tests and the report's timing notes.
 struct FactorizationStats {
