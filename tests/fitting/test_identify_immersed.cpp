@@ -38,13 +38,21 @@ analysis::Material soft(double scale = 1.0) {
   return m;
 }
 
+// Immersed once for all tests (the cut cells' quadrature is most of a test's CPU).
+const geometry::ImmersedDomain& cylinder_domain() {
+  static const geometry::ImmersedDomain domain = [] {
+    geometry::ImmersionOptions o;
+    o.degree = 2;
+    o.cells = Eigen::Vector3i(4, 4, 4);
+    return geometry::immerse_solid(
+        geometry::read_cad_solid(kExamples + "immersed/cube_cylinder.step", 0), o);
+  }();
+  return domain;
+}
+
 Cylinder cylinder(double e_scale = 1.0) {
   Cylinder c;
-  geometry::ImmersionOptions o;
-  o.degree = 2;
-  o.cells = Eigen::Vector3i(4, 4, 4);
-  c.domain = geometry::immerse_solid(
-      geometry::read_cad_solid(kExamples + "immersed/cube_cylinder.step", 0), o);
+  c.domain = cylinder_domain();
   const std::vector<std::pair<std::string, Eigen::Vector3d>> tractions = {
       {"shear_x", {200, 0, 0}}, {"axial", {0, 0, 500}}, {"shear_y", {0, 200, 0}}};
   for (const auto& [id, t] : tractions) {

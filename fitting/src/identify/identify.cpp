@@ -223,7 +223,9 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                       options,
                       options.threads > 0 ? options.threads : omp_get_max_threads(),
                       std::vector<bool>(markers.size(), true),
-                      std::move(all_rows)};
+                      std::move(all_rows),
+                      {},
+                      {}};
   return run_loop(in);
 }
 

@@ -92,25 +92,33 @@ Observation observe(const geometry::ImmersedDomain& domain, const analysis::Imme
   return obs;
 }
 
-// The loads: each case's right-hand side and the self-weight of a unit gravity per axis.
+// The loads: each case's right-hand side (the first case's from `first`, the system the
+// stiffness came from) and the self-weight of a unit gravity per axis. The self-weight acts on
+// each component alone (f_ac = rho int N_a g_c), so one assembly with g = (1, 1, 1) gives all
+// three: the entries of component c are those of g = e_c.
 void assemble_loads(const geometry::ImmersedDomain& domain,
-                    const std::vector<ImmersedCalibrationCase>& cases, Setup& setup) {
+                    const std::vector<ImmersedCalibrationCase>& cases,
+                    const analysis::ImmersedSystem& first, Setup& setup) {
   ModelLoads& loads = setup.loads;
-  for (const auto& c : cases) {
-    loads.case_ids.push_back(c.id);
-    loads.case_forces.push_back(analysis::assemble_immersed(domain, c.options).force);
+  for (size_t l = 0; l < cases.size(); ++l) {
+    loads.case_ids.push_back(cases[l].id);
+    loads.case_forces.push_back(
+        l == 0 ? first.force : analysis::assemble_immersed(domain, cases[l].options).force);
   }
   setup.nominal_loads = loads.case_forces;
   loads.density = cases.front().options.material.density;
   loads.unavailable = immersed_unavailable_effect;
   if (!(loads.density > 0.0)) return;  // gravity is unavailable without a density
+  analysis::ImmersedOptions unit = cases.front().options;
+  unit.tractions.clear();
+  unit.pressures.clear();
+  unit.body_force.setZero();
+  unit.gravity = Eigen::Vector3d::Ones();
+  const Eigen::VectorXd all = analysis::assemble_immersed(domain, unit).force;
   for (int c = 0; c < setup.dim; ++c) {
-    analysis::ImmersedOptions unit = cases.front().options;
-    unit.tractions.clear();
-    unit.pressures.clear();
-    unit.body_force.setZero();
-    unit.gravity = Eigen::Vector3d::Unit(c);
-    loads.unit_gravity.push_back(analysis::assemble_immersed(domain, unit).force);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(all.size());
+    for (Eigen::Index k = c; k < all.size(); k += setup.dim) f[k] = all[k];
+    loads.unit_gravity.push_back(std::move(f));
   }
 }
 
@@ -174,7 +182,7 @@ void make_immersed_setup(Setup& setup, const geometry::ImmersedDomain& domain,
   setup.num_dofs = static_cast<int>(system.control_point_of_node.size()) * system.dim;
   if (say) say("assembled the immersed stiffness (" + std::to_string(setup.num_dofs) + " DOFs)");
   setup.scaled_stiffness = full_symmetric(system.stiffness);
-  assemble_loads(domain, cases, setup);
+  assemble_loads(domain, cases, system, setup);
   add_markers(domain, system, markers, setup);
 
   // Effect context: the part's size (its boundary points' box), the load effects' data.
@@ -272,7 +280,9 @@ IdentifyResult identify_immersed(const geometry::ImmersedDomain& domain,
                 options,
                 options.threads > 0 ? options.threads : omp_get_max_threads(),
                 std::vector<bool>(markers.size(), true),
-                std::move(all_rows)};
+                std::move(all_rows),
+                {},
+                {}};
   in.custom_setup = [&](Setup& setup) {
     make_immersed_setup(setup, domain, cases, markers, options.fit_poisson, in.progress());
   };
