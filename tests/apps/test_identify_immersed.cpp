@@ -58,7 +58,7 @@ TEST(IdentifyImmersed, NamesTheUndeclaredSelfWeightInCalculixData) {
             std::string::npos)
       << report["discretization"];
   EXPECT_TRUE(std::filesystem::exists(out.path() / "id" / "report.md"));
-  EXPECT_TRUE(std::filesystem::exists(out.path() / "id" / "markers_down_after.vtp"));
+  EXPECT_TRUE(std::filesystem::exists(out.path() / "id" / "markers_side_after.vtp"));
   EXPECT_FALSE(std::filesystem::exists(out.path() / "id" / "model.json"));
   std::printf(
       "immersed identify (CalculiX data, hidden weight): rms %.3e -> %.3e m, noise %.3e m\n",
