@@ -12,6 +12,7 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
 #include "isospring/io/immersed_case.hpp"
 #include "isospring/io/json_text.hpp"
