@@ -12,11 +12,14 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "isospring/io/atomic_file.hpp"
 #include "isospring/io/case_file.hpp"
+#include "isospring/io/immersed_case.hpp"
+#include "isospring/io/json_text.hpp"
 #include "isospring/io/output_guard.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/workflows/identify_command.hpp"
-#include "isospring/workflows/immersed_refusals.hpp"
+#include "isospring/workflows/identify_immersed_command.hpp"
 
 namespace isospring::apps {
 namespace {
@@ -30,9 +33,31 @@ struct IdentifyFlags {
   bool no_discretization_check = false;
 };
 
+// An immersed case: the part in its background grid (workflows::run_identify_immersed).
+void run_immersed(const IdentifyFlags& flags, const io::Progress& progress) {
+  const std::filesystem::path out_dir =
+      output_folder(flags.output, {flags.case_file}, workflows::identify_output_files());
+  progress("reading " + flags.case_file);
+  const io::ImmersedCase c = io::read_immersed_case(flags.case_file);
+  std::vector<std::string> ids;
+  for (const auto& load : c.load_cases) ids.push_back(load.id);
+  io::check_outputs_spare_inputs(input_files(flags.case_file),
+                                 in_folder(out_dir, workflows::identify_output_files(ids)));
+  const workflows::IdentifyCommandResult r =
+      workflows::run_identify_immersed(c, flags.options, progress);
+  workflows::write_identify_outputs(out_dir, r, progress);
+  progress("rms " + io::format_number(r.identify.before.rms, 3) + " m -> " +
+           io::format_number(r.identify.after.rms, 3) + " m; wrote " +
+           (out_dir / "report.json").string());
+}
+
 void run(IdentifyFlags flags) {
   const io::Progress progress("identify", flags.quiet);
-  workflows::refuse_immersed_case(flags.case_file, "identify");  // before any folder is made
+  flags.options.max_dofs = flags.max_dofs;
+  flags.options.discretization_check = !flags.no_discretization_check;
+  if (io::is_immersed_case(io::parse_json_text(io::read_text_file(flags.case_file, "case file"),
+                                               flags.case_file, "case file")))
+    return run_immersed(flags, progress);
   const std::filesystem::path out_dir =
       output_folder(flags.output, {flags.case_file}, workflows::identify_output_files());
   progress("reading " + flags.case_file);
@@ -41,8 +66,6 @@ void run(IdentifyFlags flags) {
   for (const auto& load : c.problem.load_cases) ids.push_back(load.id);
   io::check_outputs_spare_inputs(case_inputs(c),
                                  in_folder(out_dir, workflows::identify_output_files(ids)));
-  flags.options.max_dofs = flags.max_dofs;
-  flags.options.discretization_check = !flags.no_discretization_check;
   const workflows::IdentifyCommandResult r = workflows::run_identify(c, flags.options, progress);
   workflows::write_identify_outputs(out_dir, r, progress);
   progress("rms " + io::format_number(r.identify.before.rms, 3) + " m -> " +
@@ -66,7 +89,9 @@ void setup_identify(CLI::App& app) {
       "Recalibrates the spring model against the corrected reference (identified material,\n"
       "gravity, load factors, stiffness gradient; the case's \"calibration\" object applies).\n"
       "Writes OUTDIR/report.json, report.md, model.json, residuals.svg/.csv,\n"
-      "markers_<case>_*.vtp.");
+      "markers_<case>_*.vtp. Immersed cases (geometry type \"immersed\") run the same loop\n"
+      "with the effects that have an immersed form (docs/immersed.md), without the\n"
+      "discretisation check and the recalibration.");
   cmd->add_option("CASE", options->case_file, "Case file (.json) with \"measurements\"")
       ->required()
       ->check(CLI::ExistingFile);

@@ -166,9 +166,11 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
     throw nurbs::InputError(label + ": a case file is a JSON object {...}");
   const Field root(document, label, "");
   // "faces" is the list `isospring import` writes for the user to choose from; not read here.
-  // "calibration" is read by `isospring calibrate` (io::read_calibration_settings).
+  // "calibration" is read by `isospring calibrate` (io::read_calibration_settings),
+  // "measurements" by `isospring identify` (io::read_measurement_settings).
   root.expect_object({"schema_version", "name", "description", "units", "geometry", "material",
-                      "boundary", "load_cases", "faces", "output", "analytic", "calibration"});
+                      "boundary", "load_cases", "faces", "output", "analytic", "calibration",
+                      "measurements"});
   ImmersedCase c;
   c.file = case_file;
   c.raw = document;

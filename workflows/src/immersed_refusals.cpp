@@ -19,12 +19,6 @@ std::string reason(const std::string& command) {
            "part (result.vtp)";
   if (command == "export-step")
     return "an immersed model's geometry is the CAD file itself, unchanged: use that file";
-  if (command == "identify")
-    return "the identification builds its observation operators, its effects (support "
-           "compliance, stiffness gradient, ...) and its recalibration on body-fitted patches; "
-           "`isospring calibrate` takes an immersed case, and for identify give a case with a "
-           "\"cad\" geometry of a part `isospring import` makes volumes of, or a geometry type "
-           "of docs/case-files.md";
   return "it works on body-fitted patches only";
 }
 
@@ -35,9 +29,10 @@ void refuse_immersed_case(const std::filesystem::path& case_file, const std::str
   if (!in) return;
   const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
   if (document.is_discarded() || !io::is_immersed_case(document)) return;
-  throw nurbs::InputError(case_file.string() + ": an immersed case (geometry type 'immersed'); `" +
-                          command + "` does not take one: " + reason(command) +
-                          ". `isospring analyze`, `study` and `calibrate` run immersed cases.");
+  throw nurbs::InputError(
+      case_file.string() + ": an immersed case (geometry type 'immersed'); `" + command +
+      "` does not take one: " + reason(command) +
+      ". `isospring analyze`, `study`, `calibrate` and `identify` run immersed cases.");
 }
 
 }  // namespace isospring::workflows

@@ -2,7 +2,6 @@
 #include <memory>
 #include <string>
 
-#include "isospring/analysis/assembly.hpp"
 #include "isospring/fitting/effect.hpp"
 
 namespace isospring::fitting {
@@ -12,11 +11,7 @@ namespace {
 class Gravity : public Effect {
  public:
   explicit Gravity(const EffectContext& context) : dimension_(context.dimension) {
-    for (int c = 0; c < dimension_; ++c) {
-      analysis::LoadCase unit;
-      unit.gravity[c] = 1.0;
-      forces_.push_back(analysis::assemble_load(*context.problem, *context.dofs, unit));
-    }
+    for (int c = 0; c < dimension_; ++c) forces_.push_back(unit_gravity_force(context, c));
   }
   std::string name() const override { return "gravity"; }
   std::vector<std::string> parameter_names() const override {
@@ -48,7 +43,7 @@ EffectType gravity_effect_type() {
   EffectType type;
   type.name = "gravity";
   type.make = [](const EffectContext& context, std::string* why) -> std::unique_ptr<Effect> {
-    if (!(context.problem->material.density > 0.0)) {
+    if (!(model_density(context) > 0.0)) {
       if (why) *why = "the material has no density (set material.density)";
       return nullptr;
     }

@@ -3,7 +3,6 @@
 #include <memory>
 #include <string>
 
-#include "isospring/analysis/assembly.hpp"
 #include "isospring/fitting/effect.hpp"
 
 namespace isospring::fitting {
@@ -13,10 +12,10 @@ namespace {
 class LoadScale : public Effect {
  public:
   explicit LoadScale(const EffectContext& context) {
-    const auto& cases = context.problem->load_cases;
-    for (size_t l = 1; l < cases.size(); ++l) {
-      ids_.push_back(cases[l].id);
-      forces_.push_back(analysis::assemble_load(*context.problem, *context.dofs, cases[l]));
+    const std::vector<std::string> ids = load_case_ids(context);
+    for (size_t l = 1; l < ids.size(); ++l) {
+      ids_.push_back(ids[l]);
+      forces_.push_back(load_case_force(context, l));
     }
   }
   std::string name() const override { return "load_scale"; }
@@ -45,7 +44,7 @@ EffectType load_scale_effect_type() {
   EffectType type;
   type.name = "load_scale";
   type.make = [](const EffectContext& context, std::string* why) -> std::unique_ptr<Effect> {
-    if (context.problem->load_cases.size() < 2) {
+    if (load_case_ids(context).size() < 2) {
       if (why) *why = "one load case: its load factor cannot be told apart from E";
       return nullptr;
     }

@@ -55,7 +55,15 @@ const EffectType& effect_type(const std::string& name) {
 
 std::unique_ptr<Effect> make_effect(const std::string& name, const EffectContext& context,
                                     std::string* why) {
-  return effect_type(name).make(context, why);
+  const EffectType& type = effect_type(name);
+  if (context.loads && context.loads->unavailable) {  // a model without a body-fitted problem
+    const std::string reason = context.loads->unavailable(name);
+    if (!reason.empty()) {
+      if (why) *why = reason;
+      return nullptr;
+    }
+  }
+  return type.make(context, why);
 }
 
 std::string carry_over(const std::string& name, const Eigen::VectorXd& values,

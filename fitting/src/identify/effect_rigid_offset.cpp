@@ -38,7 +38,7 @@ class RigidOffset : public Effect {
         }
       }
       modes_.push_back(modes);
-      load_case_ids_.push_back(context.problem->load_cases[l].id);
+      load_case_ids_.push_back(load_case_ids(context)[l]);
     }
   }
   std::string name() const override { return shared_ ? "rigid_offset" : "rigid_offset_per_load"; }
@@ -97,7 +97,7 @@ EffectType rigid_offset_per_load_effect_type() {
   EffectType type;
   type.name = "rigid_offset_per_load";
   type.make = [](const EffectContext& context, std::string* why) -> std::unique_ptr<Effect> {
-    if (context.problem->load_cases.size() < 2) {
+    if (load_case_ids(context).size() < 2) {
       if (why) *why = "one load case: the same as rigid_offset";
       return nullptr;
     }

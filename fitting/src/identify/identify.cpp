@@ -88,8 +88,11 @@ double discretisation_allowance(const LoopInputs& in, const Setup& setup, const 
 // Stage 1. The case's discretisation first: the nominal fit there gives the material and the
 // noise level that the discretisation check compares the reference's own error with.
 void fit_case_nominal(const LoopInputs& in, CaseNominal& out) {
-  make_setup(out.setup, in.problem, in.markers, in.placements, in.options.fit_poisson,
-             in.progress());
+  if (in.custom_setup)
+    in.custom_setup(out.setup);
+  else
+    make_setup(out.setup, in.problem, in.markers, in.placements, in.options.fit_poisson,
+               in.progress());
   out.setup.context.threads = in.element_threads;
   out.setup.component_weight = component_weights(in.options, in.markers, out.setup.dim);
   // A provisional noise level makes the residuals O(1) for the solver's tolerances; uniform
@@ -112,6 +115,10 @@ void choose_discretisation(const LoopInputs& in, const CaseNominal& case_nominal
   const IdentifyOptions& options = in.options;
   if (!options.discretization.enabled) {
     result.discretization.note = "turned off";
+    return;
+  }
+  if (in.custom_setup) {
+    result.discretization.note = in.no_discretisation_check;
     return;
   }
   const double noise = noise_for_discretisation(in, case_nominal);
@@ -166,7 +173,7 @@ void collect_candidates(const LoopInputs& in, const Setup& setup, const Nominal&
     // Large deformation is the displacement formulation's SVK (no F-bar): on a B-bar reference
     // its remainder against the B-bar linear stiffness would not be O(|u|^2), so it is not
     // offered rather than fitted as something else.
-    if (name == "geometric_nonlinearity" &&
+    if (name == "geometric_nonlinearity" && setup.context.problem &&
         setup.context.problem->volumetric == analysis::Volumetric::kBbar) {
       out.unavailable.push_back(name +
                                 ": the reference uses B-bar (nearly incompressible material), "
@@ -208,8 +215,6 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                         const std::vector<MarkerPlacement>& placements,
                         const IdentifyOptions& options) {
   using namespace identify_loop;
-  const auto start_time = std::chrono::steady_clock::now();
-  const QuietSolverWarnings quiet;
   std::vector<int> all_rows(markers.size());
   for (size_t m = 0; m < markers.size(); ++m) all_rows[m] = static_cast<int>(m);
   const LoopInputs in{problem,
@@ -218,7 +223,17 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                       options,
                       options.threads > 0 ? options.threads : omp_get_max_threads(),
                       std::vector<bool>(markers.size(), true),
-                      std::move(all_rows)};
+                      std::move(all_rows),
+                      {},
+                      {}};
+  return run_loop(in);
+}
+
+namespace identify_loop {
+
+IdentifyResult run_loop(const LoopInputs& in) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const QuietSolverWarnings quiet;
   IdentifyResult result;
 
   CaseNominal case_nominal;
@@ -252,6 +267,8 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;
 }
+
+}  // namespace identify_loop
 
 std::vector<Eigen::Vector3d> simulate_markers(
     const analysis::Problem& problem, const std::vector<Marker>& markers,

@@ -100,8 +100,12 @@ Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
   ModelTerms terms;
   terms.num_parameters = setup.material_parameters;
   for (const Effect* effect : effects) terms.num_parameters += effect->num_parameters();
-  terms.stiffness.push_back({setup.lame.lambda_part, setup.context.lambda});
-  terms.stiffness.push_back({setup.lame.mu_part, setup.context.mu});
+  if (setup.scaled_stiffness.size() > 0) {
+    terms.stiffness.push_back({setup.scaled_stiffness, linear_coefficient(0)});
+  } else {
+    terms.stiffness.push_back({setup.lame.lambda_part, setup.context.lambda});
+    terms.stiffness.push_back({setup.lame.mu_part, setup.context.mu});
+  }
   for (size_t l = 0; l < setup.nominal_loads.size(); ++l)
     terms.loads.push_back({static_cast<int>(l), setup.nominal_loads[l], constant_coefficient(1.0)});
   Model model;
@@ -120,7 +124,7 @@ Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
   model.initial.head(keep) = warm_start.head(keep);
   model.forward = std::make_unique<ForwardModel>(
       std::move(terms), setup.observations, setup.constraints.dofs, setup.constraints.values,
-      setup.dofs.num_dofs(), static_cast<int>(setup.observations.size()),
+      setup.num_dofs, static_cast<int>(setup.observations.size()),
       cache ? std::move(cache) : setup.factorizations);
   return model;
 }
@@ -362,6 +366,7 @@ void make_setup(Setup& setup, const analysis::Problem& problem, const std::vecto
   setup.problem = &problem;
   setup.dofs = analysis::DofMap(problem);
   setup.constraints = analysis::build_constraints(problem, setup.dofs);
+  setup.num_dofs = setup.dofs.num_dofs();
   setup.dim = setup.dofs.dofs_per_node();
   setup.material_parameters = fit_poisson ? 2 : 1;
   const int dim = setup.dim;

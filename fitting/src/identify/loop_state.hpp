@@ -50,6 +50,12 @@ struct Setup {
   analysis::DofMap dofs;
   analysis::Constraints constraints;
   LameMatrices lame;
+  int num_dofs = 0;  // dofs.num_dofs(), or the DOFs of a model without a problem
+  // The stiffness of a model not split into Lame parts, at the prior modulus: K(theta) =
+  // theta[0] K (an immersed model, whose Nitsche penalty scales with E but is not linear in
+  // lambda and mu apart). Empty for body-fitted models.
+  Eigen::SparseMatrix<double> scaled_stiffness;
+  ModelLoads loads;  // the context's loads of a model without a problem
   EffectContext context;
   int dim = 3;
   int material_parameters = 1;
@@ -192,6 +198,10 @@ struct LoopInputs {
   int element_threads = 1;        // the assembly's threads, and the hold-out folds'
   std::vector<bool> all_markers;  // every marker counts
   std::vector<int> all_rows;      // every marker index, in order
+  // A model without a body-fitted problem (identify_immersed.cpp): builds the setup in place of
+  // make_setup, and `problem` only names the material and the load cases. Empty: body-fitted.
+  std::function<void(Setup&)> custom_setup;
+  std::string no_discretisation_check;  // why the check does not run on such a model
 
   void say(const std::string& message) const {
     if (options.progress) options.progress(message);
@@ -200,6 +210,9 @@ struct LoopInputs {
     return [this](const std::string& message) { say(message); };
   }
 };
+
+// The whole loop, stages 1 to 9 (identify.cpp).
+IdentifyResult run_loop(const LoopInputs& in);
 
 // Stage 1: the case's own discretisation and its nominal fit, made with a provisional noise
 // level (uniform weights: the estimate does not depend on it).

@@ -50,9 +50,22 @@ struct ExpectedValue {
   std::string meaning;     // for the report: what a departure says
 };
 
+/// The loads of a model that is not a body-fitted analysis::Problem (an immersed part,
+/// identify_immersed.hpp): what the load effects read through the functions below instead of
+/// `problem`, and which effects have no form for such a model.
+struct ModelLoads {
+  std::vector<std::string> case_ids;
+  std::vector<Eigen::VectorXd> case_forces;   // per load case, nominal force over all DOFs
+  std::vector<Eigen::VectorXd> unit_gravity;  // per axis: the self-weight of g = e_c
+  double density = 0.0;
+  /// Why the named effect has no form for this model; empty when it has one.
+  std::function<std::string(const std::string& effect)> unavailable;
+};
+
 /// What effects see of the problem and the data.
 struct EffectContext {
-  const analysis::Problem* problem = nullptr;
+  const analysis::Problem* problem = nullptr;  // null for a model given by `loads`
+  const ModelLoads* loads = nullptr;           // set exactly when `problem` is null
   const analysis::DofMap* dofs = nullptr;
   const analysis::Constraints* constraints = nullptr;
   const LameMatrices* stiffness = nullptr;  // homogeneous Lame parts
@@ -67,6 +80,13 @@ struct EffectContext {
   /// Threads for an effect's element loops (>= 1; IdentifyOptions::threads).
   int threads = 1;
 };
+
+/// The model's load case ids, nominal force of load case l, self-weight of a unit gravity along
+/// axis c and density: from `problem` (assembled) or from `loads` (effect_context.cpp).
+std::vector<std::string> load_case_ids(const EffectContext& context);
+Eigen::VectorXd load_case_force(const EffectContext& context, size_t l);
+Eigen::VectorXd unit_gravity_force(const EffectContext& context, int c);
+double model_density(const EffectContext& context);
 
 class Effect {
  public:
