@@ -1,6 +1,8 @@
 // Cut-cell quadrature along exact lines (immersed_cad_cells.hpp).
 #include "immersed_cad_cells.hpp"
 
+#include "immersed_cad_breaks.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -44,9 +46,11 @@ Eigen::Vector3d hair(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
 }
 
 // The outer interval [lo[a], hi[a]] cut where the box's four edges along a (a = d + 1) cross the
-// boundary: the same for every Gauss order, so found once per box.
+// boundary and where the middle lines' crossings change in number (sampled at `samples`, Gauss
+// abscissae on [-1, 1]): the same for every Gauss order, so found once per box.
 std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
-                                 const Eigen::Vector3d& hi, int d) {
+                                 const Eigen::Vector3d& hi, int d,
+                                 const std::vector<double>& samples) {
   const int a = (d + 1) % 3, b = (d + 2) % 3;
   const Eigen::Vector3d e = hair(lo, hi);
   std::vector<double> breaks;
@@ -57,7 +61,20 @@ std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
       p[d] = sd;
       for (double t : probe.crossings(p, a, lo[a], hi[a])) breaks.push_back(t);
     }
-  return pieces(lo[a], hi[a], breaks);
+  // The middle breaks' count at outer coordinate t (see immersed_cad_breaks.hpp): it changes
+  // where a section curve of the boundary in the box's faces normal to d has a tangent along b.
+  const auto middle_count = [&](double t) {
+    int n = 0;
+    for (double sd : {lo[d] + e[d], hi[d] - e[d]}) {
+      Eigen::Vector3d p = lo;
+      p[a] = t;
+      p[d] = sd;
+      n += static_cast<int>(probe.crossings(p, b, lo[b], hi[b]).size());
+    }
+    return n;
+  };
+  return topology_breaks(pieces(lo[a], hi[a], breaks), middle_count, samples,
+                         1e-10 * (hi[a] - lo[a]));
 }
 
 // Dimension by dimension: outer axis a, middle axis b, lines along d (see immersed_cad.hpp).
@@ -124,7 +141,8 @@ CutCellRule cut_cell_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Ei
                           int depth) {
   ++stats.boxes;
   const int d = line_axis(boundary);
-  const std::vector<double> outer = outer_pieces(probe, lo, hi, d);
+  const std::vector<double> outer =
+      outer_pieces(probe, lo, hi, d, nurbs::gauss_legendre_cached(settings.order + 2).points);
   CutCellRule low = line_rule(probe, lo, hi, d, outer, settings.order);
   CutCellRule high = line_rule(probe, lo, hi, d, outer, settings.order + 2);
   const double error = std::abs(sum(low.weights) - sum(high.weights));
