@@ -35,7 +35,8 @@ bool first_change(double a, double b, const std::function<int(double)>& signatur
 std::vector<double> topology_breaks(const std::vector<double>& pieces,
                                     const std::function<int(double)>& signature,
                                     const std::vector<double>& samples, double resolution,
-                                    int max_breaks) {
+                                    double margin, int max_breaks) {
+  margin = std::max(margin, resolution);
   std::vector<double> done{pieces.front()};
   std::vector<std::pair<double, double>> todo;
   for (size_t k = pieces.size() - 1; k > 0; --k) todo.emplace_back(pieces[k - 1], pieces[k]);
@@ -44,10 +45,10 @@ std::vector<double> topology_breaks(const std::vector<double>& pieces,
     const auto [a, b] = todo.back();
     todo.pop_back();
     double at = 0.0;
-    // A piece shorter than a few resolutions holds no change worth a break.
-    if (added < max_breaks && b - a > 4.0 * resolution &&
-        first_change(a, b, signature, samples, resolution, resolution, at) && at > a + resolution &&
-        at < b - resolution) {
+    // A piece shorter than a few margins holds no change worth a break.
+    if (added < max_breaks && b - a > 4.0 * margin &&
+        first_change(a, b, signature, samples, margin, resolution, at) && at > a + margin &&
+        at < b - margin) {
       ++added;
       todo.emplace_back(at, b);
       todo.emplace_back(a, at);

@@ -16,14 +16,16 @@
 
 namespace isospring::geometry::detail {
 
-/// `pieces` (sorted break points of an interval) refined at the changes of `signature` (a count of
-/// crossings of the lines at a coordinate): each piece is sampled just inside its ends and at the
-/// `samples` Gauss abscissae (on [-1, 1]); between two samples that differ the change is located to
-/// `resolution` (a length) by bisection and added as a break, and the new pieces are sampled in
-/// turn, at most `max_breaks` times in all.
+/// `pieces` (sorted break points of an interval) refined at the changes of `signature` (the
+/// topology of the lines at a coordinate): each piece is sampled `margin` inside its ends and at
+/// the `samples` Gauss abscissae (on [-1, 1]); between two samples that differ the change is
+/// located to `resolution` (a length) by bisection and added as a break unless it lies within
+/// `margin` of a piece's end, and the new pieces are sampled in turn, at most `max_breaks` times
+/// in all. `margin` is the distance within which a line parallel to a face is ambiguous (the
+/// crossings' merge distance): a change found there is a face on the break itself, not a sliver.
 std::vector<double> topology_breaks(const std::vector<double>& pieces,
                                     const std::function<int(double)>& signature,
                                     const std::vector<double>& samples, double resolution,
-                                    int max_breaks = 16);
+                                    double margin, int max_breaks = 16);
 
 }  // namespace isospring::geometry::detail

@@ -87,7 +87,8 @@ std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
     }
     return n;
   };
-  return topology_breaks(pieces(lo[a], hi[a], breaks), section, samples, 1e-10 * (hi[a] - lo[a]));
+  return topology_breaks(pieces(lo[a], hi[a], breaks), section, samples, 1e-10 * (hi[a] - lo[a]),
+                         2.0 * probe.merge_distance());
 }
 
 // The lines along d of one outer abscissa, kept by their middle coordinate: the middle pieces'
@@ -137,7 +138,8 @@ std::vector<double> middle_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
     for (double t : probe.crossings(p, b, lo[b], hi[b])) breaks.push_back(t);
   }
   const auto topology = [&](double t) { return line_signature(lines.at(t), lo[d], hi[d]); };
-  return topology_breaks(pieces(lo[b], hi[b], breaks), topology, g.points, 1e-10 * (hi[b] - lo[b]));
+  return topology_breaks(pieces(lo[b], hi[b], breaks), topology, g.points, 1e-10 * (hi[b] - lo[b]),
+                         2.0 * probe.merge_distance());
 }
 
 // Dimension by dimension: outer axis a, middle axis b, lines along d (see immersed_cad.hpp).
