@@ -175,7 +175,9 @@ void check_rigid_modes(const geometry::ImmersedDomain& domain, const ImmersedOpt
                                     "fixed components or symmetry faces");
 }
 
-void activate(detail::ImmersedContext& context, ImmersedSystem& system) {
+// The cells' elements, the active control points' node numbers and (with `reduce`) each cell's
+// reduced rule.
+void activate(detail::ImmersedContext& context, ImmersedSystem& system, bool reduce = true) {
   const auto& domain = *context.domain;
   const auto& basis = context.basis;
   system.node_of_control_point.assign(static_cast<size_t>(domain.background.num_points()), -1);
@@ -201,7 +203,7 @@ void activate(detail::ImmersedContext& context, ImmersedSystem& system) {
   // Each cell's rule reduced once: the stiffness, the body load and the Nitsche penalty's local
   // eigenvalue problems (which take a cell's stiffness several times) all use it.
   context.cell_rules.resize(domain.cells.size());
-  const long cells = static_cast<long>(domain.cells.size());
+  const long cells = reduce ? static_cast<long>(domain.cells.size()) : 0;
 #pragma omp parallel for schedule(dynamic, 16)
   for (long c = 0; c < cells; ++c) {
     const auto& cell = domain.cells[static_cast<size_t>(c)];
@@ -216,17 +218,12 @@ void activate(detail::ImmersedContext& context, ImmersedSystem& system) {
     }
 }
 
-// Bulk stiffness (in place, immersed_pattern.hpp) and body load over the cells' reduced rules,
-// colour by colour on OpenMP's threads: the cells of a colour share no control point, so neither
-// their matrix entries nor their loads race, and every sum runs in the same order whatever the
-// thread count.
+// Bulk stiffness (in place, immersed_pattern.hpp) over the cells' reduced rules, colour by
+// colour on OpenMP's threads: the cells of a colour share no control point, so their matrix
+// entries do not race, and every sum runs in the same order whatever the thread count.
 Eigen::SparseMatrix<double> add_bulk(const detail::ImmersedContext& context,
-                                     const ImmersedSystem& system, Eigen::VectorXd& force) {
-  const auto& domain = *context.domain;
-  const auto& options = *context.options;
-  const int dim = domain.dimension;
-  const Eigen::Vector3d load3 = options.body_force + options.material.density * options.gravity;
-  const Eigen::VectorXd load = load3.head(dim);
+                                     const ImmersedSystem& system) {
+  const int dim = context.domain->dimension;
   const detail::ImmersedPattern pattern(context, system.node_of_control_point,
                                         static_cast<int>(system.control_point_of_node.size()), dim);
   Eigen::SparseMatrix<double> stiffness = pattern.empty_matrix();
@@ -234,17 +231,41 @@ Eigen::SparseMatrix<double> add_bulk(const detail::ImmersedContext& context,
     const long count = static_cast<long>(colour.size());
 #pragma omp parallel if (count > 16)
     {
-      detail::BasisAt at;
       std::vector<int> cps;
       Eigen::MatrixXd local;
-      Eigen::VectorXd local_force;
 #pragma omp for schedule(dynamic, 8)
       for (long k = 0; k < count; ++k) {
         const size_t c = static_cast<size_t>(colour[static_cast<size_t>(k)]);
         detail::cell_stiffness(context, c, cps, local);
         pattern.add(c, local, stiffness);
-        if (load.isZero(0.0)) continue;
+      }
+    }
+  }
+  return stiffness;
+}
+
+// Body force and gravity over the cells' reduced rules, colour by colour as the stiffness: each
+// entry's sum has the same order for any thread count, and in assemble_immersed and
+// assemble_immersed_loads alike.
+void add_body_load(const detail::ImmersedContext& context, const ImmersedSystem& system,
+                   Eigen::VectorXd& force) {
+  const auto& options = *context.options;
+  const int dim = context.domain->dimension;
+  const Eigen::Vector3d load3 = options.body_force + options.material.density * options.gravity;
+  const Eigen::VectorXd load = load3.head(dim);
+  if (load.isZero(0.0)) return;
+  for (const std::vector<long>& colour : detail::cell_colours(context)) {
+    const long count = static_cast<long>(colour.size());
+#pragma omp parallel if (count > 16)
+    {
+      detail::BasisAt at;
+      std::vector<int> cps;
+      Eigen::VectorXd local_force;
+#pragma omp for schedule(dynamic, 8)
+      for (long k = 0; k < count; ++k) {
+        const size_t c = static_cast<size_t>(colour[static_cast<size_t>(k)]);
         const detail::CellRule& rule = context.cell_rules[c];
+        context.basis.control_points(context.cell_elements[c], cps);
         local_force.setZero(context.basis.count() * dim);
         for (size_t q = 0; q < rule.points.size(); ++q) {
           context.basis.evaluate(context.cell_elements[c], rule.points[q], at);
@@ -259,7 +280,30 @@ Eigen::SparseMatrix<double> add_bulk(const detail::ImmersedContext& context,
       }
     }
   }
-  return stiffness;
+}
+
+detail::ImmersedContext make_context(const geometry::ImmersedDomain& domain,
+                                     const ImmersedOptions& options) {
+  detail::ImmersedContext context{
+      &domain, &options, detail::BackgroundBasis(domain), {}, 1.0, {}, {}, {}, {}, {}};
+  context.lame = lame_parameters(options.material, options.formulation);
+  context.thickness = options.formulation == Formulation::kSolid ? 1.0 : options.material.thickness;
+  context.elasticity = detail::voigt_elasticity(context.lame, domain.dimension);
+  return context;
+}
+
+// What the loads-only assembly must share with the system: the supports' faces and held
+// components (the Nitsche penalties and the traction's free components on supported faces
+// follow from them) and the material.
+bool same_supports_and_material(const ImmersedOptions& a, const ImmersedOptions& b) {
+  bool same = a.supports.size() == b.supports.size() && a.formulation == b.formulation &&
+              a.material.youngs_modulus == b.material.youngs_modulus &&
+              a.material.poisson_ratio == b.material.poisson_ratio &&
+              a.material.thickness == b.material.thickness && a.nitsche_factor == b.nitsche_factor;
+  for (size_t s = 0; same && s < a.supports.size(); ++s)
+    same = a.supports[s].face == b.supports[s].face && a.supports[s].fixed == b.supports[s].fixed &&
+           a.supports[s].symmetry == b.supports[s].symmetry;
+  return same;
 }
 
 }  // namespace
@@ -267,13 +311,10 @@ Eigen::SparseMatrix<double> add_bulk(const detail::ImmersedContext& context,
 ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
                                  const ImmersedOptions& options) {
   check_options(domain, options);
-  detail::ImmersedContext context{
-      &domain, &options, detail::BackgroundBasis(domain), {}, 1.0, {}, {}, {}, {}, {}};
-  context.lame = lame_parameters(options.material, options.formulation);
-  context.thickness = options.formulation == Formulation::kSolid ? 1.0 : options.material.thickness;
-  context.elasticity = detail::voigt_elasticity(context.lame, domain.dimension);
+  detail::ImmersedContext context = make_context(domain, options);
   ImmersedSystem system;
   system.dim = domain.dimension;
+  system.options = options;
   activate(context, system);
   check_rigid_modes(domain, options);
   const int dofs = static_cast<int>(system.control_point_of_node.size()) * system.dim;
@@ -282,8 +323,9 @@ ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
   scatter.node_of_control_point = &system.node_of_control_point;
   scatter.force = Eigen::VectorXd::Zero(dofs);
   context.ghost = detail::ghost_faces(context);
-  const Eigen::SparseMatrix<double> bulk = add_bulk(context, system, scatter.force);
-  system.max_nitsche_penalty = detail::add_face_terms(context, scatter);
+  const Eigen::SparseMatrix<double> bulk = add_bulk(context, system);
+  add_body_load(context, system, scatter.force);
+  system.max_nitsche_penalty = detail::add_face_terms(context, scatter, system.nitsche_penalties);
   if (options.ghost_penalty > 0) system.ghost_faces = detail::add_ghost_penalty(context, scatter);
   // The Nitsche and ghost-penalty terms (few cells) as triplets, added to the bulk.
   Eigen::SparseMatrix<double> terms(dofs, dofs);
@@ -292,6 +334,33 @@ ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
   system.stiffness = bulk + terms;
   system.force = std::move(scatter.force);
   return system;
+}
+
+Eigen::VectorXd assemble_immersed_loads(const geometry::ImmersedDomain& domain,
+                                        const ImmersedOptions& options,
+                                        const ImmersedSystem& system) {
+  check_options(domain, options);
+  if (!same_supports_and_material(options, system.options))
+    throw nurbs::InputError(
+        "immersed analysis: the loads-only assembly needs the supports (faces and held "
+        "components), the material and nitsche_factor the system was assembled with; assemble "
+        "the whole system for other ones");
+  detail::ImmersedContext context = make_context(domain, options);
+  ImmersedSystem located;
+  const Eigen::Vector3d body = options.body_force + options.material.density * options.gravity;
+  activate(context, located, !body.head(domain.dimension).isZero(0.0));
+  if (located.node_of_control_point != system.node_of_control_point)
+    throw nurbs::InputError(
+        "immersed analysis: the loads-only assembly was given another domain than the system's; "
+        "assemble the system on this domain");
+  detail::ImmersedScatter scatter;
+  scatter.dim = system.dim;
+  scatter.node_of_control_point = &system.node_of_control_point;
+  scatter.force = Eigen::VectorXd::Zero(system.force.size());
+  add_body_load(context, system, scatter.force);
+  std::map<int, double> penalties = system.nitsche_penalties;
+  detail::add_face_terms(context, scatter, penalties, true);
+  return std::move(scatter.force);
 }
 
 }  // namespace isospring::analysis

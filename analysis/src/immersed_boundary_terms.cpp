@@ -201,7 +201,8 @@ Eigen::MatrixXd cell_schur_complement(const Eigen::MatrixXd& A, const std::vecto
 
 }  // namespace
 
-double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter) {
+double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter,
+                      std::map<int, double>& penalties, bool loads_only) {
   const auto& domain = *context.domain;
   const int dim = domain.dimension;
   const double modulus = context.lame.lambda + 2 * context.lame.mu;
@@ -232,17 +233,27 @@ double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter) 
       const Eigen::MatrixXd T =
           normal_operator(b.normal, dim) * context.elasticity * strain_operator(at.gradients, dim);
       const Eigen::MatrixXd P = held(*term.support, b.normal, dim);
-      boundary.noalias() += w * T.transpose() * P * T;
+      if (!loads_only) boundary.noalias() += w * T.transpose() * P * T;
       supported.push_back({N, T, P, w});
     }
     Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
     if (!supported.empty()) {
-      std::vector<int> block_cps;
-      const Eigen::MatrixXd A = block_energy(context, e, block_cps);
-      const double beta =
-          context.options->nitsche_factor *
-          largest_generalised_eigenvalue(
-              cell_schur_complement(A, block_cps, at.control_points, dim), boundary);
+      double beta = 0.0;
+      if (loads_only) {
+        const auto found = penalties.find(flat);
+        if (found == penalties.end())
+          throw nurbs::InputError(
+              "immersed analysis: a supported cell has no Nitsche penalty in the assembled "
+              "system; assemble the loads with the supports the system was assembled with");
+        beta = found->second;
+      } else {
+        std::vector<int> block_cps;
+        const Eigen::MatrixXd A = block_energy(context, e, block_cps);
+        beta = context.options->nitsche_factor *
+               largest_generalised_eigenvalue(
+                   cell_schur_complement(A, block_cps, at.control_points, dim), boundary);
+        penalties[flat] = beta;
+      }
       const Eigen::Vector3d size = context.basis.element_hi(e) - context.basis.element_lo(e);
       double h = size[0];
       for (int d = 1; d < dim; ++d) h = std::min(h, size[d]);
@@ -259,12 +270,13 @@ double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter) 
         else if (s.value_function)
           g = s.value_function(b.point);
         const Eigen::MatrixXd PT = P * T, PN = P * N;
-        K.noalias() += w * (beta * N.transpose() * PN - N.transpose() * PT - PT.transpose() * N);
+        if (!loads_only)
+          K.noalias() += w * (beta * N.transpose() * PN - N.transpose() * PT - PT.transpose() * N);
         const Eigen::VectorXd held_value = g.head(dim);
         f.noalias() += w * (beta * PN.transpose() - PT.transpose()) * held_value;
       }
     }
-    scatter.add_matrix(at.control_points, K);
+    if (!loads_only) scatter.add_matrix(at.control_points, K);
     scatter.add_vector(at.control_points, f);
   }
   return max_penalty;

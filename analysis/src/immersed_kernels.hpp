@@ -3,6 +3,7 @@
 // and the scatter of local matrices into the active DOFs.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <map>
 #include <set>
 #include <utility>
 #include <vector>
@@ -50,8 +51,11 @@ struct ImmersedContext {
 };
 
 /// Nitsche terms of the supports and the loads on faces (immersed_boundary_terms.cpp); returns
-/// the largest dimensionless penalty beta_K h / (lambda + 2 mu).
-double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter);
+/// the largest dimensionless penalty beta_K h / (lambda + 2 mu). Each supported element's
+/// beta_K is stored in `penalties` (flat element index -> beta_K). With `loads_only`, only the
+/// right-hand side is added, with the beta_K read from `penalties` (the matrix is not touched).
+double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter,
+                      std::map<int, double>& penalties, bool loads_only = false);
 /// Ghost penalty on the faces of cut cells (immersed_ghost_penalty.cpp); returns the face count.
 int add_ghost_penalty(const ImmersedContext& context, ImmersedScatter& scatter);
 /// The ghost-penalty faces: (flat index of the lower element, normal direction).

@@ -5,6 +5,21 @@
 
 namespace isospring::analysis::detail {
 
+std::vector<std::vector<long>> cell_colours(const ImmersedContext& context) {
+  const auto& basis = context.basis;
+  int classes = 1;
+  for (int d = 0; d < basis.dim(); ++d) classes *= basis.degree(d) + 1;
+  std::vector<std::vector<long>> colours(static_cast<size_t>(classes));
+  for (size_t c = 0; c < context.cell_elements.size(); ++c) {
+    const Element& e = context.cell_elements[c];
+    int colour = 0;
+    for (int d = basis.dim() - 1; d >= 0; --d)
+      colour = colour * (basis.degree(d) + 1) + e[static_cast<size_t>(d)] % (basis.degree(d) + 1);
+    colours[static_cast<size_t>(colour)].push_back(static_cast<long>(c));
+  }
+  return colours;
+}
+
 ImmersedPattern::ImmersedPattern(const ImmersedContext& context,
                                  const std::vector<int>& node_of_control_point, int nodes, int dim)
     : dim_(dim) {
@@ -13,9 +28,7 @@ ImmersedPattern::ImmersedPattern(const ImmersedContext& context,
   cell_nodes_.resize(cells);
   std::vector<int> cps;
   std::vector<std::vector<int>> rows(static_cast<size_t>(nodes));
-  int classes = 1;
-  for (int d = 0; d < basis.dim(); ++d) classes *= basis.degree(d) + 1;
-  colours_.assign(static_cast<size_t>(classes), {});
+  colours_ = cell_colours(context);
   for (size_t c = 0; c < cells; ++c) {
     const Element& e = context.cell_elements[c];
     basis.control_points(e, cps);
@@ -24,10 +37,6 @@ ImmersedPattern::ImmersedPattern(const ImmersedContext& context,
     for (int b : mine)
       for (int a : mine)
         if (a <= b) rows[static_cast<size_t>(b)].push_back(a);
-    int colour = 0;
-    for (int d = basis.dim() - 1; d >= 0; --d)
-      colour = colour * (basis.degree(d) + 1) + e[static_cast<size_t>(d)] % (basis.degree(d) + 1);
-    colours_[static_cast<size_t>(colour)].push_back(static_cast<long>(c));
   }
   offset_.assign(static_cast<size_t>(nodes) + 1, 0);
   for (size_t b = 0; b < rows.size(); ++b) {

@@ -16,6 +16,9 @@
 
 namespace isospring::analysis::detail {
 
+/// The cells of each colour (cell indices, ascending), the classes of (element index mod p_d + 1).
+std::vector<std::vector<long>> cell_colours(const ImmersedContext& context);
+
 class ImmersedPattern {
  public:
   /// Cells' nodes (`node_of_control_point` of their control points) from `context`.

@@ -1,6 +1,8 @@
 // Cut-cell quadrature along exact lines (immersed_cad_cells.hpp).
 #include "immersed_cad_cells.hpp"
 
+#include "immersed_cad_breaks.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -43,10 +45,21 @@ Eigen::Vector3d hair(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   return 1e-9 * (hi - lo);
 }
 
+// How a line's inside intervals meet [lo, hi]: whether it starts inside and how many of their
+// ends lie strictly within (capped, as a small code).
+int line_signature(const std::vector<Interval>& inside, double lo, double hi) {
+  int ends = 0;
+  for (const Interval& piece : inside) ends += (piece.lo > lo) + (piece.hi < hi);
+  const bool starts_inside = !inside.empty() && inside.front().lo <= lo;
+  return 2 * std::min(ends, 3) + (starts_inside ? 1 : 0);
+}
+
 // The outer interval [lo[a], hi[a]] cut where the box's four edges along a (a = d + 1) cross the
-// boundary: the same for every Gauss order, so found once per box.
+// boundary and where the topology of the cross section changes (sampled at `samples`, Gauss
+// abscissae on [-1, 1]): the same for every Gauss order, so found once per box.
 std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
-                                 const Eigen::Vector3d& hi, int d) {
+                                 const Eigen::Vector3d& hi, int d,
+                                 const std::vector<double>& samples) {
   const int a = (d + 1) % 3, b = (d + 2) % 3;
   const Eigen::Vector3d e = hair(lo, hi);
   std::vector<double> breaks;
@@ -57,46 +70,107 @@ std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
       p[d] = sd;
       for (double t : probe.crossings(p, a, lo[a], hi[a])) breaks.push_back(t);
     }
-  return pieces(lo[a], hi[a], breaks);
+  // The topology of the box's cross section at outer coordinate t (see immersed_cad_breaks.hpp):
+  // how its four sides (the lines along b at d = lo, hi and along d at b = lo, hi) meet the part.
+  // It changes where a section curve of the boundary has a tangent along the cross section (a
+  // hole's extreme point) or a face normal to a crosses it without reaching the box's edges (a
+  // face a sliver away from the box's face).
+  const auto section = [&](double t) {
+    int n = 0;
+    for (int side = 0; side < 4; ++side) {
+      const int along = side < 2 ? b : d, across = side < 2 ? d : b;
+      Eigen::Vector3d p = lo;
+      p[a] = t;
+      p[across] = side % 2 == 0 ? lo[across] + e[across] : hi[across] - e[across];
+      n = 8 * n +
+          line_signature(probe.inside(p, along, lo[along], hi[along]), lo[along], hi[along]);
+    }
+    return n;
+  };
+  return topology_breaks(pieces(lo[a], hi[a], breaks), section, samples, 1e-10 * (hi[a] - lo[a]),
+                         2.0 * probe.merge_distance());
+}
+
+// The lines along d of one outer abscissa, kept by their middle coordinate: the middle pieces'
+// topology check and the rule ask for the same lines at the Gauss abscissae.
+class DLines {
+ public:
+  DLines(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int d, double xa)
+      : probe_(probe), lo_(lo), hi_(hi), d_(d), xa_(xa) {}
+  const std::vector<Interval>& at(double xb) {
+    for (const auto& [t, line] : lines_)
+      if (t == xb) return line;
+    const int a = (d_ + 1) % 3, b = (d_ + 2) % 3;
+    Eigen::Vector3d p = lo_;
+    p[a] = xa_;
+    p[b] = xb;
+    lines_.emplace_back(xb, probe_.inside(p, d_, lo_[d_], hi_[d_]));
+    return lines_.back().second;
+  }
+
+ private:
+  SolidProbe& probe_;
+  const Eigen::Vector3d &lo_, &hi_;
+  int d_;
+  double xa_;
+  std::vector<std::pair<double, std::vector<Interval>>> lines_;
+};
+
+// The Gauss abscissa k of `g` on [x0, x1] and its weight (the same expression as the topology
+// check's samples, so that DLines finds the lines it asked for).
+double abscissa(const nurbs::GaussRule& g, size_t k, double x0, double x1) {
+  return 0.5 * (x0 + x1) + 0.5 * (x1 - x0) * g.points[k];
+}
+
+// The middle interval at outer abscissa xa, cut where the lines along b in the box's two faces
+// normal to d cross the boundary and where the lines along d change their topology (a face
+// normal to b that reaches neither of those faces, a silhouette of the boundary along d).
+std::vector<double> middle_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
+                                  const Eigen::Vector3d& hi, int d, double xa,
+                                  const nurbs::GaussRule& g, DLines& lines) {
+  const int a = (d + 1) % 3, b = (d + 2) % 3;
+  const Eigen::Vector3d e = hair(lo, hi);
+  std::vector<double> breaks;
+  for (double sd : {lo[d] + e[d], hi[d] - e[d]}) {
+    Eigen::Vector3d p = lo;
+    p[a] = xa;
+    p[d] = sd;
+    for (double t : probe.crossings(p, b, lo[b], hi[b])) breaks.push_back(t);
+  }
+  const auto topology = [&](double t) { return line_signature(lines.at(t), lo[d], hi[d]); };
+  return topology_breaks(pieces(lo[b], hi[b], breaks), topology, g.points, 1e-10 * (hi[b] - lo[b]),
+                         2.0 * probe.merge_distance());
 }
 
 // Dimension by dimension: outer axis a, middle axis b, lines along d (see immersed_cad.hpp).
 CutCellRule line_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                       int d, const std::vector<double>& outer, int order) {
   const int a = (d + 1) % 3, b = (d + 2) % 3;
-  const Eigen::Vector3d e = hair(lo, hi);
-  const std::array<double, 2> d_ends{lo[d] + e[d], hi[d] - e[d]};
   CutCellRule rule;
   const nurbs::GaussRule& g = nurbs::gauss_legendre_cached(order);
   rule.crossed = outer.size() > 2;
   int full = 0, empty = 0;  // lines wholly inside / outside the part
   for (size_t i = 0; i + 1 < outer.size(); ++i)
     for (size_t ga = 0; ga < g.points.size(); ++ga) {
-      const double ha = 0.5 * (outer[i + 1] - outer[i]);
-      const double xa = outer[i] + ha * (1.0 + g.points[ga]), wa = ha * g.weights[ga];
-      std::vector<double> middle_breaks;
-      for (double sd : d_ends) {
-        Eigen::Vector3d p = lo;
-        p[a] = xa;
-        p[d] = sd;
-        for (double t : probe.crossings(p, b, lo[b], hi[b])) middle_breaks.push_back(t);
-      }
-      const std::vector<double> middle = pieces(lo[b], hi[b], middle_breaks);
+      const double xa = abscissa(g, ga, outer[i], outer[i + 1]);
+      const double wa = 0.5 * (outer[i + 1] - outer[i]) * g.weights[ga];
+      DLines lines(probe, lo, hi, d, xa);
+      const std::vector<double> middle = middle_pieces(probe, lo, hi, d, xa, g, lines);
       if (middle.size() > 2) rule.crossed = true;
       for (size_t j = 0; j + 1 < middle.size(); ++j)
         for (size_t gb = 0; gb < g.points.size(); ++gb) {
-          const double hb = 0.5 * (middle[j + 1] - middle[j]);
-          const double xb = middle[j] + hb * (1.0 + g.points[gb]), wb = hb * g.weights[gb];
-          Eigen::Vector3d p = lo;
-          p[a] = xa;
-          p[b] = xb;
-          const std::vector<Interval> inside = probe.inside(p, d, lo[d], hi[d]);
+          const double xb = abscissa(g, gb, middle[j], middle[j + 1]);
+          const double wb = 0.5 * (middle[j + 1] - middle[j]) * g.weights[gb];
+          const std::vector<Interval>& inside = lines.at(xb);
           if (inside.empty())
             ++empty;
           else if (inside.size() == 1 && inside[0].lo <= lo[d] && inside[0].hi >= hi[d])
             ++full;
           else
             rule.crossed = true;
+          Eigen::Vector3d p = lo;
+          p[a] = xa;
+          p[b] = xb;
           for (const Interval& piece : inside)
             for (size_t gd = 0; gd < g.points.size(); ++gd) {
               const double hd = 0.5 * (piece.hi - piece.lo);
@@ -124,7 +198,8 @@ CutCellRule cut_cell_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Ei
                           int depth) {
   ++stats.boxes;
   const int d = line_axis(boundary);
-  const std::vector<double> outer = outer_pieces(probe, lo, hi, d);
+  const std::vector<double> outer =
+      outer_pieces(probe, lo, hi, d, nurbs::gauss_legendre_cached(settings.order + 2).points);
   CutCellRule low = line_rule(probe, lo, hi, d, outer, settings.order);
   CutCellRule high = line_rule(probe, lo, hi, d, outer, settings.order + 2);
   const double error = std::abs(sum(low.weights) - sum(high.weights));

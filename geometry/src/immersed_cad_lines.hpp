@@ -51,6 +51,9 @@ class SolidProbe {
   Eigen::Vector3d box_min() const { return box_min_; }
   Eigen::Vector3d box_max() const { return box_max_; }
   double size() const { return (box_max_ - box_min_).norm(); }
+  /// Crossings closer than this along a line are one (the edges' tolerance, at least 1e-10 of
+  /// the size); a line that close to a face parallel to it is ambiguous.
+  double merge_distance() const { return merge_; }
   long lines() const { return lines_; }                  // lines intersected so far
   long classified_lines() const { return classified_; }  // of which needed the classifier
   long distance_queries() const { return distances_; }

@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
+#include "isospring/analysis/immersed.hpp"
 #include "isospring/analysis/immersed_particles.hpp"
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/fitting/calibration.hpp"
@@ -271,6 +273,26 @@ TEST(ImmersedCalibration, CutCylinderMassesLoadsAndHeldLayer) {
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
               r.assembly_seconds, r.calibration.reference_seconds, r.calibration.fit_seconds);
   const analysis::SpringNetwork& net = r.calibration.mesh.network;
+
+  // The references (one assembly, then each further case's loads alone) are solve_immersed's
+  // solutions, which assemble every case whole: the same coefficients to round-off.
+  const std::vector<const ImmersedCalibrationCase*> all{&weight, &push, &pull};
+  ASSERT_EQ(r.reference.size(), all.size());
+  for (size_t c = 0; c < all.size(); ++c) {
+    const analysis::ImmersedResult whole = analysis::solve_immersed(domain, all[c]->options);
+    double largest = 0.0, difference = 0.0;
+    for (size_t cp = 0; cp < whole.control_displacements.size(); ++cp) {
+      largest = std::max(largest, whole.control_displacements[cp].cwiseAbs().maxCoeff());
+      difference = std::max(
+          difference, (r.reference[c].control_displacements[cp] - whole.control_displacements[cp])
+                          .cwiseAbs()
+                          .maxCoeff());
+    }
+    std::printf("reference %s: max difference %.2e of max |u| %.3e\n", all[c]->id.c_str(),
+                difference, largest);
+    EXPECT_GT(largest, 0.0);
+    EXPECT_LE(difference, 1e-13 * largest) << all[c]->id;
+  }
 
   // The disks' distance from their boundary points (the grid's box is larger by OpenCascade's
   // tolerance): the radius from OpenCascade's volume.

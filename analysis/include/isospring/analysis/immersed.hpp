@@ -35,6 +35,7 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -92,12 +93,25 @@ struct ImmersedSystem {
   Eigen::VectorXd force;
   double max_nitsche_penalty = 0;  // largest beta_K / (lambda + 2 mu) * h, dimensionless
   int ghost_faces = 0;
+  std::map<int, double> nitsche_penalties;  // beta_K per supported background element (flat)
+  ImmersedOptions options;                  // it was assembled with
 };
 
 /// Checks the input (faces, material, a support that leaves a rigid-body motion free: the same
 /// nurbs::InputError as the body-fitted solver) and assembles the system.
 ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
                                  const ImmersedOptions& options);
+
+/// The right-hand side alone of `options` on `system`'s DOFs, as assemble_immersed would give it
+/// (the same sums in the same order, so the same vector to the last bit): body force and
+/// gravity, tractions and pressures, and the Nitsche terms of support values with the system's
+/// penalties. For several load cases of one model: the stiffness and its penalties' eigenvalue
+/// problems are assembled once. Throws nurbs::InputError when the supports (faces and held
+/// components), the material or nitsche_factor differ from the system's, or the domain is
+/// another one.
+Eigen::VectorXd assemble_immersed_loads(const geometry::ImmersedDomain& domain,
+                                        const ImmersedOptions& options,
+                                        const ImmersedSystem& system);
 
 struct ImmersedResult {
   int dim = 2;

@@ -25,11 +25,11 @@
 // - Loads: the consistent load vector of each case (tractions and pressures on the part's faces,
 //   body force and gravity over the part), assemble_immersed's right-hand side, per particle.
 // - Reference: the immersed IGA solution's control-point displacements at the active control
-//   points (solve_immersed's system and Cholesky solve; the system is assembled once per case,
-//   for its load, and factorised once); the fit and the control-point metrics compare these
-//   coefficients with the particles' displacements, as calibrate() compares the body-fitted
-//   coefficients. Because the reference holds its supports weakly, its coefficients at held
-//   particles are small but not zero.
+//   points (solve_immersed's system and Cholesky solve; the system is assembled and factorised
+//   once, and each further case's load alone, analysis::assemble_immersed_loads); the fit and the
+//   control-point metrics compare these coefficients with the particles' displacements, as
+//   calibrate() compares the body-fitted coefficients. Because the reference holds its supports
+//   weakly, its coefficients at held particles are small but not zero.
 // - Metrics: control points as calibrate(); "field" and "surface" are the spline fields of both
 //   coefficient sets over the part: volume-weighted over the cells' quadrature points, and
 //   area-weighted over the boundary quadrature points (percent_e_rms = 100 sqrt(int |e|^2 /
@@ -68,7 +68,8 @@ struct ImmersedCalibrationResult {
   /// background's control points (zero where inactive), for the spline field of the model.
   std::vector<std::vector<Eigen::Vector3d>> model_control_displacements;
   int held_particles = 0;         // particles with at least one held component
-  double assembly_seconds = 0.0;  // assemble_immersed, all cases (reference_seconds: the solves)
+  double assembly_seconds = 0.0;  // assemble_immersed once and the further cases' loads
+                                  // (reference_seconds: the solves)
 };
 
 /// Calibrates the spring model of `domain` against its immersed solutions. Throws

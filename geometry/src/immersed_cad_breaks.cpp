@@ -1,0 +1,62 @@
+// Break points where the topology of a cut cell's lines changes (immersed_cad_breaks.hpp).
+#include "immersed_cad_breaks.hpp"
+
+#include <algorithm>
+
+namespace isospring::geometry::detail {
+
+namespace {
+
+// The first change of `signature` among the samples of [a, b] (its ends moved in by `inset`),
+// located to `resolution`; false when all samples agree.
+bool first_change(double a, double b, const std::function<int(double)>& signature,
+                  const std::vector<double>& samples, double inset, double resolution, double& at) {
+  std::vector<double> t{a + inset};
+  for (double s : samples) t.push_back(0.5 * (a + b) + 0.5 * (b - a) * s);
+  t.push_back(b - inset);
+  std::sort(t.begin(), t.end());
+  int previous = signature(t.front());
+  for (size_t k = 1; k < t.size(); ++k) {
+    const int current = signature(t[k]);
+    if (current == previous) continue;
+    double lo = t[k - 1], hi = t[k];
+    while (hi - lo > resolution) {
+      const double mid = 0.5 * (lo + hi);
+      (signature(mid) == previous ? lo : hi) = mid;
+    }
+    at = 0.5 * (lo + hi);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<double> topology_breaks(const std::vector<double>& pieces,
+                                    const std::function<int(double)>& signature,
+                                    const std::vector<double>& samples, double resolution,
+                                    double margin, int max_breaks) {
+  margin = std::max(margin, resolution);
+  std::vector<double> done{pieces.front()};
+  std::vector<std::pair<double, double>> todo;
+  for (size_t k = pieces.size() - 1; k > 0; --k) todo.emplace_back(pieces[k - 1], pieces[k]);
+  int added = 0;
+  while (!todo.empty()) {
+    const auto [a, b] = todo.back();
+    todo.pop_back();
+    double at = 0.0;
+    // A piece shorter than a few margins holds no change worth a break.
+    if (added < max_breaks && b - a > 4.0 * margin &&
+        first_change(a, b, signature, samples, margin, resolution, at) && at > a + margin &&
+        at < b - margin) {
+      ++added;
+      todo.emplace_back(at, b);
+      todo.emplace_back(a, at);
+      continue;
+    }
+    done.push_back(b);
+  }
+  return done;
+}
+
+}  // namespace isospring::geometry::detail
