@@ -330,6 +330,17 @@ ModelEvaluation ForwardModel::evaluate(const Eigen::VectorXd& theta, bool with_j
       derivatives_free(Eigen::all, nonzero) = solve(Eigen::MatrixXd(rhs_free(Eigen::all, nonzero)));
   }
 
+  return observe(displacements, derivatives_free, theta, with_jacobian);
+}
+
+// The predictions at the markers (and their Jacobians) from the displacements of every load case
+// and the free DOFs' derivatives (load case l in columns l p .. l p + p - 1), offsets added.
+ModelEvaluation ForwardModel::observe(const Eigen::MatrixXd& displacements,
+                                      const Eigen::MatrixXd& derivatives_free,
+                                      const Eigen::VectorXd& theta, bool with_jacobian) const {
+  const int p = num_parameters();
+  const int nf = static_cast<int>(free_dofs_.size());
+  const int nl = num_load_cases_;
   ModelEvaluation out;
   for (int l = 0; l < nl; ++l) {
     Eigen::VectorXd u = displacements.col(l);

@@ -150,6 +150,9 @@ class ForwardModel {
                    Eigen::MatrixXd& jac) const;
   // evaluate() with nonlinear terms (identify_model_nonlinear.cpp), whose stages are those of
   // a NonlinearEvaluation.
+  ModelEvaluation observe(const Eigen::MatrixXd& displacements,
+                          const Eigen::MatrixXd& derivatives_free, const Eigen::VectorXd& theta,
+                          bool with_jacobian) const;
   ModelEvaluation evaluate_nonlinear(const Eigen::VectorXd& theta, bool with_jacobian,
                                      bool linearised = false, double* series = nullptr) const;
   class NonlinearEvaluation;
