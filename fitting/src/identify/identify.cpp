@@ -209,6 +209,28 @@ ResidualDescription describe(const Setup& setup, const Nominal& nominal,
                            setup.context.length);
 }
 
+std::vector<Eigen::Vector3d> simulate_with_effects(
+    Setup& setup, size_t markers,
+    const std::vector<std::pair<std::string, Eigen::VectorXd>>& effects,
+    const std::string& caller) {
+  std::vector<std::unique_ptr<Effect>> owned;
+  std::vector<const Effect*> chosen;
+  Eigen::VectorXd theta = Eigen::VectorXd::Ones(1);
+  for (const auto& [name, values] : effects) {
+    std::string why;
+    owned.push_back(make_effect(name, setup.context, &why));
+    if (!owned.back()) throw nurbs::InputError("effect " + name + " does not apply: " + why);
+    if (values.size() != owned.back()->num_parameters())
+      throw std::invalid_argument(caller + ": " + name + " takes " +
+                                  std::to_string(owned.back()->num_parameters()) + " parameters");
+    chosen.push_back(owned.back().get());
+    theta.conservativeResize(theta.size() + values.size());
+    theta.tail(values.size()) = values;
+  }
+  const Model model = build_model(setup, chosen, theta);
+  return marker_predictions(setup, model, theta, markers);
+}
+
 }  // namespace identify_loop
 
 IdentifyResult identify(const analysis::Problem& problem, const std::vector<Marker>& markers,
@@ -277,22 +299,7 @@ std::vector<Eigen::Vector3d> simulate_markers(
   using namespace identify_loop;
   Setup setup;
   make_setup(setup, problem, markers, placements, false, {});
-  std::vector<std::unique_ptr<Effect>> owned;
-  std::vector<const Effect*> chosen;
-  Eigen::VectorXd theta = Eigen::VectorXd::Ones(1);
-  for (const auto& [name, values] : effects) {
-    std::string why;
-    owned.push_back(make_effect(name, setup.context, &why));
-    if (!owned.back()) throw nurbs::InputError("effect " + name + " does not apply: " + why);
-    if (values.size() != owned.back()->num_parameters())
-      throw std::invalid_argument("simulate_markers: " + name + " takes " +
-                                  std::to_string(owned.back()->num_parameters()) + " parameters");
-    chosen.push_back(owned.back().get());
-    theta.conservativeResize(theta.size() + values.size());
-    theta.tail(values.size()) = values;
-  }
-  const Model model = build_model(setup, chosen, theta);
-  return marker_predictions(setup, model, theta, markers.size());
+  return simulate_with_effects(setup, markers.size(), effects, "simulate_markers");
 }
 
 }  // namespace isospring::fitting

@@ -297,22 +297,7 @@ std::vector<Eigen::Vector3d> simulate_immersed_markers(
   using namespace identify_loop;
   Setup setup;
   make_immersed_setup(setup, domain, cases, markers, false, {});
-  std::vector<std::unique_ptr<Effect>> owned;
-  std::vector<const Effect*> chosen;
-  Eigen::VectorXd theta = Eigen::VectorXd::Ones(1);
-  for (const auto& [name, values] : effects) {
-    std::string why;
-    owned.push_back(make_effect(name, setup.context, &why));
-    if (!owned.back()) throw nurbs::InputError("effect " + name + " does not apply: " + why);
-    if (values.size() != owned.back()->num_parameters())
-      throw std::invalid_argument("simulate_immersed_markers: " + name + " takes " +
-                                  std::to_string(owned.back()->num_parameters()) + " parameters");
-    chosen.push_back(owned.back().get());
-    theta.conservativeResize(theta.size() + values.size());
-    theta.tail(values.size()) = values;
-  }
-  const Model model = build_model(setup, chosen, theta);
-  return marker_predictions(setup, model, theta, markers.size());
+  return simulate_with_effects(setup, markers.size(), effects, "simulate_immersed_markers");
 }
 
 }  // namespace isospring::fitting

@@ -130,6 +130,11 @@ ErrorSummary summarize(const std::vector<Eigen::Vector3d>& residuals, const std:
 // Model displacement at every marker for theta.
 std::vector<Eigen::Vector3d> marker_predictions(const Setup& setup, const Model& model,
                                                 const Eigen::VectorXd& theta, size_t markers);
+// Model displacement at every marker with the named effects at the given parameter values
+// (the material's E relative to the prior is 1); `caller` names the public function in errors.
+std::vector<Eigen::Vector3d> simulate_with_effects(
+    Setup& setup, size_t markers,
+    const std::vector<std::pair<std::string, Eigen::VectorXd>>& effects, const std::string& caller);
 // Measured minus predicted at every marker for theta.
 std::vector<Eigen::Vector3d> marker_misfit(const Setup& setup, const Model& model,
                                            const Eigen::VectorXd& theta,
