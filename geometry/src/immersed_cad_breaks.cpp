@@ -38,20 +38,20 @@ std::vector<double> topology_breaks(const std::vector<double>& pieces,
                                     double margin, int max_breaks) {
   margin = std::max(margin, resolution);
   std::vector<double> done{pieces.front()};
-  std::vector<std::pair<double, double>> todo;
-  for (size_t k = pieces.size() - 1; k > 0; --k) todo.emplace_back(pieces[k - 1], pieces[k]);
+  std::vector<std::pair<double, double>> unresolved;
+  for (size_t k = pieces.size() - 1; k > 0; --k) unresolved.emplace_back(pieces[k - 1], pieces[k]);
   int added = 0;
-  while (!todo.empty()) {
-    const auto [a, b] = todo.back();
-    todo.pop_back();
+  while (!unresolved.empty()) {
+    const auto [a, b] = unresolved.back();
+    unresolved.pop_back();
     double at = 0.0;
     // A piece shorter than a few margins holds no change worth a break.
     if (added < max_breaks && b - a > 4.0 * margin &&
         first_change(a, b, signature, samples, margin, resolution, at) && at > a + margin &&
         at < b - margin) {
       ++added;
-      todo.emplace_back(at, b);
-      todo.emplace_back(a, at);
+      unresolved.emplace_back(at, b);
+      unresolved.emplace_back(a, at);
       continue;
     }
     done.push_back(b);
