@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "../../geometry/src/cad_solid_shape.hpp"
+#include "../common/cad_parts.hpp"
 #include "isospring/geometry/immersed_cad.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -32,35 +33,8 @@ namespace fs = std::filesystem;
 namespace isospring::geometry {
 namespace {
 
-std::vector<fs::path> cad_files(const fs::path& dir) {
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
-    std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return std::tolower(c); });
-    if (e.is_regular_file() && (ext == ".step" || ext == ".stp" || ext == ".igs" || ext == ".iges"))
-      files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-std::vector<CadSolid> solids_of(const fs::path& file) {
-  try {
-    return {read_cad_solid(file)};
-  } catch (const nurbs::InputError& e) {
-    if (std::string(e.what()).find("solids") == std::string::npos) throw;
-  }
-  std::vector<CadSolid> solids;
-  for (int body = 0;; ++body) {
-    try {
-      solids.push_back(read_cad_solid(file, body));
-    } catch (const nurbs::InputError&) {
-      break;
-    }
-  }
-  return solids;
-}
+using test::cad_files;
+using test::solids_of;
 
 // n cells per side over the part's bounding box, the part moved by `shift` cells relative to the
 // grid (then n + 1 cells cover it). shift 0: the part's extreme faces lie on the grid's boundary.

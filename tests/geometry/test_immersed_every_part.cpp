@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/cad_parts.hpp"
 #include "isospring/geometry/immersed_cad.hpp"
 #include "isospring/nurbs/error.hpp"
 
@@ -25,39 +26,8 @@ namespace fs = std::filesystem;
 namespace isospring::geometry {
 namespace {
 
-bool is_cad_file(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs";
-}
-
-std::vector<fs::path> cad_files(const fs::path& dir) {
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir))
-    if (e.is_regular_file() && is_cad_file(e.path())) files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-// The solids of a file: the only one, or each of several (read_cad_solid refuses a file with
-// several solids unless one is chosen).
-std::vector<CadSolid> solids_of(const fs::path& file) {
-  try {
-    return {read_cad_solid(file)};
-  } catch (const nurbs::InputError& e) {
-    if (std::string(e.what()).find("solids") == std::string::npos) throw;
-  }
-  std::vector<CadSolid> solids;
-  for (int body = 0;; ++body) {
-    try {
-      solids.push_back(read_cad_solid(file, body));
-    } catch (const nurbs::InputError&) {
-      break;
-    }
-  }
-  return solids;
-}
+using test::cad_files;
+using test::solids_of;
 
 struct Errors {
   double volume = 0, area = 0, centroid = 0;
