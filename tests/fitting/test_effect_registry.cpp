@@ -114,10 +114,11 @@ TEST(EffectRegistry, EveryEffectBuildsUnderItsNameAndItsNoteMatchesItsCarryOver)
 // NOT carried; gravity and load_scale change what they say they change.
 TEST(EffectRegistry, CarryOversDoWhatTheySay) {
   SpringModelChanges changes;
-  EXPECT_EQ(effect_type("support_compliance").carry_over(Eigen::Vector2d(1.0, 2.0), changes).how,
-            CarryOver::kNotCarried);
+  EXPECT_EQ(
+      effect_type("support_compliance").carry_over(Eigen::Vector3d(1.0, 2.0, 1.5), changes).how,
+      CarryOver::kNotCarried);
   EXPECT_NE(
-      carry_over("support_compliance", Eigen::Vector2d(1.0, 2.0), changes).find("NOT carried"),
+      carry_over("support_compliance", Eigen::Vector3d(1.0, 2.0, 1.5), changes).find("NOT carried"),
       std::string::npos);
   EXPECT_TRUE(unchanged(changes));
 

@@ -89,10 +89,16 @@ void expect_identified(const Effects& hidden, unsigned seed = 1, double true_nu 
 }
 
 const Eigen::VectorXd kGravity = Eigen::Vector2d(0.0, -9.81);
-// Spring stiffnesses 20 and 10 times E_true / L (the generator's reference stiffness).
-const Eigen::VectorXd kCompliance = Eigen::Vector2d(std::log(20.0), std::log(10.0));
+// Spring stiffnesses (normal, tangential, axial) 20, 10 and 20 times E_true / L (the
+// generator's reference stiffness): one normal stiffness for the whole side.
+const Eigen::VectorXd kCompliance = Eigen::Vector3d(std::log(20.0), std::log(10.0), std::log(20.0));
 // Springs as stiff as E_true / L and half that: the clamp deforms, not only moves.
-const Eigen::VectorXd kSoftCompliance = Eigen::Vector2d(0.0, std::log(0.5));
+const Eigen::VectorXd kSoftCompliance = Eigen::Vector3d(0.0, std::log(0.5), 0.0);
+// A confined layer: the uniform normal displacement (the tension's) 8 x stiffer than rocking
+// (the shear's bending). With one normal stiffness the tension's remainder would read as a
+// scaled load.
+const Eigen::VectorXd kConfinedCompliance =
+    Eigen::Vector3d(std::log(2.0), std::log(1.0), std::log(16.0));
 const Eigen::VectorXd kGradient = Eigen::Vector2d(0.3, -0.2);
 // One rigid motion of the measuring frame for both load cases (tx, ty, rz), and a different one
 // per load case.
@@ -126,15 +132,18 @@ TEST(IdentifyEffects, FindsStiffnessGradientAndLoadScale) {
   expect_identified({{"stiffness_gradient", kGradient}, {"load_scale", kLoadScale}});
 }
 
+TEST(IdentifyEffects, FindsConfinedSupportComplianceAndNoLoadScale) {
+  expect_identified({{"support_compliance", kConfinedCompliance}});
+}
 TEST(IdentifyEffects, FindsSoftSupportComplianceAndGravity) {
   expect_identified({{"support_compliance", kSoftCompliance}, {"gravity", kGravity}});
 }
 TEST(IdentifyEffects, StiffSupportComplianceIsToldFromRigidMotionsByTheSwapStage) {
   // Springs 10-20 x E / L mostly translate and rotate the plate about the clamp: per load case
   // that is a rigid motion, and in the first round (gravity not yet in the model)
-  // rigid_offset_per_load (6 parameters) explains more than support_compliance (2 parameters)
+  // rigid_offset_per_load (6 parameters) explains more than support_compliance (3 parameters)
   // can. Forward selection alone ends with gravity + rigid_offset_per_load, at the noise level.
-  // The swap stage puts support_compliance in the rigid motions' place: the same fit with 4
+  // The swap stage puts support_compliance in the rigid motions' place: the same fit with 3
   // parameters less, a BIC lower by far more than 2. Everything is then recovered within 3
   // standard errors (expect_identified).
   const Effects hidden{{"support_compliance", kCompliance}, {"gravity", kGravity}};

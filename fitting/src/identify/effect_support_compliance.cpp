@@ -1,5 +1,10 @@
 // support_compliance: the fixed sides become Robin supports, springs per area k_n (normal) and k_t
-// (tangential), fitted as log(k / (E_prior / L)).
+// (tangential), and k_a for the uniform part of the normal displacement (the support's axial
+// compliance; k_n acts on its rocking and the rest), fitted as log(k / (E_prior / L)). Why a
+// separate axial stiffness: a support made compliant by a thin bonded layer of a nearly
+// incompressible material is much stiffer axially (the layer is confined) than in rocking
+// (support_spring_modes.hpp); with one k_n for both, a pull and a bending load case cannot both
+// fit, and the remainder reads as a scaled load.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -10,6 +15,7 @@
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/sides.hpp"
 #include "isospring/fitting/effect.hpp"
+#include "isospring/fitting/support_spring_modes.hpp"
 
 namespace isospring::fitting {
 
@@ -21,7 +27,7 @@ class SupportCompliance : public Effect {
   // Springs k = 1e5 E_prior / L: the support moves by about 1e-5 of the body's displacement,
   // far below any measurement's noise, so the model is the clamped one for the score test.
   Eigen::VectorXd screening_values() const override {
-    return Eigen::VectorXd::Constant(2, std::log(1e5));
+    return Eigen::VectorXd::Constant(3, std::log(1e5));
   }
   SupportCompliance(const EffectContext& context, const std::vector<size_t>& compliant)
       : reference_stiffness_(context.youngs_modulus_prior / context.length) {
@@ -29,6 +35,7 @@ class SupportCompliance : public Effect {
     const int n = context.dofs->num_dofs();
     normal_.resize(n, n);
     tangential_.resize(n, n);
+    axial_.resize(n, n);
     analysis::Problem others = problem;  // the supports that stay Dirichlet
     others.supports.clear();
     for (size_t s = 0; s < problem.supports.size(); ++s) {
@@ -38,7 +45,10 @@ class SupportCompliance : public Effect {
       }
       const SideSpringMatrices springs =
           assemble_side_springs(problem, *context.dofs, problem.supports[s].side);
-      normal_ += springs.normal;
+      const NormalSpringSplit split =
+          split_normal_springs(problem, *context.dofs, problem.supports[s].side, springs.normal);
+      normal_ += split.rocking + split.rest;
+      axial_ += split.axial;
       tangential_ += springs.tangential;
     }
     const analysis::Constraints kept = analysis::build_constraints(others, *context.dofs);
@@ -47,14 +57,16 @@ class SupportCompliance : public Effect {
       if (!kept_dofs.count(d)) released_.push_back(d);
   }
   std::string name() const override { return "support_compliance"; }
-  std::vector<std::string> parameter_names() const override { return {"log_kn", "log_kt"}; }
+  std::vector<std::string> parameter_names() const override {
+    return {"log_kn", "log_kt", "log_ka"};
+  }
   std::vector<std::string> parameter_units() const override {
-    return {"log(k_n L / E_prior)", "log(k_t L / E_prior)"};
+    return {"log(k_n L / E_prior)", "log(k_t L / E_prior)", "log(k_a L / E_prior)"};
   }
   Eigen::VectorXd initial_values() const override {
     // Springs 100x stiffer than the body over its length: 1% extra displacement, close to the
     // Dirichlet support the case declares.
-    return Eigen::VectorXd::Constant(2, std::log(100.0));
+    return Eigen::VectorXd::Constant(3, std::log(100.0));
   }
   void add_terms(const EffectContext&, int first, ModelTerms& terms) const override {
     const double k_ref = reference_stiffness_;
@@ -70,17 +82,19 @@ class SupportCompliance : public Effect {
     };
     terms.stiffness.push_back({normal_, exponential(first)});
     terms.stiffness.push_back({tangential_, exponential(first + 1)});
+    terms.stiffness.push_back({axial_, exponential(first + 2)});
     terms.released_dofs.insert(terms.released_dofs.end(), released_.begin(), released_.end());
   }
   std::vector<std::pair<std::string, double>> derived(
       const Eigen::VectorXd& values) const override {
     return {{"k_n [Pa/m]", reference_stiffness_ * std::exp(values[0])},
-            {"k_t [Pa/m]", reference_stiffness_ * std::exp(values[1])}};
+            {"k_t [Pa/m]", reference_stiffness_ * std::exp(values[1])},
+            {"k_a [Pa/m]", reference_stiffness_ * std::exp(values[2])}};
   }
 
  private:
   double reference_stiffness_;
-  Eigen::SparseMatrix<double> normal_, tangential_;
+  Eigen::SparseMatrix<double> normal_, tangential_, axial_;  // normal_: rocking and the rest
   std::vector<int> released_;
 };
 
