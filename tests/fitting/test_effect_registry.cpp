@@ -3,11 +3,16 @@
 // the recalibration's inputs, a "carried" one changes them).
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+#include <cmath>
 #include <set>
 
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/dof_map.hpp"
+#include "isospring/analysis/elasticity.hpp"
 #include "isospring/fitting/effect.hpp"
+#include "isospring/fitting/identify_assembly.hpp"
+#include "isospring/fitting/identify_model.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "test_identify_plate.hpp"
 
@@ -106,6 +111,82 @@ TEST(EffectRegistry, EveryEffectBuildsUnderItsNameAndItsNoteMatchesItsCarryOver)
         EXPECT_NE(note.find("NOT carried"), std::string::npos) << note;
         break;
     }
+  }
+}
+
+// Every effect's bounds have one entry per parameter and hold its initial and screening values
+// (a fit cannot start outside its box).
+TEST(EffectRegistry, BoundsHoldTheStartingValues) {
+  const PlateContext plate;
+  for (const EffectType& type : effect_types()) {
+    SCOPED_TRACE(type.name);
+    const std::unique_ptr<Effect> effect = type.make(plate.context, nullptr);
+    ASSERT_NE(effect, nullptr);
+    const Eigen::VectorXd lower = effect->lower_bounds(), upper = effect->upper_bounds();
+    ASSERT_EQ(lower.size(), effect->num_parameters());
+    ASSERT_EQ(upper.size(), effect->num_parameters());
+    EXPECT_TRUE((lower.array() < upper.array()).all());
+    for (const Eigen::VectorXd& start : {effect->initial_values(), effect->screening_values()}) {
+      if (start.size() == 0) continue;
+      EXPECT_TRUE((start.array() >= lower.array()).all()) << start.transpose();
+      EXPECT_TRUE((start.array() <= upper.array()).all()) << start.transpose();
+    }
+  }
+}
+
+// support_compliance's axial springs: k_a = k_n exp(r) with 0 <= r <= log 10 on the uniform part
+// of the normal displacement. At r = 0 (where the fit starts) the springs are exactly the
+// one-stiffness support k_n N + k_t T; for every r in the box they exceed it by a positive
+// semi-definite term, so the clamped body's stiffness stays positive definite however soft
+// the springs (a free k_a -> 0 freed the axial translation).
+TEST(EffectRegistry, SupportComplianceAxialStiffnessIsBoundedBelowByTheNormalOne) {
+  const PlateContext plate;
+  const std::unique_ptr<Effect> effect = make_effect("support_compliance", plate.context, nullptr);
+  ASSERT_NE(effect, nullptr);
+  ASSERT_EQ(effect->num_parameters(), 3);
+  EXPECT_EQ(effect->lower_bounds()[2], 0.0);
+  EXPECT_NEAR(effect->upper_bounds()[2], std::log(10.0), 1e-15);
+  EXPECT_EQ(effect->initial_values()[2], 0.0);
+  ModelTerms terms;
+  terms.num_parameters = 4;  // E, then the effect's three
+  effect->add_terms(plate.context, 1, terms);
+  ASSERT_EQ(terms.stiffness.size(), 3u);
+  const auto springs_at = [&](const Eigen::VectorXd& theta) {
+    Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(plate.dofs.num_dofs(), plate.dofs.num_dofs());
+    for (const MatrixTerm& term : terms.stiffness)
+      sum += term.coefficient(theta, nullptr) * Eigen::MatrixXd(term.matrix);
+    return sum;
+  };
+  const SideSpringMatrices side =
+      assemble_side_springs(plate.problem, plate.dofs, plate.problem.supports[0].side);
+  const double k_ref = plate.context.youngs_modulus_prior / plate.context.length;
+  // The body with its clamp released: free to move rigidly (3 zero modes) without springs.
+  const auto lame = analysis::lame_parameters(plate.problem.material, plate.problem.formulation);
+  const Eigen::MatrixXd body = lame.lambda * Eigen::MatrixXd(plate.lame.lambda_part) +
+                               lame.mu * Eigen::MatrixXd(plate.lame.mu_part);
+  const auto eigenvalues = [](const Eigen::MatrixXd& m) {
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(m, Eigen::EigenvaluesOnly).eigenvalues();
+  };
+  const Eigen::VectorXd free_body = eigenvalues(body);
+  EXPECT_LT(std::abs(free_body[2]), 1e-12 * free_body.maxCoeff());
+  for (const double log_kn : {-8.0, 0.0, 5.0}) {
+    const Eigen::MatrixXd one_stiffness =
+        k_ref * std::exp(log_kn) * Eigen::MatrixXd(side.normal) +
+        k_ref * std::exp(log_kn - 1.0) * Eigen::MatrixXd(side.tangential);
+    const double scale = one_stiffness.norm();
+    const Eigen::MatrixXd at_bound = springs_at(Eigen::Vector4d(1.0, log_kn, log_kn - 1.0, 0.0));
+    EXPECT_LT((at_bound - one_stiffness).norm(), 1e-13 * scale) << log_kn;
+    for (const double r : {0.5, std::log(10.0)}) {
+      const Eigen::MatrixXd extra =
+          springs_at(Eigen::Vector4d(1.0, log_kn, log_kn - 1.0, r)) - one_stiffness;
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(extra);
+      EXPECT_GT(eig.eigenvalues().minCoeff(), -1e-13 * scale) << log_kn << " " << r;
+      EXPECT_GT(eig.eigenvalues().maxCoeff(), 1e-3 * (std::exp(r) - 1.0) * scale) << r;
+    }
+    // Springs 3e-4 x E / L (log_kn = -8) at r = 0 already hold the body: positive definite, and
+    // every r > 0 only adds to it.
+    const Eigen::VectorXd held = eigenvalues(body + at_bound);
+    EXPECT_GT(held.minCoeff(), 1e-9 * held.maxCoeff()) << log_kn;
   }
 }
 

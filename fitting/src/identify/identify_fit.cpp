@@ -111,11 +111,17 @@ Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
   Model model;
   model.initial.resize(terms.num_parameters);
   model.initial[0] = 1.0;
+  model.lower =
+      Eigen::VectorXd::Constant(terms.num_parameters, -std::numeric_limits<double>::infinity());
+  model.upper =
+      Eigen::VectorXd::Constant(terms.num_parameters, std::numeric_limits<double>::infinity());
   if (setup.material_parameters > 1) model.initial[1] = setup.problem->material.poisson_ratio;
   int first = setup.material_parameters;
   for (const Effect* effect : effects) {
     effect->add_terms(setup.context, first, terms);
     model.initial.segment(first, effect->num_parameters()) = effect->initial_values();
+    model.lower.segment(first, effect->num_parameters()) = effect->lower_bounds();
+    model.upper.segment(first, effect->num_parameters()) = effect->upper_bounds();
     model.blocks.emplace_back(first, effect->num_parameters());
     first += effect->num_parameters();
   }
@@ -240,6 +246,12 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   if (setup.material_parameters > 1) {
     problem.SetParameterLowerBound(fit.theta.data(), 1, -0.9);
     problem.SetParameterUpperBound(fit.theta.data(), 1, 0.49);
+  }
+  for (Eigen::Index i = setup.material_parameters; i < model.lower.size(); ++i) {
+    if (std::isfinite(model.lower[i]))
+      problem.SetParameterLowerBound(fit.theta.data(), i, model.lower[i]);
+    if (std::isfinite(model.upper[i]))
+      problem.SetParameterUpperBound(fit.theta.data(), i, model.upper[i]);
   }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;

@@ -82,6 +82,7 @@ struct Model {
   std::unique_ptr<ForwardModel> forward;
   Eigen::VectorXd initial;
   std::vector<std::pair<int, int>> blocks;  // per effect: first parameter, count
+  Eigen::VectorXd lower, upper;             // the effects' parameter bounds (Effect::*_bounds)
 };
 
 // How a fit starts: near its optimum (a refit under other weights, a model fitted before less an

@@ -9,7 +9,9 @@
 // fitting/src/identify/effect_registry.cpp. Library, in registry order:
 //   gravity             self-weight rho * g of the declared density; g (2 or 3 components) fitted
 //   support_compliance  the fixed sides become Robin supports: springs per area k_n (normal) and
-//                       k_t (tangential), fitted as log(k / (E_prior / L))
+//                       k_t (tangential), fitted as log(k / (E_prior / L)), and k_a >= k_n on the
+//                       uniform part of the normal displacement (a confined layer's axial
+//                       stiffness), fitted as log(k_a / k_n) in [0, log 10]
 //   stiffness_gradient  E(x) = E (1 + a . (x - x_c) / L), a fitted (2 or 3 components)
 //   rigid_offset        rigid motion of the specimen in the measuring frame, one for all load
 //                       cases (a frame offset does not depend on the load): translations and
@@ -27,6 +29,7 @@
 // x_c is the centre and L the diagonal of the model's bounding box.
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -114,6 +117,14 @@ class Effect {
   /// True for an effect whose model needs Newton solves (geometric_nonlinearity): the selection
   /// tries it after the linear candidates and only when a score test says it may matter.
   virtual bool expensive() const { return false; }
+  /// Box bounds of the parameters, each of size num_parameters() (+-infinity: free); the fits
+  /// stay inside. For a parameter whose physics has a side (a stiffness ratio >= 1).
+  virtual Eigen::VectorXd lower_bounds() const {
+    return Eigen::VectorXd::Constant(num_parameters(), -std::numeric_limits<double>::infinity());
+  }
+  virtual Eigen::VectorXd upper_bounds() const {
+    return Eigen::VectorXd::Constant(num_parameters(), std::numeric_limits<double>::infinity());
+  }
   /// Parameters the physics fixes (see ExpectedValue); empty for effects whose parameters are
   /// all free (a gravity vector, a modulus gradient).
   virtual std::vector<ExpectedValue> expected_values() const { return {}; }
