@@ -358,6 +358,7 @@ std::unique_ptr<Setup> run_immersed_check(
   check = DiscretizationCheck();
   check.noise = noise;
   check.target = options.target_fraction * noise;
+  check.volumetric_rule = "displacement formulation (the immersed assembly has no B-bar)";
   if (!options.enabled) {
     check.note = "turned off";
     return nullptr;
