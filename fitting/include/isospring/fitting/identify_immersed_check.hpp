@@ -15,10 +15,12 @@
 // budget passes, the finest level solved is used, the check's note says so, and the loop widens
 // its F-tests by the estimated error (identify.cpp), as for a body-fitted model.
 //
-// Every level is re-immersed: the grids of a ladder are nested (cells halved, degree raised), so
-// a finer grid's inside and outside cells could be inherited from the coarser one, but its cut
-// cells' quadrature and the boundary points' cells could not, and those are most of an
-// immersion's cost; the levels' descriptions report each immersion's time.
+// Every level is re-immersed. Where two grids are nested (cells split evenly), the finer grid's
+// inside and outside cells could be inherited from the coarser one, but not its cut cells'
+// quadrature or the boundary points' cells, which are most of an immersion's cost; `isospring
+// identify`'s ladder (workflows/immersed_grid_ladder.hpp) steps by sqrt 2 and is not nested. The
+// levels' descriptions report each immersion's time. The coarser grid does serve before an
+// immersion: ImmersedLadder::dofs_bound bounds a level's DOFs from it.
 #include <functional>
 #include <optional>
 #include <string>
