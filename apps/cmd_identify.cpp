@@ -91,7 +91,8 @@ void setup_identify(CLI::App& app) {
       "Writes OUTDIR/report.json, report.md, model.json, residuals.svg/.csv,\n"
       "markers_<case>_*.vtp. Immersed cases (geometry type \"immersed\") run the same loop\n"
       "with the effects that have an immersed form (docs/immersed.md), without the\n"
-      "discretisation check and the recalibration.");
+      "recalibration; their discretisation check refines the background grid (cells\n"
+      "x sqrt 2 per level), re-immersing the part each time.");
   cmd->add_option("CASE", options->case_file, "Case file (.json) with \"measurements\"")
       ->required()
       ->check(CLI::ExistingFile);

@@ -4,7 +4,9 @@
 #include <algorithm>
 
 #include "isospring/fitting/identify_immersed.hpp"
+#include "isospring/fitting/identify_immersed_check.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "isospring/workflows/immersed_grid_ladder.hpp"
 
 namespace isospring::workflows {
 using namespace isospring::io;
@@ -100,10 +102,12 @@ IdentifyCommandResult run_identify_immersed(const ImmersedCase& c,
   fitting::IdentifyOptions identify_options = r.settings.identify;
   identify_options.progress = [&progress](const std::string& s) { progress(s); };
   if (!options.discretization_check) identify_options.discretization.enabled = false;
+  if (options.max_dofs) identify_options.discretization.max_dofs = *options.max_dofs;
   std::vector<fitting::ImmersedCalibrationCase> cases;
   for (const ImmersedLoadCase& load : c.load_cases)
     cases.push_back({load.id, immersed_options(c, load)});
-  r.identify = fitting::identify_immersed(domain, cases, r.markers, identify_options);
+  r.identify = fitting::identify_immersed(domain, cases, r.markers, identify_options,
+                                          immersed_grid_ladder(*c.cad, c.immersion, domain));
   r.identify_options = identify_options;
   r.identify_options.progress = nullptr;  // it refers to `progress`, which the result outlives
   r.recalibration_error =

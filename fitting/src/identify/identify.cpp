@@ -117,12 +117,19 @@ void choose_discretisation(const LoopInputs& in, const CaseNominal& case_nominal
     result.discretization.note = "turned off";
     return;
   }
-  if (in.custom_setup) {
+  if (in.custom_setup && !in.custom_check) {
     result.discretization.note = in.no_discretisation_check;
     return;
   }
   const double noise = noise_for_discretisation(in, case_nominal);
   const Eigen::VectorXd& theta = case_nominal.fit.theta;
+  if (in.custom_check) {
+    out.refined_setup = in.custom_check(case_nominal.setup, theta, noise, result.discretization);
+    if (!out.refined_setup) return;
+    out.refined_setup->context.threads = in.element_threads;
+    out.refined_setup->component_weight = case_nominal.setup.component_weight;
+    return;
+  }
   const double nu = options.fit_poisson ? theta[1] : in.problem.material.poisson_ratio;
   const double youngs_modulus = in.problem.material.youngs_modulus * theta[0];
   result.discretization =
@@ -246,6 +253,7 @@ IdentifyResult identify(const analysis::Problem& problem, const std::vector<Mark
                       options.threads > 0 ? options.threads : omp_get_max_threads(),
                       std::vector<bool>(markers.size(), true),
                       std::move(all_rows),
+                      {},
                       {},
                       {}};
   return run_loop(in);

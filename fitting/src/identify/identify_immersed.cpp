@@ -9,7 +9,8 @@
 #include <limits>
 #include <map>
 
-#include "identify/loop_state.hpp"
+#include "identify/immersed_setup.hpp"
+#include "isospring/fitting/identify_immersed_check.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
@@ -17,11 +18,6 @@ namespace isospring::fitting {
 namespace {
 
 using identify_loop::Setup;
-
-const char* const kNoDiscretisationCheck =
-    "not available for immersed models: the check's ladder refines body-fitted patches and "
-    "places the markers on them; an immersed ladder would re-immerse the CAD solid in a finer "
-    "background grid per level. Check the grid with `isospring study` (geometry.cells)";
 
 // The same material and supports in every case, support values zero (each case's right-hand
 // side is then its load alone).
@@ -164,7 +160,23 @@ void add_markers(const geometry::ImmersedDomain& domain, const analysis::Immerse
   }
 }
 
-// Everything that stays fixed while effects come and go, from the immersed assembly.
+// What the loop reads of `problem` for a model without one: the material and the load case ids.
+analysis::Problem descriptor(const std::vector<ImmersedCalibrationCase>& cases) {
+  analysis::Problem problem;
+  problem.material = cases.front().options.material;
+  problem.formulation = cases.front().options.formulation;
+  for (const auto& c : cases) {
+    analysis::LoadCase load;
+    load.id = c.id;
+    problem.load_cases.push_back(load);
+  }
+  return problem;
+}
+
+}  // namespace
+
+namespace identify_loop {
+
 void make_immersed_setup(Setup& setup, const geometry::ImmersedDomain& domain,
                          const std::vector<ImmersedCalibrationCase>& cases,
                          const std::vector<Marker>& markers, bool fit_poisson,
@@ -206,20 +218,18 @@ void make_immersed_setup(Setup& setup, const geometry::ImmersedDomain& domain,
   context.mu = linear_coefficient(0, material.youngs_modulus / (2 * (1 + nu)));
 }
 
-// What the loop reads of `problem` for a model without one: the material and the load case ids.
-analysis::Problem descriptor(const std::vector<ImmersedCalibrationCase>& cases) {
-  analysis::Problem problem;
-  problem.material = cases.front().options.material;
-  problem.formulation = cases.front().options.formulation;
-  for (const auto& c : cases) {
-    analysis::LoadCase load;
-    load.id = c.id;
-    problem.load_cases.push_back(load);
+std::vector<bool> active_control_points(const geometry::ImmersedDomain& domain) {
+  // At any of a cell's quadrature points every function of the cell is non-zero.
+  std::vector<bool> active(static_cast<size_t>(domain.background.num_points()), false);
+  for (const auto& cell : domain.cells) {
+    if (cell.points.empty()) continue;
+    const nurbs::RationalBasis basis = basis_at(domain, cell.points.front());
+    for (int index : basis.indices) active[static_cast<size_t>(index)] = true;
   }
-  return problem;
+  return active;
 }
 
-}  // namespace
+}  // namespace identify_loop
 
 std::string immersed_unavailable_effect(const std::string& effect) {
   if (effect == "support_compliance")
@@ -238,17 +248,11 @@ std::string immersed_unavailable_effect(const std::string& effect) {
 
 std::vector<int> immersed_markers_outside(const geometry::ImmersedDomain& domain,
                                           const std::vector<Marker>& markers) {
-  // The basis functions of the part's cells (inside and cut): at any of a cell's quadrature
-  // points, every function of the cell is non-zero.
+  // The basis functions of the part's cells (inside and cut).
   const int dim = domain.dimension;
   std::vector<int> outside;
   const double slack = 1e-9 * domain.extent.head(dim).norm();
-  std::vector<bool> active(static_cast<size_t>(domain.background.num_points()), false);
-  for (const auto& cell : domain.cells) {
-    if (cell.points.empty()) continue;
-    const nurbs::RationalBasis basis = basis_at(domain, cell.points.front());
-    for (int index : basis.indices) active[static_cast<size_t>(index)] = true;
-  }
+  const std::vector<bool> active = identify_loop::active_control_points(domain);
   for (size_t m = 0; m < markers.size(); ++m) {
     const Eigen::Vector3d& x = markers[m].position;
     bool in = ((x - domain.origin).head(dim).array() >= -slack).all() &&
@@ -268,6 +272,13 @@ IdentifyResult identify_immersed(const geometry::ImmersedDomain& domain,
                                  const std::vector<ImmersedCalibrationCase>& cases,
                                  const std::vector<Marker>& markers,
                                  const IdentifyOptions& options) {
+  return identify_immersed(domain, cases, markers, options, ImmersedLadder{});
+}
+
+IdentifyResult identify_immersed(const geometry::ImmersedDomain& domain,
+                                 const std::vector<ImmersedCalibrationCase>& cases,
+                                 const std::vector<Marker>& markers, const IdentifyOptions& options,
+                                 const ImmersedLadder& ladder) {
   using namespace identify_loop;
   check_cases(cases);
   const analysis::Problem problem = descriptor(cases);
@@ -282,11 +293,21 @@ IdentifyResult identify_immersed(const geometry::ImmersedDomain& domain,
                 std::vector<bool>(markers.size(), true),
                 std::move(all_rows),
                 {},
+                {},
                 {}};
   in.custom_setup = [&](Setup& setup) {
     make_immersed_setup(setup, domain, cases, markers, options.fit_poisson, in.progress());
   };
-  in.no_discretisation_check = kNoDiscretisationCheck;
+  if (ladder.level)
+    in.custom_check = [&](const Setup& case_setup, const Eigen::VectorXd& theta, double noise,
+                          DiscretizationCheck& check) {
+      return run_immersed_check(case_setup, domain, cases, markers, theta, noise,
+                                options.discretization, ladder, in.progress(), check);
+    };
+  else
+    in.no_discretisation_check =
+        "not done: no ladder of background grids was given (identify_immersed without an "
+        "ImmersedLadder); `isospring identify` gives one";
   return run_loop(in);
 }
 

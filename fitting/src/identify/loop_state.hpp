@@ -208,6 +208,12 @@ struct LoopInputs {
   // make_setup, and `problem` only names the material and the load cases. Empty: body-fitted.
   std::function<void(Setup&)> custom_setup;
   std::string no_discretisation_check;  // why the check does not run on such a model
+  // The discretisation check of such a model, when it has one: fills `check` from the case's
+  // setup, its nominal fit's parameters and the noise level, and returns the setup of the level
+  // chosen (null: the case's own).
+  std::function<std::unique_ptr<Setup>(const Setup& case_setup, const Eigen::VectorXd& theta,
+                                       double noise, DiscretizationCheck& check)>
+      custom_check;
 
   void say(const std::string& message) const {
     if (options.progress) options.progress(message);
@@ -230,7 +236,8 @@ struct CaseNominal {
 };
 
 // Stage 2: where the loop runs. Invariant: `refined_setup` is set exactly when the
-// discretisation check chose a finer level, and then points into `refined_problem`.
+// discretisation check chose a finer level, and then points into `refined_problem` (a body-
+// fitted model; an immersed level's setup holds all it needs).
 struct Discretisation {
   std::optional<analysis::Problem> refined_problem;
   std::unique_ptr<Setup> refined_setup;

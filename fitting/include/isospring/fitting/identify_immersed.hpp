@@ -22,8 +22,9 @@
 //
 // Effects with an immersed form: gravity, rigid_offset, load_scale, rigid_offset_per_load.
 // support_compliance, stiffness_gradient and geometric_nonlinearity are listed as unavailable
-// with the reason (immersed_unavailable_effect). The discretisation check does not run (its
-// ladder refines body-fitted patches); the result's discretization.note says so.
+// with the reason (immersed_unavailable_effect). The discretisation check runs on a ladder of
+// background grids (identify_immersed_check.hpp); without one, the result's discretization.note
+// says it was not done.
 #include <string>
 #include <vector>
 

@@ -19,7 +19,8 @@ namespace isospring::workflows {
 /// Runs the loop on the immersed case `c`. Throws nurbs::InputError when the case has no
 /// "measurements", for a bad "measurements" object or marker file, for markers outside the
 /// part's cells unless options.drop_outside, and as fitting::identify_immersed. The
-/// discretisation-check options do not apply (the check does not run on immersed models).
+/// discretisation check climbs the case's ladder of background grids (immersed_grid_ladder.hpp);
+/// options.max_dofs and discretization_check apply as for a body-fitted case.
 IdentifyCommandResult run_identify_immersed(const io::ImmersedCase& c,
                                             const IdentifyCommandOptions& options,
                                             const io::Progress& progress);
