@@ -30,6 +30,12 @@ double density(double x, double base, const std::vector<GradingPlane>& planes) {
 void equidistribute(double lo, double hi, double base, const std::vector<GradingPlane>& planes,
                     std::vector<double>& ticks) {
   const double length = hi - lo;
+  if (planes.empty()) {  // equal cells, exactly
+    const int cells = std::max(1, static_cast<int>(std::ceil(length / base - 1e-9)));
+    for (int i = 1; i < cells; ++i) ticks.push_back(lo + length * i / cells);
+    ticks.push_back(hi);
+    return;
+  }
   double smallest = base;
   for (const GradingPlane& p : planes) smallest = std::min(smallest, p.smallest);
   const long samples =
