@@ -13,7 +13,12 @@ namespace isospring::geometry::detail {
 /// of 1 near a plane is a cell as long as smallest + (r - 1) d at its near end d, i.e. the
 /// progression smallest, smallest r, ...; where it reaches H, cells of H ln(r) / (r - 1) (so the
 /// growth never exceeds r). Their number is the integral rounded up.
+///
+/// `breaks` (any order) are kept as cell boundaries: the interval is split there and each piece
+/// gets its own cells by the same rule (so without grading planes a piece of length L holds
+/// ceil(L / H) equal cells). Breaks within 1e-9 (b - a) of an end or of each other count once.
 std::vector<double> graded_ticks(double a, double b, int base_cells,
-                                 const std::vector<GradingPlane>& planes, int axis);
+                                 const std::vector<GradingPlane>& planes, int axis,
+                                 const std::vector<double>& breaks = {});
 
 }  // namespace isospring::geometry::detail

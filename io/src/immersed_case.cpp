@@ -29,19 +29,39 @@ std::array<bool, 3> read_components(const Field& field) {
   return fixed;
 }
 
-// "grading": {"face": i, "smallest": m, "ratio": r}: cells graded towards face i's outline.
+// "grading": {"face": F, "smallest": m, "ratio": r}, or a list of such items: cells graded towards
+// face F's outline (F an index or a selector, as for supports), or with "plane": {"axis": "x",
+// "at": m} instead of "face", towards that plane.
 void read_grading(const Field& field, ImmersedCase& c) {
-  field.expect_object({"face", "smallest", "ratio"});
-  const int face = field.at("face").integer_within(0, c.cad->face_count() - 1);
-  const double smallest = field.at("smallest").at_least(0, true);
-  const double ratio = field.has("ratio") ? field.at("ratio").within(1, 10, false, false) : 1.5;
-  c.immersion.grading = geometry::grading_towards_face(*c.cad, face, smallest, ratio);
+  detail::ImmersedFaceChooser chooser(*c.cad);
+  const std::vector<Field> items =
+      field.json().is_array() ? field.elements(false) : std::vector<Field>{field};
+  for (const Field& item : items) {
+    item.expect_object({"face", "plane", "smallest", "ratio"});
+    const double smallest = item.at("smallest").at_least(0, true);
+    const double ratio = item.has("ratio") ? item.at("ratio").within(1, 10, false, false) : 1.5;
+    if (item.has("face") == item.has("plane"))
+      item.fail(": give either \"face\" or \"plane\": {\"axis\": \"x\", \"at\": m}");
+    if (item.has("plane")) {
+      const Field plane = item.at("plane");
+      plane.expect_object({"axis", "at"});
+      const std::string axis = plane.at("axis").string();
+      const int k = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" ? 2 : -1;
+      if (k < 0) plane.at("axis").fail(": '" + axis + "' is not an axis; use \"x\", \"y\", \"z\"");
+      c.immersion.grading.push_back({k, plane.at("at").number(), smallest, ratio});
+      continue;
+    }
+    for (int face : chooser.faces(item))
+      for (const geometry::GradingPlane& p :
+           geometry::grading_towards_face(*c.cad, face, smallest, ratio))
+        c.immersion.grading.push_back(p);
+  }
 }
 
 void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c) {
   const Field g = root.at("geometry");
   g.expect_object({"type", "file", "solid", "cells", "cell_size", "degree", "margin", "gauss",
-                   "max_depth", "grading"});
+                   "max_depth", "grading", "keep_planar_faces"});
   const Field file = g.at("file");
   c.part = case_file.parent_path() / file.string();
   if (!fs::is_regular_file(c.part))
@@ -70,6 +90,9 @@ void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c
     (g.has("solid") ? g.at("solid") : g).fail(": " + what);
   }
   if (g.has("grading")) read_grading(g.at("grading"), c);
+  // The planar faces normal to an axis on grid planes, so that they cut no cell.
+  if (g.has("keep_planar_faces") && g.at("keep_planar_faces").boolean())
+    o.breaks = geometry::planar_face_coordinates(*c.cad);
 }
 
 analysis::Material read_material(const Field& root) {

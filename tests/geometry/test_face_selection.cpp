@@ -266,5 +266,30 @@ TEST(FaceSelection, CaseFileGradingGradesTowardsTheFace) {
   expect_refused(c, {"geometry.grading.ratio"});
 }
 
+// A list of grading items (a face by selector, a plane by axis) and the planar faces kept on grid
+// planes: the planes of each item in order and planar_face_coordinates as the breaks.
+TEST(FaceSelection, CaseFileGradingListAndPlanarFaces) {
+  nlohmann::json c = case_with(0, 0);
+  c["geometry"]["grading"] = {{{"face", {{"name", "clamp"}}}, {"smallest", 0.002}},
+                              {{"plane", {{"axis", "y"}, {"at", 0.013}}}, {"smallest", 0.001}}};
+  c["geometry"]["keep_planar_faces"] = true;
+  const io::ImmersedCase read =
+      io::build_immersed_case(c, holed_block().parent_path() / "case.json");
+  ASSERT_EQ(read.immersion.grading.size(), 6u);  // the clamp's 5 planes, then y = 0.013
+  EXPECT_EQ(read.immersion.grading[0].axis, 0);
+  EXPECT_EQ(read.immersion.grading[5].axis, 1);
+  EXPECT_EQ(read.immersion.grading[5].at, 0.013);
+  EXPECT_EQ(read.immersion.grading[5].smallest, 0.001);
+  EXPECT_EQ(read.immersion.grading[5].ratio, 1.5);
+  const std::array<std::vector<double>, 3> planar =
+      planar_face_coordinates(read_cad_solid(holed_block()));
+  EXPECT_EQ(read.immersion.breaks, planar);
+  EXPECT_EQ(planar[0], (std::vector<double>{0.0, kA}));
+  c["geometry"]["grading"] = {{{"plane", {{"axis", "w"}, {"at", 0.0}}}, {"smallest", 0.001}}};
+  expect_refused(c, {"geometry.grading[0].plane.axis", "'w'"});
+  c["geometry"]["grading"] = {{{"smallest", 0.001}}};
+  expect_refused(c, {"geometry.grading[0]", "\"face\" or \"plane\""});
+}
+
 }  // namespace
 }  // namespace isospring::geometry

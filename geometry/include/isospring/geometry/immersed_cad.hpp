@@ -39,6 +39,7 @@
 // and Gauss in v on each inside piece; the number of pieces is doubled (at most twice) until the
 // face's area and first moments repeat to 1e-9.
 #include <Eigen/Core>
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -100,6 +101,12 @@ struct ImmersionOptions {
   double cell_size = 0.0;  // target cell edge (m), used when `cells` is zero
   /// Knots clustered towards planes (e.g. those of grading_towards_face); empty: uniform.
   std::vector<GradingPlane> grading;
+  /// Coordinates (m) per axis kept as cell boundaries, e.g. the part's planar faces normal to the
+  /// axes (planar_face_coordinates): such a face then lies on a grid plane and cuts no cell, also
+  /// when the axis is graded. Between them the cells are uniform (a piece of length L holds
+  /// ceil(L / H) equal cells, H the base cell length) or graded as above. Coordinates outside the
+  /// box or within 1e-9 of its length from an end are ignored; empty: none.
+  std::array<std::vector<double>, 3> breaks;
   /// Added on every side of the part's bounding box (m); ignored with a user box.
   double margin = 0.0;
   /// A user box (axis-aligned, m) instead of the bounding box; it must contain the part. Used
@@ -124,6 +131,7 @@ struct ImmersionStats {
   double classification_seconds = 0.0;  // inside / outside / cut
   double cut_cell_seconds = 0.0;        // cut-cell quadrature
   int inside_cells = 0, cut_cells = 0;
+  int sliver_cells = 0;        // cut cells with under 1e-9 of their volume inside, left out
   long cut_boxes = 0;          // cut cells and their octree children integrated
   long lines = 0;              // lines intersected with the B-rep
   long classified_lines = 0;   // of which needed the solid classifier (crossings did not alternate)
@@ -139,6 +147,12 @@ struct ImmersionStats {
 /// held face meeting a free one). Throws nurbs::InputError for a face index out of range.
 std::vector<GradingPlane> grading_towards_face(const CadSolid& solid, int face, double smallest,
                                                double ratio);
+
+/// The coordinates of the solid's planar faces normal to an axis (within 1e-9 rad), per axis,
+/// increasing, each once (those closer than 1e-9 of the part's size merged): the `breaks` that keep
+/// such faces on grid planes. Taken from the planes' equations, not from the faces' vertices (which
+/// may lie off them by up to the B-rep's tolerance).
+std::array<std::vector<double>, 3> planar_face_coordinates(const CadSolid& solid);
 
 /// The immersed domain of `solid`. Throws nurbs::InputError naming the option and the fix for a
 /// degree below 1, no cells, a negative margin, a user box that does not contain the part, or a
