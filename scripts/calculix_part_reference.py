@@ -93,7 +93,7 @@ def generate_nested(level, optimise):
 GMSH_TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (2, 3), (1, 3)]
 
 
-def straighten_inverted(passes=5):
+def straighten_inverted(passes=30):
     """Moves the midside nodes of every curved tetrahedron with a nonpositive Jacobian at a
     Gauss point to the middle of their straight edges, where gmsh could not untangle them; a
     tetrahedron with straight edges is valid whenever its vertices are. Their neighbours share
