@@ -85,7 +85,21 @@ def generate_nested(level, optimise):
             # refuses). Where some stay nonpositive, those elements' midside nodes go back onto
             # their straight edges (no retry with other sizes, which would break the nesting).
             if mesh_volume()[1] > 0:
-                return straighten_inverted()
+                straightened = straighten_inverted()
+                if straightened is not None:
+                    return straightened
+                # The untangling moved some vertices too far: the same mesh again (gmsh meshes
+                # the same model with the same sizes alike), straightened without it.
+                gmsh.model.mesh.clear()
+                gmsh.model.mesh.generate(3)
+                for _ in range(level):
+                    gmsh.model.mesh.refine()
+                gmsh.model.mesh.setOrder(2)
+                straightened = straighten_inverted()
+                if straightened is None:
+                    raise SystemExit("tetrahedra stay inverted with straight edges: their "
+                                     "vertices are, so the mesh cannot be used")
+                return straightened
     return 0
 
 
@@ -99,7 +113,9 @@ def straighten_inverted(passes=30):
     tetrahedron with straight edges is valid whenever its vertices are. Their neighbours share
     those nodes, so it repeats until none is left. The part's boundary there becomes the chord
     of the CAD face, a geometric error of order h^2 over those few elements, which
-    `mesh_volume_error` shows. Returns the number of nodes moved."""
+    `mesh_volume_error` shows. Returns the number of nodes moved, or None when a tetrahedron
+    stays inverted with straight edges: then its vertices are (on the housing, whose split linear
+    mesh was valid before gmsh's untangling ran)."""
     local, weights = gmsh.model.mesh.getIntegrationPoints(11, "Gauss4")
     n = len(weights)
     moved = set()
@@ -109,14 +125,16 @@ def straighten_inverted(passes=30):
         bad = [e for e in range(len(determinants) // n) if min(determinants[n * e:n * e + n]) <= 0]
         if not bad:
             return len(moved)
+        before = len(moved)
         for e in bad:
             g = [int(t) for t in connectivity[10 * e:10 * e + 10]]
             for k, (a, b) in enumerate(GMSH_TET10_EDGES):
                 pa, pb = gmsh.model.mesh.getNode(g[a])[0], gmsh.model.mesh.getNode(g[b])[0]
                 gmsh.model.mesh.setNode(g[4 + k], [0.5 * (pa[i] + pb[i]) for i in range(3)], [])
                 moved.add(g[4 + k])
-    raise SystemExit("curved tetrahedra left inverted after straightening %d midside nodes" %
-                     len(moved))
+        if len(moved) == before:
+            return None
+    return None
 
 
 def mesh_part(step, h, clamp_face, part, level=0):
