@@ -82,9 +82,59 @@ def generate_nested(level, optimise):
         except Exception:  # gmsh raises a bare Exception
             # It raises when some element's scaled Jacobian stays below its target; the mesh is
             # still usable when no Jacobian at a Gauss point is nonpositive (what CalculiX
-            # refuses).
+            # refuses). Where some stay nonpositive, those elements' midside nodes go back onto
+            # their straight edges (no retry with other sizes, which would break the nesting).
             if mesh_volume()[1] > 0:
-                raise
+                straightened = straighten_inverted()
+                if straightened is not None:
+                    return straightened
+                # The untangling moved some vertices too far: the same mesh again (gmsh meshes
+                # the same model with the same sizes alike), straightened without it.
+                gmsh.model.mesh.clear()
+                gmsh.model.mesh.generate(3)
+                for _ in range(level):
+                    gmsh.model.mesh.refine()
+                gmsh.model.mesh.setOrder(2)
+                straightened = straighten_inverted()
+                if straightened is None:
+                    raise SystemExit("tetrahedra stay inverted with straight edges: their "
+                                     "vertices are, so the mesh cannot be used")
+                return straightened
+    return 0
+
+
+# gmsh's 10-node tetrahedron: its midside nodes 4..9 on these edges of the vertices 0..3.
+GMSH_TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (2, 3), (1, 3)]
+
+
+def straighten_inverted(passes=30):
+    """Moves the midside nodes of every curved tetrahedron with a nonpositive Jacobian at a
+    Gauss point to the middle of their straight edges, where gmsh could not untangle them; a
+    tetrahedron with straight edges is valid whenever its vertices are. Their neighbours share
+    those nodes, so it repeats until none is left. The part's boundary there becomes the chord
+    of the CAD face, a geometric error of order h^2 over those few elements, which
+    `mesh_volume_error` shows. Returns the number of nodes moved, or None when a tetrahedron
+    stays inverted with straight edges: then its vertices are (on the housing, whose split linear
+    mesh was valid before gmsh's untangling ran)."""
+    local, weights = gmsh.model.mesh.getIntegrationPoints(11, "Gauss4")
+    n = len(weights)
+    moved = set()
+    for _ in range(passes):
+        _, connectivity = gmsh.model.mesh.getElementsByType(11)
+        _, determinants, _ = gmsh.model.mesh.getJacobians(11, local)
+        bad = [e for e in range(len(determinants) // n) if min(determinants[n * e:n * e + n]) <= 0]
+        if not bad:
+            return len(moved)
+        before = len(moved)
+        for e in bad:
+            g = [int(t) for t in connectivity[10 * e:10 * e + 10]]
+            for k, (a, b) in enumerate(GMSH_TET10_EDGES):
+                pa, pb = gmsh.model.mesh.getNode(g[a])[0], gmsh.model.mesh.getNode(g[b])[0]
+                gmsh.model.mesh.setNode(g[4 + k], [0.5 * (pa[i] + pb[i]) for i in range(3)], [])
+                moved.add(g[4 + k])
+        if len(moved) == before:
+            return None
+    return None
 
 
 def mesh_part(step, h, clamp_face, part, level=0):
@@ -154,8 +204,9 @@ def mesh_part(step, h, clamp_face, part, level=0):
     # (`high_order_optimize`).
     optimise = part.get("high_order_optimize", False)
     gmsh.option.setNumber("Mesh.HighOrderOptimize", 2 if optimise else 0)
+    straightened = 0
     if part.get("nested"):
-        generate_nested(level, optimise)
+        straightened = generate_nested(level, optimise)
     else:
         h = generate_with_retries(h, fields, optimise)
     tags, coords, _ = gmsh.model.mesh.getNodes()
@@ -174,6 +225,8 @@ def mesh_part(step, h, clamp_face, part, level=0):
     exact = gmsh.model.occ.getMass(3, volumes[0][1])
     geometry = {"mesh_volume_error": volume / exact - 1, "inverted_gauss_points": inverted,
                 "refined_edges": len(edges)}
+    if straightened:
+        geometry["straightened_midside_nodes"] = straightened
     return nodes, tets, sorted(int(t) for t in clamped), area, h, geometry
 
 
