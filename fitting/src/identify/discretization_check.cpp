@@ -11,18 +11,14 @@
 #include "isospring/analysis/static_solver.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/refine.hpp"
+#include "ladder_rule.hpp"
 
 namespace isospring::fitting {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string format(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", value);
-  return buffer;
-}
+using ladder_rule::format;
 
 // Marker m's displacement from the solution of the load case it belongs to.
 std::vector<Eigen::Vector3d> at_markers(const analysis::Problem& problem,
@@ -42,32 +38,6 @@ std::vector<Eigen::Vector3d> at_markers(const analysis::Problem& problem,
                 control[static_cast<size_t>(place.patch)][static_cast<size_t>(basis.indices[a])];
   }
   return out;
-}
-
-struct Difference {
-  double rms = 0.0, max = 0.0, rms_after_material = 0.0;
-};
-
-// fine - coarse over the first `dim` components; "after material": fine - s coarse with the best
-// scale s (a refit of E scales every displacement by the same factor).
-Difference difference(const std::vector<Eigen::Vector3d>& fine,
-                      const std::vector<Eigen::Vector3d>& coarse, int dim) {
-  Difference d;
-  double sum = 0.0, fc = 0.0, cc = 0.0, ff = 0.0;
-  for (size_t m = 0; m < fine.size(); ++m)
-    for (int c = 0; c < dim; ++c) {
-      const double e = fine[m][c] - coarse[m][c];
-      sum += e * e;
-      d.max = std::max(d.max, std::abs(e));
-      fc += fine[m][c] * coarse[m][c];
-      cc += coarse[m][c] * coarse[m][c];
-      ff += fine[m][c] * fine[m][c];
-    }
-  const double n = std::max<double>(1.0, static_cast<double>(fine.size() * dim));
-  d.rms = std::sqrt(sum / n);
-  const double projected = cc > 0.0 ? std::max(0.0, ff - fc * fc / cc) : ff;
-  d.rms_after_material = std::sqrt(projected / n);
-  return d;
 }
 
 // A corner of the control net: the only control points that interpolate the geometry, so the
@@ -210,18 +180,6 @@ analysis::Volumetric volumetric_rule(const analysis::Problem& problem, double po
   return volumetric;
 }
 
-// Errors against the finest level K solved so far: e_k = |u_K - u_k| + e_K (triangle
-// inequality), with e_K, the "tail", from the last two differences D = u_{j+1} - u_j as a
-// geometric series, r |D_{K-1}| / (1 - r) with r = |D_{K-1}| / |D_{K-2}|, or |D_{K-1}| itself
-// when there is no such ratio (r = 1/2 assumed), as when the last three levels are not all of
-// one family (DiscretizationOptions::ratio_from_level).
-struct Tail {
-  std::vector<Eigen::Vector3d> vector;  // per marker: estimated u_K - u_exact
-  double rms = 0.0, max = 0.0;          // of `vector`
-  double ratio = kNaN;
-  std::string how;
-};
-
 // One run of the check as its stages (run()). The stages share the levels solved so far (their
 // problems and predictions at the markers, in check_.levels order), the finest level solved and
 // the level chosen so far (-1: none).
@@ -257,8 +215,10 @@ class LadderRun {
     say("discretisation check: solving the case's own discretisation");
     solve(problem_, "the case's discretisation");
     climb();
-    estimate_against_finest();
-    settle();
+    // When the ladder ended before a level met the target with two finer levels behind it, one
+    // finer level has to do.
+    rule_.estimate_against_finest(finest_, chosen_, "none: no finer level could be solved");
+    rule_.settle(finest_, chosen_);
     try_intermediate();
     if (check_.chosen > 0 || volumetric_ != problem_.volumetric)
       check_.chosen_problem = std::move(solved_problems_[static_cast<size_t>(check_.chosen)]);
@@ -275,12 +235,7 @@ class LadderRun {
     check_same_point_conditions(problem_, level, description);
   }
   bool solve_next(int level);
-  Tail tail_of(size_t finest) const;
-  std::vector<Eigen::Vector3d> estimate(size_t k, size_t finest, const Tail& tail,
-                                        DiscretizationLevel& row) const;
   void climb();
-  void estimate_against_finest();
-  void settle();
   void try_intermediate();
 
   const analysis::Problem& problem_;
@@ -296,7 +251,7 @@ class LadderRun {
   double size_ = 0.0;  // the model's size, the scale of the geometry check's tolerance
   DiscretizationCheck check_;
   std::vector<analysis::Problem> solved_problems_;
-  std::vector<std::vector<Eigen::Vector3d>> predictions_;
+  ladder_rule::LadderRule rule_{options_, dim_, check_};  // the levels' predictions and the rule
   size_t finest_ = 0;
   int chosen_ = -1;
 };
@@ -314,7 +269,7 @@ void LadderRun::solve(analysis::Problem level_problem, const std::string& descri
   row.description = description;
   row.dofs = solution.dofs;
   row.error_rms = row.error_max = row.error_rms_after_material = kNaN;
-  predictions_.push_back(at_markers(level_problem, solution, markers_, placements_, case_index_));
+  rule_.add(at_markers(level_problem, solution, markers_, placements_, case_index_));
   row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   check_.levels.push_back(row);
   solved_problems_.push_back(std::move(level_problem));
@@ -358,109 +313,19 @@ bool LadderRun::solve_next(int level) {
   return true;
 }
 
-Tail LadderRun::tail_of(size_t finest) const {
-  Tail t;
-  t.vector.assign(markers_.size(), Eigen::Vector3d::Zero());
-  if (finest == 0) return t;
-  const Difference last = difference(predictions_[finest], predictions_[finest - 1], dim_);
-  double scale = 1.0;
-  t.how = "no convergence ratio: its error taken as the last difference";
-  if (finest >= 2 && static_cast<int>(finest) - 2 >= options_.ratio_from_level) {
-    const Difference before = difference(predictions_[finest - 1], predictions_[finest - 2], dim_);
-    t.ratio = before.rms > 0.0 ? last.rms / before.rms : kNaN;
-    if (t.ratio > 0.0 && t.ratio < 1.0) {
-      scale = t.ratio / (1.0 - t.ratio);
-      t.how = "its error extrapolated with ratio " + format(t.ratio);
-    } else if (t.ratio >= 1.0) {
-      t.how =
-          "not converging (ratio " + format(t.ratio) + "): its error taken as the last difference";
-    }
-  }
-  for (size_t m = 0; m < markers_.size(); ++m)
-    t.vector[m] = scale * (predictions_[finest][m] - predictions_[finest - 1][m]);
-  t.rms = scale * last.rms;
-  t.max = scale * last.max;
-  return t;
-}
-
-// u_k - u_exact ~ (u_k - u_K) + tail, as a per-marker vector; its size by the triangle
-// inequality (rms and max of |u_k - u_K| plus those of the tail), an upper-bound estimate.
-std::vector<Eigen::Vector3d> LadderRun::estimate(size_t k, size_t finest, const Tail& tail,
-                                                 DiscretizationLevel& row) const {
-  const Difference to_finest = difference(predictions_[finest], predictions_[k], dim_);
-  row.error_rms = to_finest.rms + tail.rms;
-  row.error_max = to_finest.max + tail.max;
-  row.error_rms_after_material = to_finest.rms_after_material + tail.rms;
-  row.estimate = k == finest
-                     ? "finest level solved, " + tail.how
-                     : "difference to level " + std::to_string(finest) + " (" + tail.how + ")";
-  std::vector<Eigen::Vector3d> error(markers_.size());
-  for (size_t m = 0; m < markers_.size(); ++m)
-    error[m] = predictions_[k][m] - predictions_[finest][m] + tail.vector[m];
-  return error;
-}
-
 // Up the ladder until a level is chosen or the ladder ends. While the ladder goes on, a level
 // is only chosen with a convergence ratio behind its estimate (at least two finer levels, or one
 // finer level whose own error is extrapolated from a ratio < 1): a ladder's first steps can be
 // pre-asymptotic (degree elevation on one element through a thickness stalls), and one
 // difference alone then underestimates the error.
 void LadderRun::climb() {
-  constexpr double kRichardsonMargin = 0.5;
   while (chosen_ < 0 && solve_next(static_cast<int>(finest_) + 1)) {
     ++finest_;
-    const Tail tail = tail_of(finest_);
-    // Candidates: every level with two finer ones; level finest - 1 too when the finest level's
-    // own error comes from a convergence ratio.
-    const bool ratio_known = tail.ratio > 0.0 && tail.ratio < 1.0;
-    const size_t candidates = ratio_known ? finest_ : finest_ - 1;  // levels 0 .. candidates - 1
-    for (size_t k = 0; k < candidates && chosen_ < 0; ++k) {
-      DiscretizationLevel row;
-      estimate(k, finest_, tail, row);
-      if (row.error_rms <= check_.target) chosen_ = static_cast<int>(k);
-    }
-    // The finest level itself, on its extrapolated error alone (Richardson: r |D| / (1 - r)),
-    // when that is at most half the target: the factor 2 covers a ratio that is still
-    // pre-asymptotic, and the next level, the ladder's largest solve by far (a degree-3 solid
-    // grows 4.6x per step), is not needed to certify it.
-    if (chosen_ < 0 && ratio_known && tail.rms <= kRichardsonMargin * check_.target)
-      chosen_ = static_cast<int>(finest_);
-    say("discretisation check: level 0 off by " +
-        format(difference(predictions_[finest_], predictions_[0], dim_).rms) +
+    chosen_ = rule_.choose_after(finest_);
+    say("discretisation check: level 0 off by " + format(rule_.case_error_rms(finest_)) +
         " m rms against level " + std::to_string(finest_) + " (noise " + format(check_.noise) +
         " m)");
   }
-}
-
-// Final estimates against the finest level; when the ladder ended before a level met the
-// target with two finer levels behind it, one finer level has to do.
-void LadderRun::estimate_against_finest() {
-  if (finest_ == 0) {
-    check_.levels[0].estimate = "none: no finer level could be solved";  // errors stay NaN
-    return;
-  }
-  const Tail tail = tail_of(finest_);
-  for (size_t k = 0; k <= finest_; ++k) {
-    std::vector<Eigen::Vector3d> error = estimate(k, finest_, tail, check_.levels[k]);
-    if (chosen_ < 0 && k < finest_ && check_.levels[k].error_rms <= check_.target)
-      chosen_ = static_cast<int>(k);
-    if (static_cast<int>(k) == chosen_ || (chosen_ < 0 && k == finest_))
-      check_.marker_error = std::move(error);
-  }
-}
-
-// The outcome: the chosen level (the finest when none met the target) and whether it is in
-// target.
-void LadderRun::settle() {
-  check_.done = true;
-  check_.within_target = chosen_ >= 0;
-  check_.chosen = chosen_ >= 0 ? chosen_ : static_cast<int>(finest_);
-  if (chosen_ < 0 && finest_ > 0 &&
-      check_.levels[finest_].error_rms <= check_.target) {  // only the extrapolated tail is in
-    check_.within_target = true;
-    check_.note += "; the finest level's extrapolated error is in target";
-  }
-  if (check_.within_target) check_.budget_exhausted = false;  // the budget did not matter
 }
 
 // A level between the chosen one and the one before it (DiscretizationOptions::intermediate),
@@ -480,12 +345,7 @@ void LadderRun::try_intermediate() {
   check_level(*between, description);
   say("discretisation check: " + description + ", " + std::to_string(dofs) + " DOFs");
   solve(std::move(*between), description);
-  const size_t k = check_.levels.size() - 1;
-  std::vector<Eigen::Vector3d> error = estimate(k, finest_, tail_of(finest_), check_.levels[k]);
-  if (check_.levels[k].error_rms <= check_.target) {
-    check_.chosen = static_cast<int>(k);
-    check_.marker_error = std::move(error);
-  }
+  rule_.consider_intermediate(finest_);
 }
 
 }  // namespace

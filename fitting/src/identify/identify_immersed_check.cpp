@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "identify/immersed_setup.hpp"
+#include "identify/ladder_rule.hpp"
 #include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
@@ -21,11 +22,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string format(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", value);
-  return buffer;
-}
+using ladder_rule::format;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -45,40 +42,6 @@ long active_dofs(const geometry::ImmersedDomain& domain) {
   for (bool a : active_control_points(domain)) nodes += a ? 1 : 0;
   return nodes * domain.dimension;
 }
-
-struct Difference {
-  double rms = 0.0, max = 0.0, rms_after_material = 0.0;
-};
-
-// fine - coarse over the first `dim` components; "after material": fine - s coarse with the best
-// scale s (a refit of E scales every displacement by the same factor). As the body-fitted check.
-Difference difference(const std::vector<Eigen::Vector3d>& fine,
-                      const std::vector<Eigen::Vector3d>& coarse, int dim) {
-  Difference d;
-  double sum = 0.0, fc = 0.0, cc = 0.0, ff = 0.0;
-  for (size_t m = 0; m < fine.size(); ++m)
-    for (int c = 0; c < dim; ++c) {
-      const double e = fine[m][c] - coarse[m][c];
-      sum += e * e;
-      d.max = std::max(d.max, std::abs(e));
-      fc += fine[m][c] * coarse[m][c];
-      cc += coarse[m][c] * coarse[m][c];
-      ff += fine[m][c] * fine[m][c];
-    }
-  const double n = std::max<double>(1.0, static_cast<double>(fine.size() * dim));
-  d.rms = std::sqrt(sum / n);
-  const double projected = cc > 0.0 ? std::max(0.0, ff - fc * fc / cc) : ff;
-  d.rms_after_material = std::sqrt(projected / n);
-  return d;
-}
-
-// The finest level's own error (the Richardson tail), as in discretization_check.cpp.
-struct Tail {
-  std::vector<Eigen::Vector3d> vector;  // per marker: estimated u_K - u_exact
-  double rms = 0.0, max = 0.0;
-  double ratio = kNaN;
-  std::string how;
-};
 
 // One run of the check, as its stages (run()): the levels solved so far are setups of their own
 // (null for level 0, the case's) and their predictions at the markers at the nominal fit.
@@ -102,7 +65,7 @@ class ImmersedLadderRun {
     say("discretisation check: the case's grid (" + grid_label(domain) + ")");
     add_level(nullptr, "the case's grid (" + grid_label(domain) + ")", 0.0);
     climb();
-    estimate_against_finest();
+    rule_.estimate_against_finest(finest_, chosen_, "none: no finer grid could be solved");
     settle();
     try_intermediate();
     check_.done = true;
@@ -117,11 +80,7 @@ class ImmersedLadderRun {
   void add_level(std::unique_ptr<Setup> setup, const std::string& description, double seconds);
   bool solve_next(int level);
   bool solve_level(ImmersedLevel level, std::chrono::steady_clock::time_point start);
-  Tail tail_of(size_t finest) const;
-  std::vector<Eigen::Vector3d> estimate(size_t k, size_t finest, const Tail& tail,
-                                        DiscretizationLevel& row) const;
   void climb();
-  void estimate_against_finest();
   void settle();
   void try_intermediate();
 
@@ -134,7 +93,7 @@ class ImmersedLadderRun {
   const std::function<void(const std::string&)>& progress_;
   DiscretizationCheck& check_;
   std::vector<std::unique_ptr<Setup>> setups_;  // per level; null: the case's setup
-  std::vector<std::vector<Eigen::Vector3d>> predictions_;
+  ladder_rule::LadderRule rule_{options_, case_setup_.dim, check_};  // predictions, the rule
   size_t finest_ = 0;
   int chosen_ = -1;
 };
@@ -146,7 +105,7 @@ void ImmersedLadderRun::add_level(std::unique_ptr<Setup> setup, const std::strin
   const Setup& s = setup ? *setup : case_setup_;
   {
     const Model model = build_model(s, {}, Eigen::VectorXd());
-    predictions_.push_back(marker_predictions(s, model, theta_, markers_.size()));
+    rule_.add(marker_predictions(s, model, theta_, markers_.size()));
   }
   // The loop factorises the chosen level again; the others' factors would only hold memory.
   if (setup) setup->factorizations = make_factorization_cache();
@@ -227,96 +186,23 @@ bool ImmersedLadderRun::solve_next(int level) {
   return solve_level(std::move(*next), start);
 }
 
-Tail ImmersedLadderRun::tail_of(size_t finest) const {
-  Tail t;
-  const int dim = case_setup_.dim;
-  t.vector.assign(markers_.size(), Eigen::Vector3d::Zero());
-  if (finest == 0) return t;
-  const Difference last = difference(predictions_[finest], predictions_[finest - 1], dim);
-  double scale = 1.0;
-  t.how = "no convergence ratio: its error taken as the last difference";
-  if (finest >= 2 && static_cast<int>(finest) - 2 >= options_.ratio_from_level) {
-    const Difference before = difference(predictions_[finest - 1], predictions_[finest - 2], dim);
-    t.ratio = before.rms > 0.0 ? last.rms / before.rms : kNaN;
-    if (t.ratio > 0.0 && t.ratio < 1.0) {
-      scale = t.ratio / (1.0 - t.ratio);
-      t.how = "its error extrapolated with ratio " + format(t.ratio);
-    } else if (t.ratio >= 1.0) {
-      t.how =
-          "not converging (ratio " + format(t.ratio) + "): its error taken as the last difference";
-    }
-  }
-  for (size_t m = 0; m < markers_.size(); ++m)
-    t.vector[m] = scale * (predictions_[finest][m] - predictions_[finest - 1][m]);
-  t.rms = scale * last.rms;
-  t.max = scale * last.max;
-  return t;
-}
-
-// u_k - u_exact ~ (u_k - u_K) + tail; its size by the triangle inequality (an upper bound).
-std::vector<Eigen::Vector3d> ImmersedLadderRun::estimate(size_t k, size_t finest, const Tail& tail,
-                                                         DiscretizationLevel& row) const {
-  const Difference to_finest = difference(predictions_[finest], predictions_[k], case_setup_.dim);
-  row.error_rms = to_finest.rms + tail.rms;
-  row.error_max = to_finest.max + tail.max;
-  row.error_rms_after_material = to_finest.rms_after_material + tail.rms;
-  row.estimate = k == finest
-                     ? "finest level solved, " + tail.how
-                     : "difference to level " + std::to_string(finest) + " (" + tail.how + ")";
-  std::vector<Eigen::Vector3d> error(markers_.size());
-  for (size_t m = 0; m < markers_.size(); ++m)
-    error[m] = predictions_[k][m] - predictions_[finest][m] + tail.vector[m];
-  return error;
-}
-
 // Up the ladder until a level is chosen or the ladder ends; a level is chosen only with a
 // convergence ratio behind its estimate (two finer levels, or one whose own error is
 // extrapolated from a ratio < 1), and the finest on its extrapolated error alone when that is at
 // most half the target (the body-fitted check's rule and reasons).
 void ImmersedLadderRun::climb() {
-  constexpr double kRichardsonMargin = 0.5;
   while (chosen_ < 0 && solve_next(static_cast<int>(finest_) + 1)) {
     ++finest_;
-    const Tail tail = tail_of(finest_);
-    const bool ratio_known = tail.ratio > 0.0 && tail.ratio < 1.0;
-    const size_t candidates = ratio_known ? finest_ : finest_ - 1;
-    for (size_t k = 0; k < candidates && chosen_ < 0; ++k) {
-      DiscretizationLevel row;
-      estimate(k, finest_, tail, row);
-      if (row.error_rms <= check_.target) chosen_ = static_cast<int>(k);
-    }
-    if (chosen_ < 0 && ratio_known && tail.rms <= kRichardsonMargin * check_.target)
-      chosen_ = static_cast<int>(finest_);
-    say("discretisation check: the case's grid off by " +
-        format(difference(predictions_[finest_], predictions_[0], case_setup_.dim).rms) +
+    chosen_ = rule_.choose_after(finest_);
+    say("discretisation check: the case's grid off by " + format(rule_.case_error_rms(finest_)) +
         " m rms against level " + std::to_string(finest_) + " (noise " + format(check_.noise) +
         " m)");
   }
 }
 
-void ImmersedLadderRun::estimate_against_finest() {
-  if (finest_ == 0) {
-    check_.levels[0].estimate = "none: no finer grid could be solved";
-    return;
-  }
-  const Tail tail = tail_of(finest_);
-  for (size_t k = 0; k <= finest_; ++k) {
-    std::vector<Eigen::Vector3d> error = estimate(k, finest_, tail, check_.levels[k]);
-    if (chosen_ < 0 && k < finest_ && check_.levels[k].error_rms <= check_.target)
-      chosen_ = static_cast<int>(k);
-    if (static_cast<int>(k) == chosen_ || (chosen_ < 0 && k == finest_))
-      check_.marker_error = std::move(error);
-  }
-}
-
+// The body-fitted outcome, and when no level is within the target, what to do about it.
 void ImmersedLadderRun::settle() {
-  check_.within_target = chosen_ >= 0;
-  check_.chosen = chosen_ >= 0 ? chosen_ : static_cast<int>(finest_);
-  if (chosen_ < 0 && finest_ > 0 && check_.levels[finest_].error_rms <= check_.target) {
-    check_.within_target = true;
-    check_.note += "; the finest level's extrapolated error is in target";
-  }
-  if (check_.within_target) check_.budget_exhausted = false;
+  rule_.settle(finest_, chosen_);
   if (!check_.within_target)
     check_.note = "no background grid within the DOF budget (max_dofs " +
                   std::to_string(options_.max_dofs) + ") brings the error at the markers below " +
@@ -339,12 +225,7 @@ void ImmersedLadderRun::try_intermediate() {
       " (between levels " + std::to_string(above - 1) + " and " + std::to_string(above) + ")";
   say("discretisation check: " + between->description + ", " + std::to_string(dofs) + " DOFs");
   if (!solve_level(std::move(*between), start)) return;
-  const size_t k = check_.levels.size() - 1;
-  std::vector<Eigen::Vector3d> error = estimate(k, finest_, tail_of(finest_), check_.levels[k]);
-  if (check_.levels[k].error_rms <= check_.target) {
-    check_.chosen = static_cast<int>(k);
-    check_.marker_error = std::move(error);
-  }
+  rule_.consider_intermediate(finest_);
 }
 
 }  // namespace
