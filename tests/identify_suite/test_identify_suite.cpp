@@ -26,7 +26,7 @@ TEST_P(IdentifySuite, AddsExactlyTheHiddenEffects) {
   const identify_suite::Dataset& d = GetParam();
   const fs::path folder = fs::path(ISOSPRING_SOURCE_DIR) / "examples/identify_suite" / d.name;
   // The tissue-like datasets take ccx about 100 s of CPU each (about 460 s on the clamp-graded
-  // reference, 600 s for large deformation): the ones not generated yet say so instead of
+  // reference, 400-600 s for large deformation): the ones not generated yet say so instead of
   // failing on missing files.
   if (d.poisson_ratio > 0.0 && !fs::exists(folder / "truth.json"))
     GTEST_SKIP() << folder << " is not generated yet: bash scripts/identify_suite.sh generate "
