@@ -7,6 +7,7 @@
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <Precision.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <gp_Lin.hxx>
@@ -89,7 +90,9 @@ long SolidProbe::full_face_lines() const {
 // are ambiguous. Each side is moved onto the part by the exact distance between the side's
 // plane and the faces near it.
 void SolidProbe::tighten_box() {
-  const double slack = 1e-6 * std::max(size(), 1e-300);
+  // Faces within a few confusions of a side are candidates: the enlargement is absolute, so a
+  // slack relative to the part alone missed it on parts under 0.1 m.
+  const double slack = std::max(1e-6 * size(), 10.0 * Precision::Confusion());
   const double extent = 10.0 * size();
   for (int k = 0; k < 3; ++k)
     for (const bool upper : {false, true}) {
