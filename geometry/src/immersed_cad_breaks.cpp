@@ -7,12 +7,15 @@ namespace isospring::geometry::detail {
 
 namespace {
 
-// The first change of `signature` among the samples of [a, b] (its ends moved in by `inset`),
-// located to `resolution`; false when all samples agree.
+// The first change of `signature` among the samples and probes of [a, b] (its ends moved in by
+// `inset`), located to `resolution`; false when all samples agree.
 bool first_change(double a, double b, const std::function<int(double)>& signature,
-                  const std::vector<double>& samples, double inset, double resolution, double& at) {
+                  const std::vector<double>& samples, const std::vector<double>& probes,
+                  double inset, double resolution, double& at) {
   std::vector<double> t{a + inset};
   for (double s : samples) t.push_back(0.5 * (a + b) + 0.5 * (b - a) * s);
+  for (double p : probes)
+    if (p > a + inset && p < b - inset) t.push_back(p);
   t.push_back(b - inset);
   std::sort(t.begin(), t.end());
   int previous = signature(t.front());
@@ -35,7 +38,8 @@ bool first_change(double a, double b, const std::function<int(double)>& signatur
 std::vector<double> topology_breaks(const std::vector<double>& pieces,
                                     const std::function<int(double)>& signature,
                                     const std::vector<double>& samples, double resolution,
-                                    double margin, int max_breaks) {
+                                    double margin, const std::vector<double>& probes,
+                                    int max_breaks) {
   margin = std::max(margin, resolution);
   std::vector<double> done{pieces.front()};
   std::vector<std::pair<double, double>> unresolved;
@@ -47,7 +51,7 @@ std::vector<double> topology_breaks(const std::vector<double>& pieces,
     double at = 0.0;
     // A piece shorter than a few margins holds no change worth a break.
     if (added < max_breaks && b - a > 4.0 * margin &&
-        first_change(a, b, signature, samples, margin, resolution, at) && at > a + margin &&
+        first_change(a, b, signature, samples, probes, margin, resolution, at) && at > a + margin &&
         at < b - margin) {
       ++added;
       unresolved.emplace_back(at, b);

@@ -130,19 +130,36 @@ std::vector<SolidProbe::Event> SolidProbe::events(const Eigen::Vector3d& point, 
     if (point[a] < face_min_[f][a] || point[a] > face_max_[f][a] || point[b] < face_min_[f][b] ||
         point[b] > face_max_[f][b])
       continue;
+    const size_t first = hits_.size();
     intersectors_[f]->perform(line, w0, w1, hits_);
+    for (size_t k = first; k < hits_.size(); ++k) hits_[k].face = static_cast<int>(f);
   }
   std::sort(hits_.begin(), hits_.end(),
             [](const FaceHit& x, const FaceHit& y) { return x.w < y.w; });
   // One crossing through an edge or vertex is reported by every face that meets there.
   std::vector<Event> merged;
-  for (const FaceHit& hit : hits_) {
+  size_t group_start = 0;
+  const auto close_group = [&](size_t end) {
+    // A hit only near its face's edge that no other face reports is not a crossing through the
+    // edge: the line passes beside the face, within the tolerance of its edge, where the
+    // neighbouring face runs along the line. It counts only if it is on the face strictly.
+    if (end - group_start == 1 && hits_[group_start].near_edge) {
+      const FaceHit& hit = hits_[group_start];
+      if (intersectors_[static_cast<size_t>(hit.face)]->outside_strictly(hit.u, hit.v))
+        merged.pop_back();
+    }
+  };
+  for (size_t k = 0; k < hits_.size(); ++k) {
+    const FaceHit& hit = hits_[k];
     if (!merged.empty() && hit.w - merged.back().t <= merge_) {
       merged.back().net += hit.net;
     } else {
+      if (!merged.empty()) close_group(k);
+      group_start = k;
       merged.push_back({hit.w, hit.net});
     }
   }
+  if (!merged.empty()) close_group(hits_.size());
   return merged;
 }
 
