@@ -82,7 +82,7 @@ std::vector<double> face_probes(SolidProbe& probe, const Eigen::Vector3d& lo,
 }
 
 // The outer interval [lo[a], hi[a]] cut where the box's four edges along a (a = d + 1) cross the
-// boundary and where the topology of the cross section changes (sampled at `samples`, Gauss
+// boundary, where the solid's edges enter, leave or turn in the cross section, and where the topology of the cross section changes (sampled at `samples`, Gauss
 // abscissae on [-1, 1]): the same for every Gauss order, so found once per box.
 std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
                                  const Eigen::Vector3d& hi, int d,
@@ -97,6 +97,12 @@ std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
       p[d] = sd;
       for (double t : probe.crossings(p, a, lo[a], hi[a])) breaks.push_back(t);
     }
+  // Where the solid's edges enter or leave the cross section, end or turn back along a
+  // (immersed_cad_edges.hpp).
+  for (const int normal : {b, d})
+    for (double at : {lo[normal] + e[normal], hi[normal] - e[normal]})
+      for (double t : probe.edges().crossings(lo, hi, normal, at, a)) breaks.push_back(t);
+  for (double t : probe.edges().turning_points(lo, hi, a)) breaks.push_back(t);
   // The topology of the box's cross section at outer coordinate t (see immersed_cad_breaks.hpp):
   // how its four sides (the lines along b at d = lo, hi and along d at b = lo, hi) meet the part.
   // It changes where a section curve of the boundary has a tangent along the cross section (a
@@ -150,7 +156,7 @@ double abscissa(const nurbs::GaussRule& g, size_t k, double x0, double x1) {
 }
 
 // The middle interval at outer abscissa xa, cut where the lines along b in the box's two faces
-// normal to d cross the boundary and where the lines along d change their topology (a face
+// normal to d cross the boundary, where the solid's edges cross the section, and where the lines along d change their topology (a face
 // normal to b that reaches neither of those faces, a silhouette of the boundary along d).
 std::vector<double> middle_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
                                   const Eigen::Vector3d& hi, int d, double xa,
@@ -164,6 +170,7 @@ std::vector<double> middle_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
     p[d] = sd;
     for (double t : probe.crossings(p, b, lo[b], hi[b])) breaks.push_back(t);
   }
+  for (double t : probe.edges().crossings(lo, hi, a, xa, b)) breaks.push_back(t);
   const auto topology = [&](double t) { return line_signature(lines.at(t), lo[d], hi[d]); };
   return topology_breaks(pieces(lo[b], hi[b], breaks), topology, g.points, 1e-10 * (hi[b] - lo[b]),
                          2.0 * probe.merge_distance());

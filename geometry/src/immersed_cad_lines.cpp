@@ -32,7 +32,8 @@ gp_Pnt to_gp(const Eigen::Vector3d& x) {
 
 }  // namespace
 
-SolidProbe::SolidProbe(const CadSolid::Shape& shape) : shape_(shape), classifier_(shape.solid) {
+SolidProbe::SolidProbe(const CadSolid::Shape& shape)
+    : shape_(shape), classifier_(shape.solid), edges_(shape) {
   Bnd_Box box;
   BRepBndLib::AddOptimal(shape.solid, box, false, false);
   box_min_ = corner(box, false);
@@ -61,7 +62,8 @@ SolidProbe::SolidProbe(const SolidProbe& other)
       box_min_(other.box_min_),
       box_max_(other.box_max_),
       merge_(other.merge_),
-      classifier_(other.shape_.solid) {
+      classifier_(other.shape_.solid),
+      edges_(other.edges_) {
   make_intersectors();
 }
 
