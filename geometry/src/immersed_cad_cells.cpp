@@ -82,8 +82,9 @@ std::vector<double> face_probes(SolidProbe& probe, const Eigen::Vector3d& lo,
 }
 
 // The outer interval [lo[a], hi[a]] cut where the box's four edges along a (a = d + 1) cross the
-// boundary, where the solid's edges enter, leave or turn in the cross section, and where the topology of the cross section changes (sampled at `samples`, Gauss
-// abscissae on [-1, 1]): the same for every Gauss order, so found once per box.
+// boundary, where the solid's edges enter, leave or turn in the cross section, and where the
+// topology of the cross section changes (sampled at `samples`, Gauss abscissae on [-1, 1]): the
+// same for every Gauss order, so found once per box.
 std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
                                  const Eigen::Vector3d& hi, int d,
                                  const std::vector<double>& samples) {
@@ -156,8 +157,9 @@ double abscissa(const nurbs::GaussRule& g, size_t k, double x0, double x1) {
 }
 
 // The middle interval at outer abscissa xa, cut where the lines along b in the box's two faces
-// normal to d cross the boundary, where the solid's edges cross the section, and where the lines along d change their topology (a face
-// normal to b that reaches neither of those faces, a silhouette of the boundary along d).
+// normal to d cross the boundary, where the solid's edges cross the section, and where the lines
+// along d change their topology (a face normal to b that reaches neither of those faces, a
+// silhouette of the boundary along d).
 std::vector<double> middle_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
                                   const Eigen::Vector3d& hi, int d, double xa,
                                   const nurbs::GaussRule& g, DLines& lines) {

@@ -77,7 +77,8 @@ EdgeCrossings::EdgeCrossings(const EdgeCrossings& other) : edges_(other.edges_) 
 
 void EdgeCrossings::make_curves() {
   curves_.clear();
-  for (const Edge& edge : *edges_) curves_.push_back(std::make_unique<BRepAdaptor_Curve>(edge.edge));
+  for (const Edge& edge : *edges_)
+    curves_.push_back(std::make_unique<BRepAdaptor_Curve>(edge.edge));
 }
 
 Eigen::Vector3d EdgeCrossings::value(size_t e, double t) const {

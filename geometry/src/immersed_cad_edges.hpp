@@ -42,9 +42,9 @@ class EdgeCrossings {
  private:
   struct Edge {
     TopoDS_Edge edge;
-    std::vector<double> t;              // curve parameters of the samples
-    std::vector<Eigen::Vector3d> x;     // the samples
-    Eigen::Vector3d box_min, box_max;   // of the edge, enlarged by its sampling's chord error
+    std::vector<double> t;             // curve parameters of the samples
+    std::vector<Eigen::Vector3d> x;    // the samples
+    Eigen::Vector3d box_min, box_max;  // of the edge, enlarged by its sampling's chord error
   };
   void make_curves();
   Eigen::Vector3d value(size_t e, double t) const;
