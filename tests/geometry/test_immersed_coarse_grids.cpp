@@ -108,9 +108,9 @@ void check_folder(const fs::path& dir, int& checked, double& cpu) {
   }
 }
 
-// On demand (--gtest_also_run_disabled_tests): several hundred seconds of CPU (435 s with four
-// grids before the cut-cell fixes), more than CI should spend on it beside the every-part test
-// (the shared parts, below, run in CI). The bolt, gmsh's machined part, OCCT's screw and the
+// On demand (--gtest_also_run_disabled_tests): 430 s of CPU (the shared parts, below, 351 s),
+// more than CI should spend on it beside the every-part test; every shipped solid passes on every
+// grid. The bolt, gmsh's machined part, OCCT's screw and the
 // rounded bracket used to miss on some grids (docs/immersed.md, "Coarse grids"; the cells are
 // checked by test_immersed_cell_features.cpp).
 TEST(ImmersedCoarseGrids, DISABLED_EveryShippedPart) {
