@@ -23,9 +23,12 @@ namespace isospring::geometry::detail {
 /// `margin` of a piece's end, and the new pieces are sampled in turn, at most `max_breaks` times
 /// in all. `margin` is the distance within which a line parallel to a face is ambiguous (the
 /// crossings' merge distance): a change found there is a face on the break itself, not a sliver.
+/// `probes` are further coordinates sampled in whichever piece holds them (where the caller
+/// knows the boundary passes: a change narrower than the Gauss abscissae' spacing is found there).
 std::vector<double> topology_breaks(const std::vector<double>& pieces,
                                     const std::function<int(double)>& signature,
                                     const std::vector<double>& samples, double resolution,
-                                    double margin, int max_breaks = 16);
+                                    double margin, const std::vector<double>& probes = {},
+                                    int max_breaks = 16);
 
 }  // namespace isospring::geometry::detail

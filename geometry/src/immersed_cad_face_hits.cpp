@@ -1,6 +1,7 @@
 // A line against one trimmed face, classification by bins (immersed_cad_face_hits.hpp).
 #include "immersed_cad_face_hits.hpp"
 
+#include <BRepClass_FaceClassifier.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <BndLib_Add2dCurve.hxx>
@@ -184,9 +185,13 @@ void FaceLineIntersector::perform_full(const gp_Lin& line, double w0, double w1,
   if (!full_intersector_.IsDone()) return;
   for (int i = 1; i <= full_intersector_.NbPnt(); ++i) {
     const IntCurveSurface_TransitionOnCurve transition = full_intersector_.Transition(i);
-    hits.push_back({full_intersector_.WParameter(i), transition == IntCurveSurface_In    ? 1
-                                                     : transition == IntCurveSurface_Out ? -1
-                                                                                         : 0});
+    FaceHit hit;
+    hit.w = full_intersector_.WParameter(i);
+    hit.net = transition == IntCurveSurface_In ? 1 : transition == IntCurveSurface_Out ? -1 : 0;
+    hit.near_edge = full_intersector_.State(i) == TopAbs_ON;
+    hit.u = full_intersector_.UParameter(i);
+    hit.v = full_intersector_.VParameter(i);
+    hits.push_back(hit);
   }
 }
 
@@ -216,7 +221,7 @@ bool FaceLineIntersector::surface_hits(const gp_Lin& line, double w0, double w1)
 // test with the smallest UV tolerance of the face and its edges; if that says OUT, the test with
 // the largest, and if that says ON, ON only when an edge's 3D curve comes within the largest 3D
 // tolerance. Classifiers are built once per face (IntCurvesFace builds the second one per line).
-bool FaceLineIntersector::on_face(const SurfaceHit& hit, const gp_Lin& line) {
+TopAbs_State FaceLineIntersector::face_state(const SurfaceHit& hit, const gp_Lin& line) {
   const gp_Pnt2d uv(hit.u, hit.v);
   TopAbs_State state = tight_classifier_->Perform(uv);
   if (state == TopAbs_OUT && two_tolerances_) {
@@ -234,7 +239,21 @@ bool FaceLineIntersector::on_face(const SurfaceHit& hit, const gp_Lin& line) {
       }
     }
   }
-  return state == TopAbs_IN || state == TopAbs_ON;
+  return state;
+}
+
+bool FaceLineIntersector::outside_strictly(double u, double v) {
+  if (strict_uv_ == 0.0) {
+    const BRepAdaptor_Surface surface(face_, true);
+    double smallest = BRep_Tool::Tolerance(face_);
+    for (TopExp_Explorer e(face_, TopAbs_EDGE); e.More(); e.Next())
+      smallest = std::min(smallest, BRep_Tool::Tolerance(TopoDS::Edge(e.Current())));
+    strict_uv_ = 1e-3 * std::max(surface.UResolution(smallest), surface.VResolution(smallest));
+    if (!(strict_uv_ > 0.0)) strict_uv_ = 1e-300;
+  }
+  const TopoDS_Face forward = TopoDS::Face(face_.Oriented(TopAbs_FORWARD));
+  const BRepClass_FaceClassifier exact(forward, gp_Pnt2d(u, v), strict_uv_);
+  return exact.State() == TopAbs_OUT;
 }
 
 void FaceLineIntersector::perform(const gp_Lin& line, double w0, double w1,
@@ -243,10 +262,17 @@ void FaceLineIntersector::perform(const gp_Lin& line, double w0, double w1,
   const bool reversed = face_.Orientation() == TopAbs_REVERSED;
   for (const SurfaceHit& point : surface_hits_) {
     const Bin state = bin_state(point.u, point.v);
-    if (state == Bin::kOut || (state == Bin::kBoundary && !on_face(point, line))) continue;
-    int net = point.cosine < 0.0 ? 1 : point.cosine > 0.0 ? -1 : 0;
-    if (reversed) net = -net;
-    hits.push_back({point.w, net});
+    if (state == Bin::kOut) continue;
+    const TopAbs_State exact = state == Bin::kBoundary ? face_state(point, line) : TopAbs_IN;
+    if (exact != TopAbs_IN && exact != TopAbs_ON) continue;
+    FaceHit hit;
+    hit.w = point.w;
+    hit.net = point.cosine < 0.0 ? 1 : point.cosine > 0.0 ? -1 : 0;
+    if (reversed) hit.net = -hit.net;
+    hit.near_edge = exact == TopAbs_ON;
+    hit.u = point.u;
+    hit.v = point.v;
+    hits.push_back(hit);
   }
   ++fast_;
 }

@@ -37,6 +37,12 @@ namespace isospring::geometry::detail {
 struct FaceHit {
   double w = 0.0;  // line parameter
   int net = 0;     // +1 the line enters the solid, -1 it leaves, 0 a touch (tangent)
+  // On the face only within the edges' tolerance (the classifier said ON, not IN): such a hit
+  // is a crossing through an edge when another face reports it too, else see
+  // FaceLineIntersector::outside_strictly.
+  bool near_edge = false;
+  double u = 0.0, v = 0.0;  // on the face's surface
+  int face = 0;             // set by the caller
 };
 
 class FaceLineIntersector {
@@ -47,6 +53,13 @@ class FaceLineIntersector {
   /// Appends the hits of `line` with the face with parameter in [w0, w1] (IntCurvesFace's
   /// points whose classification is IN or ON, with the transition seen from the solid).
   void perform(const gp_Lin& line, double w0, double w1, std::vector<FaceHit>& hits);
+
+  /// Is a near-edge hit at (u, v) outside the face's trimmed region by more than 1e-3 of the
+  /// edges' tolerance (OpenCascade's exact face classifier)? A line that runs beside a face
+  /// parallel to it (a cylinder's wall along the line) meets only the neighbouring face near
+  /// their edge; counted on that face within the tolerance, all such lines would add a band as
+  /// wide as the tolerance to the part (on the CAx-IF bolt's head, 1e-7 m along its rim).
+  bool outside_strictly(double u, double v);
 
   /// Lines answered without IntCurvesFace's classification so far, and lines sent to it.
   long fast_lines() const { return fast_; }
@@ -62,7 +75,7 @@ class FaceLineIntersector {
   Bin bin_state(double u, double v);
   void perform_full(const gp_Lin& line, double w0, double w1, std::vector<FaceHit>& hits);
   bool surface_hits(const gp_Lin& line, double w0, double w1);
-  bool on_face(const SurfaceHit& hit, const gp_Lin& line);
+  TopAbs_State face_state(const SurfaceHit& hit, const gp_Lin& line);
 
   TopoDS_Face face_;
   IntCurvesFace_Intersector full_intersector_;
@@ -80,6 +93,7 @@ class FaceLineIntersector {
   std::vector<std::uint16_t> region_;  // per bin: 0 on a trimming curve, else its free region
   std::vector<Bin> region_state_;      // per region (index 0 unused)
   long fast_ = 0, full_ = 0;
+  double strict_uv_ = 0.0;  // the strict test's UV tolerance (1e-3 of the smallest edge's)
 };
 
 }  // namespace isospring::geometry::detail

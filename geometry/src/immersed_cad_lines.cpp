@@ -7,6 +7,7 @@
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <Precision.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <gp_Lin.hxx>
@@ -31,7 +32,8 @@ gp_Pnt to_gp(const Eigen::Vector3d& x) {
 
 }  // namespace
 
-SolidProbe::SolidProbe(const CadSolid::Shape& shape) : shape_(shape), classifier_(shape.solid) {
+SolidProbe::SolidProbe(const CadSolid::Shape& shape)
+    : shape_(shape), classifier_(shape.solid), edges_(shape) {
   Bnd_Box box;
   BRepBndLib::AddOptimal(shape.solid, box, false, false);
   box_min_ = corner(box, false);
@@ -60,7 +62,8 @@ SolidProbe::SolidProbe(const SolidProbe& other)
       box_min_(other.box_min_),
       box_max_(other.box_max_),
       merge_(other.merge_),
-      classifier_(other.shape_.solid) {
+      classifier_(other.shape_.solid),
+      edges_(other.edges_) {
   make_intersectors();
 }
 
@@ -89,7 +92,9 @@ long SolidProbe::full_face_lines() const {
 // are ambiguous. Each side is moved onto the part by the exact distance between the side's
 // plane and the faces near it.
 void SolidProbe::tighten_box() {
-  const double slack = 1e-6 * std::max(size(), 1e-300);
+  // Faces within a few confusions of a side are candidates: the enlargement is absolute, so a
+  // slack relative to the part alone missed it on parts under 0.1 m.
+  const double slack = std::max(1e-6 * size(), 10.0 * Precision::Confusion());
   const double extent = 10.0 * size();
   for (int k = 0; k < 3; ++k)
     for (const bool upper : {false, true}) {
@@ -127,19 +132,36 @@ std::vector<SolidProbe::Event> SolidProbe::events(const Eigen::Vector3d& point, 
     if (point[a] < face_min_[f][a] || point[a] > face_max_[f][a] || point[b] < face_min_[f][b] ||
         point[b] > face_max_[f][b])
       continue;
+    const size_t first = hits_.size();
     intersectors_[f]->perform(line, w0, w1, hits_);
+    for (size_t k = first; k < hits_.size(); ++k) hits_[k].face = static_cast<int>(f);
   }
   std::sort(hits_.begin(), hits_.end(),
             [](const FaceHit& x, const FaceHit& y) { return x.w < y.w; });
   // One crossing through an edge or vertex is reported by every face that meets there.
   std::vector<Event> merged;
-  for (const FaceHit& hit : hits_) {
+  size_t group_start = 0;
+  const auto close_group = [&](size_t end) {
+    // A hit only near its face's edge that no other face reports is not a crossing through the
+    // edge: the line passes beside the face, within the tolerance of its edge, where the
+    // neighbouring face runs along the line. It counts only if it is on the face strictly.
+    if (end - group_start == 1 && hits_[group_start].near_edge) {
+      const FaceHit& hit = hits_[group_start];
+      if (intersectors_[static_cast<size_t>(hit.face)]->outside_strictly(hit.u, hit.v))
+        merged.pop_back();
+    }
+  };
+  for (size_t k = 0; k < hits_.size(); ++k) {
+    const FaceHit& hit = hits_[k];
     if (!merged.empty() && hit.w - merged.back().t <= merge_) {
       merged.back().net += hit.net;
     } else {
+      if (!merged.empty()) close_group(k);
+      group_start = k;
       merged.push_back({hit.w, hit.net});
     }
   }
+  if (!merged.empty()) close_group(hits_.size());
   return merged;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cad_solid_shape.hpp"
+#include "immersed_cad_edges.hpp"
 #include "immersed_cad_face_bounds.hpp"
 #include "immersed_cad_face_hits.hpp"
 
@@ -44,6 +45,9 @@ class SolidProbe {
   /// hulls meet it, as OpenCascade's distance to such a face can miss its interior;
   /// conservative.)
   bool near_boundary(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
+  /// Where the solid's edges cross boxes and planes (this probe's own evaluators).
+  EdgeCrossings& edges() { return edges_; }
 
   /// Is the point inside the solid (OpenCascade's classifier)?
   bool contains(const Eigen::Vector3d& point);
@@ -79,6 +83,7 @@ class SolidProbe {
   Eigen::Vector3d box_min_, box_max_;                 // of the solid (exact, optimal)
   double merge_ = 0.0;  // crossings closer than this along a line are one
   BRepClass3d_SolidClassifier classifier_;
+  EdgeCrossings edges_;
   long lines_ = 0, classified_ = 0, distances_ = 0;
   std::vector<FaceHit> hits_;  // of the current line (kept to reuse its memory)
 };

@@ -5,8 +5,8 @@
 // checked too; a file with several solids is checked body by body; ../shared is skipped with a
 // message when it is absent.
 //
-// The default grid (10 cells along the longest side): on coarser grids the cut-cell quadrature
-// missed 1e-6 on some closed parts (docs/immersed.md, "Every part, and shells that do not close").
+// The default grid (10 cells along the longest side); coarse grids and moved parts are
+// test_immersed_coarse_grids.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -71,12 +71,7 @@ void check_folder(const fs::path& dir, int& checked) {
     for (size_t body = 0; body < solids.size(); ++body) {
       const std::string label = fs::relative(file, dir.parent_path()).string() +
                                 (solids.size() > 1 ? ", solid " + std::to_string(body) : "");
-      Errors e = check(solids[body], label);
-      // An open defect, not a property of the file: the CAx-IF bolt's shell closes to 5e-8 of
-      // its area (bound on the volume's ambiguity 3.5e-7), yet the cells' volume and centroid
-      // are 1.7e-6 off OpenCascade's on the default grid (area 3e-12). Cause not found; checked
-      // at 3e-6 so that it cannot get worse unnoticed.
-      if (label == "parts/caxif_bolt.stp") e.tolerance = 3e-6;
+      const Errors e = check(solids[body], label);
       EXPECT_LT(e.volume, e.tolerance) << label;
       EXPECT_LT(e.area, 1e-6) << label;
       EXPECT_LT(e.centroid, e.tolerance) << label;
