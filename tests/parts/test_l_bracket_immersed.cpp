@@ -52,7 +52,8 @@ struct Grid {
   std::string label;
   // Graded: cells of `smallest` (m) at the re-entrant edge's planes x = 10 and y = 10 mm and at
   // the clamped face's outline (x = 0, 10, y = 60, z = 0, 100 mm), growing by `ratio`; the part's
-  // planar faces' coordinates are kept as cell boundaries, so that only the holes cut cells.
+  // planar faces' coordinates are kept as cell boundaries, so that every planar face lies on a grid
+  // plane.
   double smallest = 0;
   double ratio = 1.5;
   std::string towards =
