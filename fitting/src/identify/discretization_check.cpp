@@ -289,24 +289,10 @@ bool LadderRun::solve_next(int level) {
   }
   check_level(*next, description);
   const int dofs = analysis::DofMap(*next).num_dofs();
-  if (dofs > options_.max_dofs && level == 1)
-    // Without one finer level there is no estimate at all, and nothing to widen the F-tests
-    // by: running on would silently treat the case as converged.
-    throw nurbs::InputError(
-        "the DOF budget (max_dofs " + std::to_string(options_.max_dofs) +
-        ") allows no refinement of the case: its first refinement (" + description + ") has " +
-        std::to_string(dofs) +
-        " DOFs, so its discretisation error cannot be estimated; raise max_dofs "
-        "(measurements.max_dofs or --max-dofs) to at least " +
-        std::to_string(dofs) +
-        ", or turn the check off (measurements.discretization_check false or "
-        "--no-discretization-check) if the case is known to be converged");
-  if (dofs > options_.max_dofs) {
-    check_.budget_exhausted = true;
-    check_.note = "the next level (" + description + ", " + std::to_string(dofs) +
-                  " DOFs) exceeds the DOF budget of " + std::to_string(options_.max_dofs);
+  if (!rule_.within_budget(level, dofs, description,
+                           {"no refinement of the case: its first refinement", "its",
+                            "the case is known to be converged"}))
     return false;
-  }
   say("discretisation check: level " + std::to_string(level) + " (" + description + ", " +
       std::to_string(dofs) + " DOFs)");
   solve(std::move(*next), description);

@@ -12,7 +12,6 @@
 
 #include "identify/immersed_setup.hpp"
 #include "identify/ladder_rule.hpp"
-#include "isospring/nurbs/error.hpp"
 
 namespace isospring::fitting {
 
@@ -165,22 +164,10 @@ bool ImmersedLadderRun::solve_next(int level) {
     dofs = active_dofs(next->domain);
     description = next->description;
   }
-  if (dofs > options_.max_dofs && level == 1)
-    throw nurbs::InputError(
-        "the DOF budget (max_dofs " + std::to_string(options_.max_dofs) +
-        ") allows no finer background grid: the first (" + description + ") has " +
-        std::to_string(dofs) +
-        " DOFs, so the grid's discretisation error cannot be estimated; raise max_dofs "
-        "(measurements.max_dofs or --max-dofs) to at least " +
-        std::to_string(dofs) +
-        ", or turn the check off (measurements.discretization_check false or "
-        "--no-discretization-check) if the grid is known to be fine enough");
-  if (dofs > options_.max_dofs) {
-    check_.budget_exhausted = true;
-    check_.note = "the next level (" + description + ", " + std::to_string(dofs) +
-                  " DOFs) exceeds the DOF budget of " + std::to_string(options_.max_dofs);
+  if (!rule_.within_budget(level, dofs, description,
+                           {"no finer background grid: the first", "the grid's",
+                            "the grid is known to be fine enough"}))
     return false;
-  }
   say("discretisation check: level " + std::to_string(level) + " (" + description + ", " +
       std::to_string(dofs) + " DOFs)");
   return solve_level(std::move(*next), start);

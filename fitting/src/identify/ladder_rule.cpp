@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "isospring/nurbs/error.hpp"
+
 namespace isospring::fitting::ladder_rule {
 
 namespace {
@@ -129,6 +131,25 @@ void LadderRule::settle(size_t finest, int chosen) {
     check_.note += "; the finest level's extrapolated error is in target";
   }
   if (check_.within_target) check_.budget_exhausted = false;  // the budget did not matter
+}
+
+bool LadderRule::within_budget(int level, long dofs, const std::string& description,
+                               const BudgetWording& wording) {
+  if (dofs <= options_.max_dofs) return true;
+  if (level == 1)
+    throw nurbs::InputError("the DOF budget (max_dofs " + std::to_string(options_.max_dofs) +
+                            ") allows " + wording.first + " (" + description + ") has " +
+                            std::to_string(dofs) + " DOFs, so " + wording.whose +
+                            " discretisation error cannot be estimated; raise max_dofs "
+                            "(measurements.max_dofs or --max-dofs) to at least " +
+                            std::to_string(dofs) +
+                            ", or turn the check off (measurements.discretization_check false or "
+                            "--no-discretization-check) if " +
+                            wording.fine_when);
+  check_.budget_exhausted = true;
+  check_.note = "the next level (" + description + ", " + std::to_string(dofs) +
+                " DOFs) exceeds the DOF budget of " + std::to_string(options_.max_dofs);
+  return false;
 }
 
 void LadderRule::consider_intermediate(size_t finest) {

@@ -65,6 +65,19 @@ class LadderRule {
   /// The outcome: the chosen level (the finest when none met the target), within target or not.
   void settle(size_t finest, int chosen);
 
+  /// How a ladder names its first refinement in the budget's error: e.g. "no refinement of the
+  /// case: its first refinement", "its", "the case is known to be converged".
+  struct BudgetWording {
+    std::string first, whose, fine_when;
+  };
+
+  /// Whether ladder level `level` with `dofs` DOFs fits DiscretizationOptions::max_dofs. Beyond
+  /// it the check notes so and the ladder stops; for level 1 it is an input error, since without
+  /// one finer level there is no estimate at all, and nothing to widen the F-tests by: running on
+  /// would silently treat the case as converged.
+  bool within_budget(int level, long dofs, const std::string& description,
+                     const BudgetWording& wording);
+
   /// A level just added between the chosen one and the one before it: it replaces the chosen
   /// level when it is within the target too.
   void consider_intermediate(size_t finest);
