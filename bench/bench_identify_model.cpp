@@ -9,6 +9,8 @@
 //   Venant-Kirchhoff, every element's dense products) on 1 and 2 threads; the colours keep the
 //   sums in one order, so both give the same matrix;
 // - SvkForce: the internal force alone, what a chord (modified Newton) step assembles;
+// - SvkAssembly/dim/degree/tangent: the same assemblies at the size of the score test on the
+//   tissue-like datasets (8,019 DOFs in 3D), and in 2D and at degree 2, on one thread;
 // - ForwardModelJacobianSolves: an evaluation with its Jacobian without a factorisation (the
 //   solves and right-hand sides of a graded model under three load cases);
 // - StiffnessAssembly/threads: analysis::assemble_stiffness of the box on 1 and 2 threads;
@@ -214,6 +216,56 @@ void BM_SvkForce(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_SvkForce)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The score test's size in `isospring identify` on the tissue-like datasets: a 0.1 x 0.02 x
+// 0.02 m cantilever, degree 3, 30 x 6 x 6 elements (8,019 DOFs); in 2D (plane strain) the same
+// length and height with 120 x 24 elements. Args: dimension, degree, tangent (1) or force only
+// (0); one thread, CPU time per assembly (the solve of the Newton step is not included).
+analysis::Problem svk_size_problem(int dim, int degree) {
+  analysis::Problem problem;
+  problem.material = {1e9, 0.45, 7800, 1.0};
+  if (dim == 3) {
+    problem.formulation = analysis::Formulation::kSolid;
+    problem.patches.push_back(
+        nurbs::k_refine(geometry::box(0.1, 0.02, 0.02)[0], {degree, degree, degree}, {30, 6, 6}));
+  } else {
+    problem.formulation = analysis::Formulation::kPlaneStrain;
+    problem.patches.push_back(
+        nurbs::k_refine(geometry::rectangle(0.1, 0.02)[0], {degree, degree}, {120, 24}));
+  }
+  return problem;
+}
+
+void BM_SvkAssembly(benchmark::State& state) {
+  const analysis::Problem problem =
+      svk_size_problem(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const analysis::DofMap dofs(problem);
+  analysis::SvkAssembler assembler(problem, dofs);
+  assembler.set_threads(1);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(dofs.num_dofs());
+  const auto& points = problem.patches[0].control_points();
+  for (size_t a = 0; a < points.size(); ++a) {  // bending, 1 % of the length at the tip
+    const double s = points[a].x() / 0.1;
+    u[dofs.dof(0, static_cast<int>(a), 1)] = 1e-3 * s * s;
+  }
+  Eigen::SparseMatrix<double> tangent;
+  for (auto _ : state) {
+    const Eigen::VectorXd r =
+        assembler.internal_force(u, {2.2e9, 3.4e8}, state.range(2) ? &tangent : nullptr);
+    benchmark::DoNotOptimize(r.data());
+  }
+  state.counters["dofs"] = dofs.num_dofs();
+}
+BENCHMARK(BM_SvkAssembly)
+    ->Args({3, 3, 1})
+    ->Args({3, 3, 0})
+    ->Args({3, 2, 1})
+    ->Args({3, 2, 0})
+    ->Args({2, 3, 1})
+    ->Args({2, 3, 0})
+    ->Args({2, 2, 1})
+    ->Args({2, 2, 0})
+    ->Unit(benchmark::kMillisecond);
 
 // The box on springs at its clamped side (the side released, springs k exp(t1) there): theta =
 // (E / E_prior, log spring scale). `cache`: the factorisation cache the model solves with.

@@ -103,10 +103,18 @@ AssemblyStructure::AssemblyStructure(const Problem& problem, const DofMap& dofs,
 }
 
 Eigen::SparseMatrix<double> AssemblyStructure::empty_matrix() const {
+  Eigen::SparseMatrix<double> matrix;
+  empty_matrix(matrix);
+  return matrix;
+}
+
+void AssemblyStructure::empty_matrix(Eigen::SparseMatrix<double>& matrix) const {
   const int d = dofs_per_node;
   const int n = num_nodes * d;
   // Column (B, j) holds rows (A, 0..d-1) for the coupled nodes A < B, then (B, 0..j).
-  Eigen::SparseMatrix<double> matrix(n, n);
+  // resize and resizeNonZeros keep the matrix's allocation when it is large enough.
+  matrix.resize(n, n);
+  matrix.makeCompressed();
   long long nnz = 0;
   for (int b = 0; b < num_nodes; ++b) {
     const long long coupled =
@@ -127,7 +135,6 @@ Eigen::SparseMatrix<double> AssemblyStructure::empty_matrix() const {
     }
   outer[n] = at;
   std::fill(matrix.valuePtr(), matrix.valuePtr() + nnz, 0.0);
-  return matrix;
 }
 
 void AssemblyStructure::scatter(int element, const Eigen::MatrixXd& local,

@@ -38,6 +38,9 @@ struct AssemblyStructure {
 
   /// An empty upper-triangular DOF matrix with the structure's pattern.
   Eigen::SparseMatrix<double> empty_matrix() const;
+  /// The same in `matrix`, reusing its storage when it is large enough (a matrix assembled again
+  /// at every Newton iteration then touches no fresh memory).
+  void empty_matrix(Eigen::SparseMatrix<double>& matrix) const;
   /// Adds the local matrix (local DOF a * dofs_per_node + i) of element e into `matrix`
   /// (from empty_matrix()); only entries with global row <= column are used.
   void scatter(int element, const Eigen::MatrixXd& local,

@@ -2,6 +2,8 @@
 // stepping.
 #include "isospring/analysis/nonlinear_elasticity.hpp"
 
+#include <omp.h>
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -9,11 +11,11 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
 #include "assembly_structure.hpp"
-#include "dense_products.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/neo_hookean.hpp"
@@ -21,15 +23,54 @@
 #include "isospring/analysis/thread_scope.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "reduced_system.hpp"
+#include "svk_element.hpp"
 
 namespace isospring::analysis {
 
+namespace {
+
+// The element gradients are kept across calls (the reference geometry never changes) while they
+// take at most this much memory: 106 MB for the 8,019-DOF score test of `isospring identify`
+// (degree 3, 1,080 elements of 64 points).
+constexpr double kGradientCacheBytes = 256e6;
+
+double gradient_bytes(const detail::AssemblyStructure& s, int dim) {
+  double bytes = 0.0;
+  for (const auto& element : s.elements) {
+    const auto& quadrature = s.quadratures[static_cast<size_t>(element.patch)];
+    bytes += 8.0 * quadrature.points_per_element() * (dim * quadrature.basis_count() + 1);
+  }
+  return bytes;
+}
+
+}  // namespace
+
 struct SvkAssembler::Impl {
   Impl(const Problem& problem, const DofMap& dofs)
-      : structure(problem, dofs), dim(dofs.dofs_per_node()), thickness(thickness_factor(problem)) {}
+      : structure(problem, dofs),
+        dim(dofs.dofs_per_node()),
+        thickness(thickness_factor(problem)),
+        cache_gradients(gradient_bytes(structure, dim) <= kGradientCacheBytes) {}
+  // Every element's gradients, evaluated at the first call (an inverted parametrisation throws
+  // there, as without the cache; the next call tries again).
+  void fill_gradients(int threads) {
+    std::call_once(gradients_filled, [&] {
+      gradients.resize(structure.elements.size());
+      detail::for_each_element_by_colour<detail::QuadraturePoint>(
+          structure, threads, false, [&](int e, detail::QuadraturePoint& point) {
+            const auto& element = structure.elements[static_cast<size_t>(e)];
+            detail::element_gradients(structure.quadratures[static_cast<size_t>(element.patch)],
+                                      element.patch, element.index, dim, thickness, point,
+                                      gradients[static_cast<size_t>(e)]);
+          });
+    });
+  }
   detail::AssemblyStructure structure;
   int dim;
   double thickness;
+  bool cache_gradients;
+  std::once_flag gradients_filled;
+  std::vector<detail::ElementGradients> gradients;
 };
 
 SvkAssembler::SvkAssembler(const Problem& problem, const DofMap& dofs)
@@ -42,104 +83,6 @@ SvkAssembler::SvkAssembler(const Problem& problem, const DofMap& dofs)
 }
 
 SvkAssembler::~SvkAssembler() = default;
-
-namespace {
-
-using detail::product_transpose;
-
-// Element forces of unit lambda (S = tr(E) I) and unit mu (S = 2 E), each n * Dim, and, when
-// `tangent` is set, the element tangent for `lame`. The tangent's four terms are sums over the
-// quadrature points of outer products; they are formed as matrix products over all points at
-// once (columns of point q side by side), several times faster than scalar loops in 3D.
-template <int Dim>
-void element_svk(const detail::PatchQuadrature& quadrature, int patch, int element,
-                 const int* element_nodes, const Eigen::VectorXd& u, const LameParameters& lame,
-                 double thickness, detail::QuadraturePoint& point, Eigen::VectorXd& force_lambda,
-                 Eigen::VectorXd& force_mu, Eigen::MatrixXd* tangent) {
-  using Mat = Eigen::Matrix<double, Dim, Dim>;
-  const int n = quadrature.basis_count();
-  const int nq = quadrature.points_per_element();
-  constexpr int kPairs = Dim * (Dim + 1) / 2;  // (i, k) with i <= k
-  thread_local Eigen::MatrixXd g, ue, all, geometric;
-  thread_local std::array<Eigen::MatrixXd, Dim> mapped, mapped_weighted;  // g_a,c = (F G_a)_c
-  thread_local std::array<Eigen::MatrixXd, kPairs> metric;                // blocks w (F F^T)_ik G
-  g.resize(n, Dim);
-  ue.resize(n, Dim);  // element displacements, row a = u_a
-  for (int a = 0; a < n; ++a)
-    for (int c = 0; c < Dim; ++c) ue(a, c) = u[element_nodes[a] * Dim + c];
-  force_lambda.setZero(n * Dim);
-  force_mu.setZero(n * Dim);
-  if (tangent) {
-    all.resize(n, nq * Dim);
-    geometric.resize(n, nq * Dim);
-    for (int c = 0; c < Dim; ++c) {
-      mapped[static_cast<size_t>(c)].resize(n, nq);
-      mapped_weighted[static_cast<size_t>(c)].resize(n, nq);
-    }
-    for (auto& m : metric) m.resize(n, nq * Dim);
-  }
-  for (int q = 0; q < nq; ++q) {
-    quadrature.evaluate(element, q, point);
-    const double det = detail::physical_gradients(point, Dim, patch, element, g);
-    const double w = point.weight * det * thickness;
-    // F_ij = delta_ij + sum_a u_a,i G_a,j.
-    const Mat F = Mat::Identity() + ue.transpose().lazyProduct(g);
-    const Mat E = 0.5 * (F.transpose() * F - Mat::Identity());
-    // r_a = P G_a with P = F S: row a of g P^T.
-    const Eigen::Matrix<double, Eigen::Dynamic, Dim> rl =
-        g.lazyProduct((E.trace() * F).transpose());
-    const Eigen::Matrix<double, Eigen::Dynamic, Dim> rm = g.lazyProduct((2.0 * F * E).transpose());
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < Dim; ++i) {
-        force_lambda[a * Dim + i] += w * rl(a, i);
-        force_mu[a * Dim + i] += w * rm(a, i);
-      }
-    if (!tangent) continue;
-    const Mat S = lame.lambda * E.trace() * Mat::Identity() + 2.0 * lame.mu * E;
-    const Mat C = F * F.transpose();
-    const Eigen::Matrix<double, Eigen::Dynamic, Dim> gF = g.lazyProduct(F.transpose());
-    for (int c = 0; c < Dim; ++c) {
-      mapped[static_cast<size_t>(c)].col(q) = gF.col(c);
-      mapped_weighted[static_cast<size_t>(c)].col(q) = w * gF.col(c);
-    }
-    all.middleCols(q * Dim, Dim) = g;
-    geometric.middleCols(q * Dim, Dim) = w * g.lazyProduct(S);
-    int pair = 0;
-    for (int i = 0; i < Dim; ++i)
-      for (int k = i; k < Dim; ++k, ++pair)
-        metric[static_cast<size_t>(pair)].middleCols(q * Dim, Dim) = (w * C(i, k)) * g;
-  }
-  if (!tangent) return;
-  // K_(a,i),(b,k) = lambda M_ik(a,b) + mu M_ki(a,b) + mu Q_ik(a,b) + delta_ik Z(a,b) with
-  // M_ik = sum_q w g_.,i g_.,k^T, Q_ik = sum_q w C_ik G G^T, Z = sum_q w G S G^T.
-  thread_local Eigen::MatrixXd z;
-  thread_local std::array<Eigen::MatrixXd, Dim * Dim> m;
-  thread_local std::array<Eigen::MatrixXd, kPairs> qm;
-  product_transpose(geometric, all, z);
-  // M_ki = M_ik^T: only the products with i <= k are formed.
-  for (int i = 0; i < Dim; ++i)
-    for (int k = i; k < Dim; ++k)
-      product_transpose(mapped_weighted[static_cast<size_t>(i)], mapped[static_cast<size_t>(k)],
-                        m[static_cast<size_t>(i * Dim + k)]);
-  for (int pair = 0; pair < kPairs; ++pair)
-    product_transpose(metric[static_cast<size_t>(pair)], all, qm[static_cast<size_t>(pair)]);
-  tangent->resize(n * Dim, n * Dim);
-  int pair = 0;
-  for (int i = 0; i < Dim; ++i)
-    for (int k = i; k < Dim; ++k, ++pair) {
-      const Eigen::MatrixXd& mik = m[static_cast<size_t>(i * Dim + k)];
-      const Eigen::MatrixXd& qik = qm[static_cast<size_t>(pair)];
-      for (int b = 0; b < n; ++b)
-        for (int a = 0; a < n; ++a) {
-          double v = lame.lambda * mik(a, b) + lame.mu * (mik(b, a) + qik(a, b));
-          if (i == k) v += z(a, b);
-          (*tangent)(a * Dim + i, b * Dim + k) = v;
-          (*tangent)(b * Dim + k, a * Dim + i) = v;
-        }
-    }
-}
-
-}  // namespace
 
 Eigen::VectorXd SvkAssembler::internal_force(const Eigen::VectorXd& u, const LameParameters& lame,
                                              Eigen::SparseMatrix<double>* tangent) const {
@@ -158,12 +101,20 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
                                 ", expected " + std::to_string(num_dofs_));
   force_lambda.setZero(num_dofs_);
   force_mu.setZero(num_dofs_);
-  if (tangent) *tangent = s.empty_matrix();
+  if (impl_->cache_gradients) impl_->fill_gradients(threads_);
+  if (tangent) s.empty_matrix(*tangent);
   // Colours in parallel by the rule of the linear assembly (detail::colour_in_parallel): one
   // tangent of a degree-3 solid element is ~14 Mflop. The forces alone are light work: on two
   // threads they took 24 ms against 22 (bench_identify_model, BM_SvkForce, 192 elements).
   struct Scratch {
+    // Constructed on each thread of the element loop: the element kernel's Eigen products run on
+    // that thread (omp_set_num_threads sets the nthreads-var of the current task only, which ends
+    // with the loop's parallel region).
+    Scratch() { omp_set_num_threads(1); }
     detail::QuadraturePoint point;
+    detail::ElementGradients gradients;
+    detail::SvkElementScratch kernel;
+    Eigen::MatrixXd displacements;
     Eigen::VectorXd local_lambda, local_mu;
     Eigen::MatrixXd local_tangent;
   };
@@ -172,14 +123,22 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
         const auto& element = s.elements[static_cast<size_t>(e)];
         const auto& quadrature = s.quadratures[static_cast<size_t>(element.patch)];
         const int* nodes = s.nodes.data() + s.node_offset[static_cast<size_t>(e)];
+        const int n = quadrature.basis_count();
+        if (!impl_->cache_gradients)
+          detail::element_gradients(quadrature, element.patch, element.index, dim, impl_->thickness,
+                                    scratch.point, scratch.gradients);
+        const detail::ElementGradients& gradients =
+            impl_->cache_gradients ? impl_->gradients[static_cast<size_t>(e)] : scratch.gradients;
+        scratch.displacements.resize(n, dim);
+        for (int a = 0; a < n; ++a)
+          for (int c = 0; c < dim; ++c) scratch.displacements(a, c) = u[nodes[a] * dim + c];
         Eigen::MatrixXd* lt = tangent ? &scratch.local_tangent : nullptr;
         if (dim == 2)
-          element_svk<2>(quadrature, element.patch, element.index, nodes, u, lame, impl_->thickness,
-                         scratch.point, scratch.local_lambda, scratch.local_mu, lt);
+          detail::svk_element<2>(gradients, scratch.displacements, lame, scratch.local_lambda,
+                                 scratch.local_mu, lt, scratch.kernel);
         else
-          element_svk<3>(quadrature, element.patch, element.index, nodes, u, lame, impl_->thickness,
-                         scratch.point, scratch.local_lambda, scratch.local_mu, lt);
-        const int n = quadrature.basis_count();
+          detail::svk_element<3>(gradients, scratch.displacements, lame, scratch.local_lambda,
+                                 scratch.local_mu, lt, scratch.kernel);
         for (int a = 0; a < n; ++a)
           for (int i = 0; i < dim; ++i) {
             force_lambda[nodes[a] * dim + i] += scratch.local_lambda[a * dim + i];
