@@ -44,7 +44,7 @@ void forces_and_states(const ElementGradients& element, const Eigen::MatrixXd& d
   Eigen::Matrix<double, Eigen::Dynamic, Dim> rm =
       Eigen::Matrix<double, Eigen::Dynamic, Dim>::Zero(n, Dim);
   for (Eigen::Index q = 0; q < nq; ++q) {
-    const auto g = gradients.middleCols(q * Dim, Dim);
+    const auto g = gradients.template middleCols<Dim>(q * Dim);
     const double w = element.weights[q];
     const Mat F = Mat::Identity() + displacements.transpose().lazyProduct(g);
     const Mat E = 0.5 * (F.transpose() * F - Mat::Identity());
@@ -61,15 +61,15 @@ void forces_and_states(const ElementGradients& element, const Eigen::MatrixXd& d
   Eigen::Map<Eigen::Matrix<double, Dim, Eigen::Dynamic>>(force_mu.data(), Dim, n) = rm.transpose();
 }
 
-// scratch.weighted = [G_q T_ik(q)]_q with T_ik = w (lambda f_i f_k^T + mu f_k f_i^T +
+// Rows [row, row + n) of `out` = [G_q T_ik(q)]_q with T_ik = w (lambda f_i f_k^T + mu f_k f_i^T +
 // mu (F F^T)_ik I + delta_ik S).
 template <int Dim>
 void weighted_gradients(const ElementGradients& element, const LameParameters& lame, int i, int k,
-                        SvkElementScratch& scratch) {
+                        const SvkElementScratch& scratch, Eigen::MatrixXd& out, Eigen::Index row) {
   using Mat = Eigen::Matrix<double, Dim, Dim>;
   using Vec = Eigen::Matrix<double, Dim, 1>;
+  const Eigen::Index n = element.gradients.rows();
   const Eigen::Index nq = element.weights.size();
-  scratch.weighted.resize(element.gradients.rows(), Dim * nq);
   for (Eigen::Index q = 0; q < nq; ++q) {
     const Mat F = scratch.deformation.template middleCols<Dim>(q * Dim);
     const Vec fi = F.row(i).transpose();
@@ -78,8 +78,8 @@ void weighted_gradients(const ElementGradients& element, const LameParameters& l
     t.diagonal().array() += lame.mu * fi.dot(fk);
     if (i == k) t += scratch.stress.template middleCols<Dim>(q * Dim);
     t *= element.weights[q];
-    scratch.weighted.middleCols(q * Dim, Dim).noalias() =
-        element.gradients.middleCols(q * Dim, Dim).lazyProduct(t);
+    out.block(row, q * Dim, n, Dim).noalias() =
+        element.gradients.template middleCols<Dim>(q * Dim).lazyProduct(t);
   }
 }
 
@@ -93,33 +93,45 @@ void svk_element(const ElementGradients& element, const Eigen::MatrixXd& displac
   if (!tangent) return;
   const Eigen::MatrixXd& gradients = element.gradients;
   const Eigen::Index n = gradients.rows();
-  // Blocks (i, k) with i <= k: the diagonal ones as lower triangles, the others whole (block
-  // (k, i) is their transpose). The caller runs this with nthreads-var 1 (SvkAssembler's element
-  // loop): Eigen would otherwise start its own OpenMP team for products of this size when the
-  // element loop runs serially.
-  for (int i = 0; i < Dim; ++i)
-    for (int k = i; k < Dim; ++k) {
-      weighted_gradients<Dim>(element, lame, i, k, scratch);
-      Eigen::MatrixXd& ik = scratch.blocks[static_cast<size_t>(i * Dim + k)];
-      ik.resize(n, n);
-      if (i == k)
-        ik.triangularView<Eigen::Lower>() = scratch.weighted * gradients.transpose();
-      else
-        ik.noalias() = scratch.weighted * gradients.transpose();
-    }
-  // K_(a,i),(b,k) = block(i, k)(a, b) = K_(b,k),(a,i): the diagonal blocks' lower triangles
-  // fill both of their triangles, the others their own and the mirrored block.
+  // The diagonal blocks (i, i) as lower triangles; the off-diagonal ones (i < k) whole, from one
+  // product of their weighted gradients stacked (G is packed once for all of them); block (k, i)
+  // is the transpose of block (i, k). The caller runs this with nthreads-var 1 (SvkAssembler's
+  // element loop): Eigen would otherwise start its own OpenMP team for products of this size
+  // when the element loop runs serially.
+  constexpr int kOffDiagonal = Dim * (Dim - 1) / 2;
+  const Eigen::Index columns = gradients.cols();
+  scratch.weighted.resize(n, columns);
+  for (int i = 0; i < Dim; ++i) {
+    weighted_gradients<Dim>(element, lame, i, i, scratch, scratch.weighted, 0);
+    Eigen::MatrixXd& ii = scratch.diagonal[static_cast<size_t>(i)];
+    ii.resize(n, n);
+    ii.triangularView<Eigen::Lower>() = scratch.weighted * gradients.transpose();
+  }
+  scratch.stacked.resize(kOffDiagonal * n, columns);
+  for (int i = 0, pair = 0; i < Dim; ++i)
+    for (int k = i + 1; k < Dim; ++k, ++pair)
+      weighted_gradients<Dim>(element, lame, i, k, scratch, scratch.stacked, pair * n);
+  scratch.off_diagonal.resize(kOffDiagonal * n, n);
+  scratch.off_diagonal.noalias() = scratch.stacked * gradients.transpose();
+  // K_(a,i),(b,k) = block(i, k)(a, b) = K_(b,k),(a,i).
   tangent->resize(n * Dim, n * Dim);
-  for (int i = 0; i < Dim; ++i)
-    for (int k = i; k < Dim; ++k) {
-      const Eigen::MatrixXd& block = scratch.blocks[static_cast<size_t>(i * Dim + k)];
+  for (int i = 0; i < Dim; ++i) {
+    const Eigen::MatrixXd& block = scratch.diagonal[static_cast<size_t>(i)];
+    for (Eigen::Index b = 0; b < n; ++b)
+      for (Eigen::Index a = b; a < n; ++a) {
+        const double v = block(a, b);
+        (*tangent)(a * Dim + i, b * Dim + i) = v;
+        (*tangent)(b * Dim + i, a * Dim + i) = v;
+      }
+  }
+  for (int i = 0, pair = 0; i < Dim; ++i)
+    for (int k = i + 1; k < Dim; ++k, ++pair)
       for (Eigen::Index b = 0; b < n; ++b)
-        for (Eigen::Index a = i == k ? b : 0; a < n; ++a) {
-          const double v = block(a, b);
+        for (Eigen::Index a = 0; a < n; ++a) {
+          const double v = scratch.off_diagonal(pair * n + a, b);
           (*tangent)(a * Dim + i, b * Dim + k) = v;
           (*tangent)(b * Dim + k, a * Dim + i) = v;
         }
-    }
 }
 
 template void svk_element<2>(const ElementGradients&, const Eigen::MatrixXd&, const LameParameters&,
