@@ -78,7 +78,7 @@ void weighted_gradients(const ElementGradients& element, const LameParameters& l
     t.diagonal().array() += lame.mu * fi.dot(fk);
     if (i == k) t += scratch.stress.template middleCols<Dim>(q * Dim);
     t *= element.weights[q];
-    out.block(row, q * Dim, n, Dim).noalias() =
+    out.template middleCols<Dim>(q * Dim).middleRows(row, n).noalias() =
         element.gradients.template middleCols<Dim>(q * Dim).lazyProduct(t);
   }
 }
@@ -113,25 +113,24 @@ void svk_element(const ElementGradients& element, const Eigen::MatrixXd& displac
       weighted_gradients<Dim>(element, lame, i, k, scratch, scratch.stacked, pair * n);
   scratch.off_diagonal.resize(kOffDiagonal * n, n);
   scratch.off_diagonal.noalias() = scratch.stacked * gradients.transpose();
-  // K_(a,i),(b,k) = block(i, k)(a, b) = K_(b,k),(a,i).
-  tangent->resize(n * Dim, n * Dim);
+  // K_(a,i),(b,k) = block(i, k)(a, b) = K_(b,k),(a,i): block (i, k) is the strided view of the
+  // tangent at rows i, i + Dim, ... and columns k, k + Dim, ....
+  const Eigen::Index size = n * Dim;
+  tangent->resize(size, size);
+  using Strided = Eigen::Map<Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
+  const Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic> stride(Dim * size, Dim);
   for (int i = 0; i < Dim; ++i) {
-    const Eigen::MatrixXd& block = scratch.diagonal[static_cast<size_t>(i)];
-    for (Eigen::Index b = 0; b < n; ++b)
-      for (Eigen::Index a = b; a < n; ++a) {
-        const double v = block(a, b);
-        (*tangent)(a * Dim + i, b * Dim + i) = v;
-        (*tangent)(b * Dim + i, a * Dim + i) = v;
-      }
+    Strided view(tangent->data() + i + i * size, n, n, stride);
+    view.triangularView<Eigen::Lower>() = scratch.diagonal[static_cast<size_t>(i)];
+    view.triangularView<Eigen::StrictlyUpper>() =
+        scratch.diagonal[static_cast<size_t>(i)].transpose();
   }
   for (int i = 0, pair = 0; i < Dim; ++i)
-    for (int k = i + 1; k < Dim; ++k, ++pair)
-      for (Eigen::Index b = 0; b < n; ++b)
-        for (Eigen::Index a = 0; a < n; ++a) {
-          const double v = scratch.off_diagonal(pair * n + a, b);
-          (*tangent)(a * Dim + i, b * Dim + k) = v;
-          (*tangent)(b * Dim + k, a * Dim + i) = v;
-        }
+    for (int k = i + 1; k < Dim; ++k, ++pair) {
+      const auto block = scratch.off_diagonal.middleRows(pair * n, n);
+      Strided(tangent->data() + i + k * size, n, n, stride) = block;
+      Strided(tangent->data() + k + i * size, n, n, stride) = block.transpose();
+    }
 }
 
 template void svk_element<2>(const ElementGradients&, const Eigen::MatrixXd&, const LameParameters&,

@@ -30,7 +30,10 @@
 namespace isospring::analysis {
 
 /// SVK internal force and consistent tangent of a problem's patches. Builds the element structure
-/// once; each call is one pass over the elements (parallel over the element colouring).
+/// once; each call is one pass over the elements (parallel over the element colouring). The
+/// elements' basis gradients are evaluated at the first call and kept while they take at most
+/// 256 MB (degree 3 in 3D: 98 KB per element, 106 MB at 8,019 DOFs); a tangent passed in again
+/// is refilled in its own storage.
 class SvkAssembler {
  public:
   SvkAssembler(const Problem& problem, const DofMap& dofs);
