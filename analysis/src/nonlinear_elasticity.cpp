@@ -104,7 +104,7 @@ void SvkAssembler::internal_force_parts(const Eigen::VectorXd& u, Eigen::VectorX
   if (impl_->cache_gradients) impl_->fill_gradients(threads_);
   if (tangent) s.empty_matrix(*tangent);
   // Colours in parallel by the rule of the linear assembly (detail::colour_in_parallel): one
-  // tangent of a degree-3 solid element is ~14 Mflop. The forces alone are light work: on two
+  // tangent of a degree-3 solid element is ~7 Mflop. The forces alone are light work: on two
   // threads they took 24 ms against 22 (bench_identify_model, BM_SvkForce, 192 elements).
   struct Scratch {
     // Constructed on each thread of the element loop: the element kernel's Eigen products run on
