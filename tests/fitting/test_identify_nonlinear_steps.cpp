@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
 
 #include "isospring/analysis/assembly.hpp"
@@ -159,16 +160,17 @@ TEST(IdentifyNonlinearSteps, ATrialFromTheLastEquilibriumFailsWithoutTheLadder) 
   EXPECT_NEAR(model->evaluate(on(2.0), false).predictions[0][0], std::asinh(2.0), 1e-9);
 }
 
-// The residual f - k u - (r(u) - k u) with k = 1e10 and r(u) = u + u^3 = f = 3: the two terms
-// are 1e10 x the load, so the computed residual cannot fall below about 1e10 x 1.1e-16 = 1e-6,
-// far above 1e-10 of the load. Newton must stop at that rounding floor as converged (within
-// 1e-14 of |k u|), not spend its iterations and load steps on it; the solution is then as exact
-// as the floor allows (|r| <= 1e-14 x 1.2e10, u to within that over the tangent 5.4: 2.3e-5).
+// The residual f - k u - (r(u) - k u) with k = 1e10 and r(u) = u + u^3 = f = pi: the two terms
+// are 1e10 x the load, so the computed residual is a multiple of their rounding step (2^-19 at
+// 1.2e10, 1.9e-6), and pi is 6.3e-7 from the nearest multiple: it can never reach 1e-10 of the
+// load, nor 0. Newton must stop at that rounding floor as converged (within 1e-14 of |k u|), not
+// spend its iterations and load steps on it; the solution is then as exact as the floor allows
+// (|r| <= 1e-14 x 1.2e10, u to within that over the tangent 5.4: 2.3e-5).
 TEST(IdentifyNonlinearSteps, ForcesFarAboveTheLoadConvergeAtTheirRoundingFloor) {
   const auto counts = std::make_shared<Counts>();
-  const double k = 1e10, load = 3.0;
-  const double exact = std::cbrt(1.5 + std::sqrt(2.25 + 1.0 / 27)) +
-                       std::cbrt(1.5 - std::sqrt(2.25 + 1.0 / 27));  // u + u^3 = 3 (Cardano)
+  const double k = 1e10, load = std::numbers::pi;
+  const double q = load / 2, d = std::sqrt(q * q + 1.0 / 27);
+  const double exact = std::cbrt(q + d) + std::cbrt(q - d);  // u + u^3 = load (Cardano)
   ASSERT_NEAR(cubic(exact), load, 1e-12);
   const double u =
       one_dof(cubic, cubic_tangent, counts, k)->evaluate(on(load), false).predictions[0][0];
