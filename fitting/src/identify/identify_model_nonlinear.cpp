@@ -64,7 +64,7 @@ constexpr double kMarkerTolerance = 1e-6;
 // A model's first solve on another model's tangent (NonlinearEvaluation::chords_from_start):
 // Anderson mixing over the last 5 chord increments, at most 20 steps, given up after 3 steps
 // without a smaller increment. Measured on the suite's cantilever_frame_gravity_nu049 (8,019
-// DOFs): 9-13 residual evaluations per load case to the force tolerance, about 0.12 s each
+// DOFs): 10-15 residual evaluations per load case to the force tolerance, about 0.12 s each
 // against 2 s for a tangent's assembly and factorisation.
 constexpr int kAndersonDepth = 5;
 constexpr int kMaxStartChords = 20;
