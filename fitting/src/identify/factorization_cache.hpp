@@ -6,6 +6,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -67,6 +68,10 @@ struct FactorizationCache {
   std::vector<Eigen::VectorXd> linear_starts;  // the linear solutions at the same parameters
   std::vector<std::shared_ptr<analysis::TangentSolver>> tangents;
   std::vector<std::vector<int>> tangent_free_dofs;  // the free DOFs each tangent was made for
+  // Load-case solves that started on another model's tangent (Anderson-accelerated chord steps
+  // from its solution), and those of them that converged there without a tangent of their own:
+  // what tests and profiles read. Load cases run concurrently, hence atomic.
+  std::atomic<long> kept_tangent_starts{0}, kept_tangent_converged{0};
 
   // Factorises `kff` (numerically only when its pattern is the analysed one); false when it is
   // not positive definite.
