@@ -184,7 +184,11 @@ def mesh_part(step, h, clamp_face, part, level=0):
     # (h / h_m)^edge_power, so that their error, which falls only like h^(2 lambda) under a fixed
     # grading, falls about as fast as the smooth part's.
     edge_size = h / edge_refine * (h / part["h_m"]) ** part.get("edge_power", 0)
-    refine_near(1, edges, edge_size, 3 * h)
+    # `edge_distance` (default 3): the distance, in units of h, over which the edges' elements
+    # grow to h. A short one keeps a fine grading at the edges affordable (element size about
+    # edge_size + r / edge_distance at distance r), which nested meshes, whose grading refinement
+    # does not sharpen, need where the edges' singularity dominates the error.
+    refine_near(1, edges, edge_size, part.get("edge_distance", 3) * h)
     smallest = gmsh.model.mesh.field.add("Min")
     gmsh.model.mesh.field.setNumbers(smallest, "FieldsList", [f for f, _ in fields])
     gmsh.model.mesh.field.setAsBackgroundMesh(smallest)
@@ -518,6 +522,7 @@ def converge(part, folder, earlier=(), on_mesh=None):
 PROBLEM_KEYS = ("file", "clamp_face", "gravity", "material", "h_m", "curvature", "edge_refine",
                 "clamp_refine", "edge_power", "refine", "refine_concave", "straight_midside",
                 "high_order_optimize", "nested")
+OPTIONAL_PROBLEM_KEYS = ("edge_distance",)
 
 
 def main():
@@ -535,6 +540,8 @@ def main():
         if chosen and part["name"] not in chosen:
             continue
         problem = {k: part.get(k) for k in PROBLEM_KEYS}
+        # Options added later join the problem only where set, so that older histories resume.
+        problem.update({k: part[k] for k in OPTIONAL_PROBLEM_KEYS if k in part})
 
         def record(runs, converged=False, part=part, problem=problem):
             results[part["name"]] = summary(part, problem, runs, converged)

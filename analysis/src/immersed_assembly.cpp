@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "immersed_bbar.hpp"
 #include "immersed_kernels.hpp"
 #include "immersed_pattern.hpp"
 #include "isospring/nurbs/error.hpp"
@@ -78,7 +79,9 @@ void cell_stiffness(const ImmersedContext& context, size_t c, std::vector<int>& 
     WG.row(q) = (cell.weights[static_cast<size_t>(q)] * context.thickness) * G.row(q);
   }
   const Eigen::MatrixXd A = G.transpose() * WG;
-  const double lambda = context.lame.lambda, mu = context.lame.mu;
+  const bool bbar = context.options->volumetric == Volumetric::kBbar;
+  const LameParameters lame = bbar ? bbar_deviatoric_lame(context.lame) : context.lame;
+  const double lambda = lame.lambda, mu = lame.mu;
   local.resize(count * dim, count * dim);
   for (int b = 0; b < count; ++b)
     for (int a = 0; a < count; ++a) {
@@ -90,6 +93,11 @@ void cell_stiffness(const ImmersedContext& context, size_t c, std::vector<int>& 
                                             mu * A(j * count + a, i * count + b) +
                                             (i == j ? mu * laplace : 0.0);
     }
+  if (bbar) {
+    double volume = 0.0;
+    for (double w : cell.weights) volume += w * context.thickness;
+    add_mean_dilatation(context, WG, volume, local);
+  }
   context.basis.control_points(e, cps);
 }
 
@@ -128,6 +136,10 @@ void check_options(const geometry::ImmersedDomain& domain, const ImmersedOptions
          " domain needs formulation " +
          (domain.dimension == 2 ? "plane stress or plane strain" : "solid"));
   check_material(options.material, options.formulation);
+  if (options.volumetric == Volumetric::kBbar && options.formulation == Formulation::kPlaneStress)
+    fail(
+        "immersed analysis: volumetric bbar needs a solid or plane strain (plane stress does not "
+        "lock); use the displacement formulation");
   const auto check_face = [&](int face, const std::string& what) {
     if (face < 0 || face >= domain.face_count)
       fail("immersed analysis: " + what + " face " + std::to_string(face) +

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "immersed_bbar.hpp"
 #include "immersed_kernels.hpp"
 #include "isospring/nurbs/error.hpp"
 #include "isospring/nurbs/quadrature.hpp"
@@ -220,6 +221,10 @@ double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter,
     std::vector<PointOperators> supported;
     Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
     Eigen::MatrixXd boundary = Eigen::MatrixXd::Zero(n, n);
+    // Under B-bar the supports' traction is B-bar's stress (immersed_bbar.hpp).
+    const bool bbar = context.options->volumetric == Volumetric::kBbar;
+    const Eigen::RowVectorXd mean_divergence =
+        bbar ? cell_mean_divergence(context, static_cast<size_t>(cell)) : Eigen::RowVectorXd();
     for (const FaceTerm& term : terms) {
       const auto& b = domain.boundary[term.point];
       context.basis.evaluate(e, b.point, at);
@@ -231,7 +236,9 @@ double add_face_terms(const ImmersedContext& context, ImmersedScatter& scatter,
         continue;
       }
       const Eigen::MatrixXd T =
-          normal_operator(b.normal, dim) * context.elasticity * strain_operator(at.gradients, dim);
+          bbar ? bbar_traction_operator(context, b.normal, at.gradients, mean_divergence)
+               : normal_operator(b.normal, dim) * context.elasticity *
+                     strain_operator(at.gradients, dim);
       const Eigen::MatrixXd P = held(*term.support, b.normal, dim);
       if (!loads_only) boundary.noalias() += w * T.transpose() * P * T;
       supported.push_back({N, T, P, w});

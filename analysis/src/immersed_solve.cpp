@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "immersed_basis.hpp"
+#include "immersed_bbar.hpp"
 #include "immersed_kernels.hpp"
 #include "isospring/analysis/block_cg.hpp"
 #include "isospring/analysis/elasticity.hpp"
@@ -125,7 +126,9 @@ ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
     for (int c = 0; c < system.dim; ++c)
       result.control_displacements[cp][c] = u[static_cast<Eigen::Index>(node) * system.dim + c];
   }
-  result.strain_energy = strain_energy(domain, result, options);
+  result.strain_energy = options.volumetric == Volumetric::kBbar
+                             ? detail::bbar_strain_energy(domain, result, options)
+                             : strain_energy(domain, result, options);
   return result;
 }
 

@@ -74,6 +74,9 @@ Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vec
   options.material.youngs_modulus = part.at("material").at("E").get<double>();
   options.material.poisson_ratio = part.at("material").at("nu").get<double>();
   options.material.density = part.at("material").at("density").get<double>();
+  // "volumetric": "bbar" for nearly incompressible parts (mean-dilatation B-bar).
+  if (grid.value("volumetric", std::string()) == "bbar")
+    options.volumetric = analysis::Volumetric::kBbar;
   analysis::ImmersedSupport clamp;
   clamp.face = part.at("clamp_face").get<int>();
   clamp.fixed = {true, true, true};

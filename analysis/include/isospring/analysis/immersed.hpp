@@ -79,6 +79,10 @@ struct ImmersedOptions {
   double nitsche_factor = 4.0;   // beta_K = nitsche_factor * C_K (see above), > 2
   double ghost_penalty = 0.01;   // gamma; 0 switches the stabilisation off
   double ghost_fraction = 0.02;  // penalise the faces of cut cells with less of the part than this
+  /// kBbar: the volumetric strain is its mean over each cell's part (mean-dilatation B-bar,
+  /// analysis/src/immersed_bbar.hpp), for nearly incompressible parts at p = 2; solids and plane
+  /// strain. The strain energy is then B-bar's; immersed_stress stays the displacement's.
+  Volumetric volumetric = Volumetric::kDisplacement;
   SolverOptions::Method method = SolverOptions::Method::kCholesky;  // kAuto: choose_solver
   double cg_tolerance = 1e-10;
 };
