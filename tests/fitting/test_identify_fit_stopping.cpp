@@ -1,5 +1,5 @@
 // The measured-data loop's fits: the stopping rule on the absolute RSS decrease (in units of the
-// noise variance, fit_stopping.hpp) and the hold-out refits that start from the final model's
+// residual variance, fit_stopping.hpp) and the hold-out refits that start from the final model's
 // factor. Uses the loop's private stages (fitting/src/identify).
 #include <gtest/gtest.h>
 
@@ -21,17 +21,21 @@ using testing::add_noise;
 using testing::grid_markers;
 using testing::plate_problem;
 
-ceres::IterationSummary step(int iteration, bool successful, double rss_decrease) {
+// An iteration with RSS `rss` after a step that lowered it by `rss_decrease`.
+ceres::IterationSummary step(int iteration, bool successful, double rss_decrease,
+                             double rss = 100.0) {
   ceres::IterationSummary summary;
   summary.iteration = iteration;
   summary.step_is_successful = successful;
-  summary.cost_change = 0.5 * rss_decrease;  // Ceres' cost is half the RSS
+  summary.cost = 0.5 * rss;  // Ceres' cost is half the RSS
+  summary.cost_change = 0.5 * rss_decrease;
   return summary;
 }
 
+// 100 rows of unit noise (RSS 100 on 100 degrees of freedom): s^2 = 1, the limit 1e-3.
 TEST(FitStopping, EndsOnlyWhenTheDecreaseAndItsPredictionAreBothNegligible) {
   FitProgress progress;
-  NegligibleDecreaseStop stop(1e-3, progress);
+  NegligibleDecreaseStop stop(1e-3, 100, progress);
   progress.predicted_reduction = 0.9e-3;
   EXPECT_EQ(stop(step(4, true, 1.1e-3)), ceres::SOLVER_CONTINUE);  // the step still gained
   EXPECT_FALSE(progress.stopped);
@@ -45,8 +49,20 @@ TEST(FitStopping, EndsOnlyWhenTheDecreaseAndItsPredictionAreBothNegligible) {
   EXPECT_TRUE(progress.stopped);
   FitProgress off_progress;
   off_progress.predicted_reduction = 0.0;
-  NegligibleDecreaseStop off(0.0, off_progress);  // the rule switched off
+  NegligibleDecreaseStop off(0.0, 100, off_progress);  // the rule switched off
   EXPECT_EQ(off(step(4, true, 0.0)), ceres::SOLVER_CONTINUE);
+  NegligibleDecreaseStop no_dof(1e-3, 0, off_progress);  // as many parameters as rows
+  EXPECT_EQ(no_dof(step(4, true, 0.0)), ceres::SOLVER_CONTINUE);
+}
+
+// The limit scales with the residual variance: with RSS 50,000 on 100 degrees of freedom (a
+// model missing effects, s^2 = 500) a decrease of 0.4 noise variances is negligible, 0.6 not.
+TEST(FitStopping, LimitIsInUnitsOfTheResidualVariance) {
+  FitProgress progress;
+  NegligibleDecreaseStop stop(1e-3, 100, progress);
+  progress.predicted_reduction = 0.4;
+  EXPECT_EQ(stop(step(4, true, 0.6, 5e4)), ceres::SOLVER_CONTINUE);
+  EXPECT_EQ(stop(step(4, true, 0.4, 5e4)), ceres::SOLVER_TERMINATE_SUCCESSFULLY);
 }
 
 // |P_J r|^2 against a residual built with a known projection: r = J c + e with e orthogonal to

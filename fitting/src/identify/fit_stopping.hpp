@@ -1,22 +1,25 @@
 #pragma once
 // The stopping rule of the measured-data loop's fits on the absolute decrease of the weighted RSS.
 //
-// Every fit of the loop weights its residuals by 1 / sigma, so its RSS is in units of the noise
-// variance and its Gauss-Newton covariance is (J^T J)^-1. A fit whose last accepted step lowered
-// the RSS by less than `negligible_rss` and whose full Gauss-Newton step from the new point
-// predicts less than that again (|P_J r|^2, the projection of the residual on the Jacobian's
-// columns) has nothing left that any decision of the loop could see:
-//  - the F statistics, (RSS_0 - RSS_1 - allowance) / d1 / (RSS_1 / d2) with RSS_1 / d2 near 1,
-//    move by about negligible_rss / d1, and BIC's n ln(RSS_1 / RSS_0) by about negligible_rss,
-//    while under the null hypothesis the reduction a candidate's d1 parameters buy is chi^2(d1)
-//    distributed, with a standard deviation sqrt(2 d1) >= 1.4 (the statistic's own resolution);
+// Every fit of the loop weights its residuals by 1 / sigma, and its tests read RSS differences in
+// units of the residual variance s^2 = RSS / (rows - parameters): the F statistic is
+// (RSS_0 - RSS_1 - allowance) / d1 / s^2, the standard errors of a candidate's parameters are
+// scaled by s, BIC's n ln(RSS_1 / RSS_0) moves by about (RSS_1 - RSS_0) / s^2. s^2 is near 1
+// once the model explains the data and far above it while effects are missing (a round-1
+// candidate fitted on a residual 500 times the noise variance). A fit whose last accepted step
+// lowered the RSS by less than `negligible` s^2 and whose full Gauss-Newton step from the new
+// point predicts less than that again (|P_J r|^2, the projection of the residual on the
+// Jacobian's columns) has nothing left that a decision of the loop could see:
+//  - the F statistics move by about negligible / d1 and BIC by about negligible, while under the
+//    null hypothesis the reduction a candidate's d1 parameters buy is s^2 chi^2(d1), with a
+//    standard deviation of sqrt(2 d1) >= 1.4 s^2 (the statistic's own resolution);
 //  - the predicted reduction is delta^T J^T J delta for the step delta to the linearised optimum,
-//    the square of its length in standard errors: 1e-3 leaves the parameters within
+//    s^2 times the square of its length in standard errors: 1e-3 leaves the parameters within
 //    sqrt(1e-3) = 0.032 standard errors (jointly) of where the fit would end.
-// Ceres' own rule is relative (function_tolerance 1e-10 of the cost): with thousands of rows it
-// keeps walking along a flat valley, where every evaluation factorises K once the stiffness has
-// parameters beyond E (a stiffness gradient the data do not contain took 11 iterations, the last
-// six each gaining less than 1e-4 of the cost).
+// Ceres' own rule is relative (function_tolerance 1e-10 of the cost, which is (rows / 2) s^2):
+// it ends a fit on a trial step (a factorisation once the stiffness has parameters beyond E)
+// whose decrease is 1e-10 n / 2 s^2, so that with thousands of rows it keeps walking along a
+// flat valley long after the decreases stopped mattering.
 #include <ceres/iteration_callback.h>
 
 #include <Eigen/Core>
@@ -24,7 +27,7 @@
 
 namespace isospring::fitting::identify_loop {
 
-// The loop's threshold, in units of the noise variance (see above).
+// The loop's threshold, in units of the residual variance (see above).
 inline constexpr double kNegligibleRss = 1e-3;
 
 // The RSS reduction of the full Gauss-Newton step for the weighted Jacobian `jacobian` and the
@@ -42,18 +45,20 @@ struct FitProgress {
 };
 
 // Ends a fit (successfully) after an accepted step that lowered the RSS by less than
-// `negligible_rss` when the Gauss-Newton prediction from the new point is below it too; never
-// at iteration 0 (no step yet) nor after a rejected step. negligible_rss <= 0: never.
+// `negligible` s^2 when the Gauss-Newton prediction from the new point is below it too, where
+// s^2 = RSS / `degrees_of_freedom` at the new point; never at iteration 0 (no step yet) nor
+// after a rejected step. negligible <= 0 or no degrees of freedom: never.
 class NegligibleDecreaseStop : public ceres::IterationCallback {
  public:
-  NegligibleDecreaseStop(double negligible_rss, FitProgress& progress)
-      : negligible_rss_(negligible_rss), progress_(progress) {}
+  NegligibleDecreaseStop(double negligible, int degrees_of_freedom, FitProgress& progress)
+      : negligible_(negligible), degrees_of_freedom_(degrees_of_freedom), progress_(progress) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-    if (!(negligible_rss_ > 0.0) || summary.iteration == 0 || !summary.step_is_successful)
+    if (!(negligible_ > 0.0) || degrees_of_freedom_ <= 0 || summary.iteration == 0 ||
+        !summary.step_is_successful)
       return ceres::SOLVER_CONTINUE;
     // Ceres' cost is half the RSS.
-    if (2.0 * summary.cost_change < negligible_rss_ &&
-        progress_.predicted_reduction < negligible_rss_) {
+    const double limit = negligible_ * 2.0 * summary.cost / degrees_of_freedom_;
+    if (2.0 * summary.cost_change < limit && progress_.predicted_reduction < limit) {
       progress_.stopped = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
@@ -61,7 +66,8 @@ class NegligibleDecreaseStop : public ceres::IterationCallback {
   }
 
  private:
-  double negligible_rss_;
+  double negligible_;
+  int degrees_of_freedom_;
   FitProgress& progress_;
 };
 

@@ -286,9 +286,12 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   options.gradient_tolerance = 1e-14;
   options.parameter_tolerance = 1e-10;
   options.logging_type = ceres::SILENT;
-  // Ceres' tolerances are relative; the rule that usually ends a fit is on the RSS decrease in
-  // units of the noise variance (fit_stopping.hpp).
-  NegligibleDecreaseStop stop(setup.negligible_rss, progress);
+  // Ceres' tolerances are relative to the cost; the rule that usually ends a fit is on the RSS
+  // decrease in units of the residual variance (fit_stopping.hpp).
+  int weighted_rows = 0;
+  for (const auto& w : weights) weighted_rows += static_cast<int>((w.array() > 0.0).count());
+  NegligibleDecreaseStop stop(setup.negligible_rss,
+                              weighted_rows - static_cast<int>(fit.theta.size()), progress);
   options.callbacks.push_back(&stop);
   // No line search along a step projected onto the bounds: it evaluates the Jacobian at every
   // trial point (a Newton tangent and its factorisation per load case for the large-deformation
@@ -323,7 +326,7 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   ceres::Solve(options, &problem, &summary);
   fit.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
   fit.message = progress.stopped ? "the RSS decrease and its Gauss-Newton prediction fell below " +
-                                       std::to_string(setup.negligible_rss) + " noise variances"
+                                       std::to_string(setup.negligible_rss) + " residual variances"
                                  : summary.message;
   fit.stopped_negligible = progress.stopped;
   fit.iterations = static_cast<int>(summary.iterations.size()) - 1;

@@ -70,7 +70,7 @@ struct Setup {
   // The last K_ff factorisation, shared by every model of the loop (identify_model.hpp).
   std::shared_ptr<FactorizationCache> factorizations = make_factorization_cache();
   // A fit ends once a step and its Gauss-Newton prediction gain less RSS than this, in units of
-  // the noise variance (fit_stopping.hpp); 0: only Ceres' relative tolerances end fits.
+  // the residual variance (fit_stopping.hpp); 0: only Ceres' relative tolerances end fits.
   double negligible_rss = kNegligibleRss;
 };
 
