@@ -2,6 +2,7 @@
 // effects, the weighted least-squares fit and the residuals at the markers (loop_state.hpp).
 #include <ceres/ceres.h>
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "identify/fit_stopping.hpp"
 #include "identify/loop_state.hpp"
 #include "isospring/analysis/assembly.hpp"
 #include "isospring/analysis/validation.hpp"
@@ -50,8 +52,8 @@ Coefficient lame_coefficient(bool lambda, analysis::Formulation formulation, dou
 class DataCost : public ceres::CostFunction {
  public:
   DataCost(const ForwardModel& model, const std::vector<Eigen::VectorXd>& measured,
-           const std::vector<Eigen::VectorXd>& weights)
-      : model_(model), measured_(measured), weights_(weights) {
+           const std::vector<Eigen::VectorXd>& weights, FitProgress& progress)
+      : model_(model), measured_(measured), weights_(weights), progress_(progress) {
     int rows = 0;
     for (const auto& m : measured) rows += static_cast<int>(m.size());
     set_num_residuals(rows);
@@ -77,6 +79,13 @@ class DataCost : public ceres::CostFunction {
         if (with_jacobian)
           for (int j = 0; j < p; ++j) jacobians[0][row * p + j] = -w * eval.jacobians[l](k, j);
       }
+    if (with_jacobian) {
+      // The residual is measured minus predicted, so the step's Jacobian is -J_ceres.
+      using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+      progress_.predicted_reduction =
+          gauss_newton_reduction(-Eigen::Map<const RowMajor>(jacobians[0], num_residuals(), p),
+                                 Eigen::Map<const Eigen::VectorXd>(residuals, num_residuals()));
+    }
     return true;
   }
 
@@ -84,6 +93,7 @@ class DataCost : public ceres::CostFunction {
   const ForwardModel& model_;
   const std::vector<Eigen::VectorXd>& measured_;
   const std::vector<Eigen::VectorXd>& weights_;
+  FitProgress& progress_;
 };
 
 Eigen::Index setup_rows(const std::vector<Eigen::VectorXd>& weights) {
@@ -93,6 +103,17 @@ Eigen::Index setup_rows(const std::vector<Eigen::VectorXd>& weights) {
 }
 
 }  // namespace
+
+double gauss_newton_reduction(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual) {
+  Eigen::MatrixXd scaled = jacobian;
+  for (Eigen::Index j = 0; j < scaled.cols(); ++j) {
+    const double norm = scaled.col(j).norm();
+    if (norm > 0.0) scaled.col(j) /= norm;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(scaled);
+  const Eigen::VectorXd qtr = qr.householderQ().adjoint() * residual;
+  return qtr.head(qr.rank()).squaredNorm();
+}
 
 // `cache`: the factorisation cache the model solves with; null: the loop's (setup.factorizations).
 Model build_model(const Setup& setup, const std::vector<const Effect*>& effects,
@@ -240,7 +261,8 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  problem.AddResidualBlock(new DataCost(*model.forward, setup.measured, weights), nullptr,
+  FitProgress progress;
+  problem.AddResidualBlock(new DataCost(*model.forward, setup.measured, weights, progress), nullptr,
                            fit.theta.data());
   problem.SetParameterLowerBound(fit.theta.data(), 0, 1e-3);
   if (setup.material_parameters > 1) {
@@ -264,6 +286,13 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   options.gradient_tolerance = 1e-14;
   options.parameter_tolerance = 1e-10;
   options.logging_type = ceres::SILENT;
+  // Ceres' tolerances are relative to the cost; the rule that usually ends a fit is on the RSS
+  // decrease in units of the residual variance (fit_stopping.hpp).
+  int weighted_rows = 0;
+  for (const auto& w : weights) weighted_rows += static_cast<int>((w.array() > 0.0).count());
+  NegligibleDecreaseStop stop(setup.negligible_rss,
+                              weighted_rows - static_cast<int>(fit.theta.size()), progress);
+  options.callbacks.push_back(&stop);
   // No line search along a step projected onto the bounds: it evaluates the Jacobian at every
   // trial point (a Newton tangent and its factorisation per load case for the large-deformation
   // candidate, then again at the accepted point), and the bounds here are only guards of the
@@ -293,9 +322,14 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
     ceres::Solve(options, &problem, &summary);
     problem.SetManifold(fit.theta.data(), nullptr);
   }
+  progress.stopped = false;
   ceres::Solve(options, &problem, &summary);
   fit.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
-  fit.message = summary.message;
+  fit.message = progress.stopped ? "the RSS decrease and its Gauss-Newton prediction fell below " +
+                                       std::to_string(setup.negligible_rss) + " residual variances"
+                                 : summary.message;
+  fit.stopped_negligible = progress.stopped;
+  fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
   fit.rss = 2.0 * summary.final_cost;
   for (const auto& w : weights) fit.rows += static_cast<int>((w.array() > 0.0).count());
   if (fit.ok && covariance) *covariance = fit_covariance(model, fit.theta, weights);

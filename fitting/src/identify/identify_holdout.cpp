@@ -7,6 +7,7 @@
 #include <mutex>
 #include <new>
 #include <optional>
+#include <stdexcept>
 
 #include "identify/loop_state.hpp"
 
@@ -137,6 +138,21 @@ std::optional<LoadCaseHoldout> case_fold(const Folds& folds, size_t l) {
 
 }  // namespace
 
+// The loop's cache holding the factor of the final model's K at its fitted parameters, which
+// every fold copies: each fold refits the final model from those parameters, so its first
+// evaluation solves without factorising, and a refit from there usually takes 1-3 steps under
+// the fold's weights. Usually the cache holds that factor already (the final fit's covariance
+// was the last evaluation) and this costs one solve per load case with it.
+void factor_final_model(const Selection& selection) {
+  if (!selection.current.forward || selection.current.forward->nonlinear()) return;
+  try {
+    (void)selection.current.forward->evaluate(selection.current_fit.theta, false);
+  } catch (const std::runtime_error&) {
+    // Not positive definite at the fit (cannot happen for a fit that ended there): the folds
+    // factorise on their own, as they would without the copy.
+  }
+}
+
 // Stage 9: hold-out folds, independent refits: fit on the even markers of every load case and
 // validate on the odd ones (fold 0), and leave one load case out (folds 1..). They run on the
 // machine's cores, each with a factorisation cache of its own (they differ in their weights, so
@@ -158,6 +174,7 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
     fold_inputs.caches.back()->nonlinear_starts = setup.factorizations->nonlinear_starts;
     fold_inputs.caches.back()->linear_starts = setup.factorizations->linear_starts;
   }
+  if (folds > 0 && !selection.chosen.empty()) factor_final_model(selection);
   std::optional<HoldoutCheck> marker_check;
   std::vector<std::optional<LoadCaseHoldout>> case_folds(num_cases);
   std::vector<std::exception_ptr> fold_errors(static_cast<size_t>(folds));

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "factorization_cache.hpp"
+#include "fit_stopping.hpp"
 #include "isospring/analysis/constraints.hpp"
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/fitting/effect.hpp"
@@ -68,6 +69,9 @@ struct Setup {
   std::map<std::string, int> case_index;  // load case id -> index
   // The last K_ff factorisation, shared by every model of the loop (identify_model.hpp).
   std::shared_ptr<FactorizationCache> factorizations = make_factorization_cache();
+  // A fit ends once a step and its Gauss-Newton prediction gain less RSS than this, in units of
+  // the residual variance (fit_stopping.hpp); 0: only Ceres' relative tolerances end fits.
+  double negligible_rss = kNegligibleRss;
 };
 
 struct Fit {
@@ -76,6 +80,8 @@ struct Fit {
   double rss = 0.0;
   int rows = 0;  // observations with weight
   std::string message;
+  int iterations = 0;               // of the last Ceres solve
+  bool stopped_negligible = false;  // ended by the negligible-decrease rule (fit_stopping.hpp)
 };
 
 struct Model {
@@ -329,5 +335,8 @@ void report_final(const LoopInputs& in, const CaseNominal& case_nominal,
 
 void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nominal,
                  const Selection& selection, IdentifyResult& result);  // identify_holdout.cpp
+// The cache of the final model (the loop's, setup.factorizations) holding the factor of its K at
+// its fitted parameters, for the folds to copy (identify_holdout.cpp; run_holdout calls it).
+void factor_final_model(const Selection& selection);
 
 }  // namespace isospring::fitting::identify_loop
