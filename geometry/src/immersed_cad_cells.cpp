@@ -217,7 +217,9 @@ struct CrossingTally {
     else
       crossed = true;
   }
-  bool result() const { return crossed || (full > 0 && empty > 0); }
+  // A box all of whose lines lie in pieces beside its faces (thinner than 2 x kOnBoxFace) is
+  // crossed: nothing else decides it.
+  bool result() const { return crossed || (full > 0) == (empty > 0); }
 };
 
 // Dimension by dimension: outer axis a, middle axis b, lines along d (see immersed_cad.hpp).
@@ -258,6 +260,7 @@ CutCellRule line_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen:
     }
   }
   rule.crossed = tally.result();
+  rule.inside = !rule.crossed && tally.full > 0;
   return rule;
 }
 
