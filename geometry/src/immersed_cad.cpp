@@ -338,6 +338,8 @@ void add_cells(detail::SolidProbe& probe, const Grid& grid, const std::vector<St
           cell.kind = CellKind::kCut;
           cell.points = rule.points;
           cell.weights = rule.weights;
+          // Not crossed: wholly inside or (its lines beside its faces aside) wholly outside.
+          if (!rule.crossed && !rule.inside) continue;
           if (!rule.crossed) cell = tensor_cell(grid, index, o.degree + 1);
         } else {
           cell = tensor_cell(grid, index, o.degree + 1);

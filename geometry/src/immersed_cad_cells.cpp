@@ -178,32 +178,73 @@ std::vector<double> middle_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
                          2.0 * probe.merge_distance());
 }
 
+// Within this distance of a box's face, a break, a piece or the end of a line's inside interval
+// is the part's face lying on the box's face (a grid plane kept through ImmersionOptions::breaks,
+// or met by chance), not the boundary crossing the box. OpenCascade resolves a point on a face
+// only to its confusion (Precision::Confusion(), 1e-7 model units): on an L block with its faces
+// on grid planes, the lines along those faces ended about 1e-11 m short of them, topology breaks
+// fell 1e-8 m in, and lines in the pieces that thin beside a face (which run within the confusion
+// of the face's plane) came back empty or with breaks 1e-5 m in. Counted as crossings, these
+// made every cell along such a face cut. A part's face that far inside a box is lost from its
+// volume by at most 1e-7 x the face's area.
+constexpr double kOnBoxFace = 1e-7;
+
+// Does a break in (lo, hi) lie farther than kOnBoxFace from both ends?
+bool breaks_inside(const std::vector<double>& breaks) {
+  const double lo = breaks.front() + kOnBoxFace, hi = breaks.back() - kOnBoxFace;
+  for (size_t k = 1; k + 1 < breaks.size(); ++k)
+    if (breaks[k] > lo && breaks[k] < hi) return true;
+  return false;
+}
+
+// Does the piece [p0, p1] of [lo, hi] lie within kOnBoxFace of one of its ends? Its lines run
+// along the box's face, where OpenCascade's answer for a face on that plane is ambiguous.
+bool on_box_face(double p0, double p1, double lo, double hi) {
+  return p1 <= lo + kOnBoxFace || p0 >= hi - kOnBoxFace;
+}
+
+// Whether the boundary crosses a box: some line ends or some break lies inside it (beyond
+// kOnBoxFace of its faces), or some lines are wholly inside and others wholly outside the part.
+struct CrossingTally {
+  bool crossed = false;
+  int full = 0, empty = 0;
+  void line(const std::vector<Interval>& inside, double lo, double hi) {
+    if (inside.empty())
+      ++empty;
+    else if (inside.size() == 1 && inside[0].lo <= lo + kOnBoxFace &&
+             inside[0].hi >= hi - kOnBoxFace)
+      ++full;
+    else
+      crossed = true;
+  }
+  // A box all of whose lines lie in pieces beside its faces (thinner than 2 x kOnBoxFace) is
+  // crossed: nothing else decides it.
+  bool result() const { return crossed || (full > 0) == (empty > 0); }
+};
+
 // Dimension by dimension: outer axis a, middle axis b, lines along d (see immersed_cad.hpp).
 CutCellRule line_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                       int d, const std::vector<double>& outer, int order) {
   const int a = (d + 1) % 3, b = (d + 2) % 3;
   CutCellRule rule;
   const nurbs::GaussRule& g = nurbs::gauss_legendre_cached(order);
-  rule.crossed = outer.size() > 2;
-  int full = 0, empty = 0;  // lines wholly inside / outside the part
-  for (size_t i = 0; i + 1 < outer.size(); ++i)
+  CrossingTally tally;
+  tally.crossed = breaks_inside(outer);
+  for (size_t i = 0; i + 1 < outer.size(); ++i) {
+    const bool outer_on_face = on_box_face(outer[i], outer[i + 1], lo[a], hi[a]);
     for (size_t ga = 0; ga < g.points.size(); ++ga) {
       const double xa = abscissa(g, ga, outer[i], outer[i + 1]);
       const double wa = 0.5 * (outer[i + 1] - outer[i]) * g.weights[ga];
       DLines lines(probe, lo, hi, d, xa);
       const std::vector<double> middle = middle_pieces(probe, lo, hi, d, xa, g, lines);
-      if (middle.size() > 2) rule.crossed = true;
-      for (size_t j = 0; j + 1 < middle.size(); ++j)
+      if (!outer_on_face && breaks_inside(middle)) tally.crossed = true;
+      for (size_t j = 0; j + 1 < middle.size(); ++j) {
+        const bool on_face = outer_on_face || on_box_face(middle[j], middle[j + 1], lo[b], hi[b]);
         for (size_t gb = 0; gb < g.points.size(); ++gb) {
           const double xb = abscissa(g, gb, middle[j], middle[j + 1]);
           const double wb = 0.5 * (middle[j + 1] - middle[j]) * g.weights[gb];
           const std::vector<Interval>& inside = lines.at(xb);
-          if (inside.empty())
-            ++empty;
-          else if (inside.size() == 1 && inside[0].lo <= lo[d] && inside[0].hi >= hi[d])
-            ++full;
-          else
-            rule.crossed = true;
+          if (!on_face) tally.line(inside, lo[d], hi[d]);
           Eigen::Vector3d p = lo;
           p[a] = xa;
           p[b] = xb;
@@ -215,8 +256,11 @@ CutCellRule line_rule(SolidProbe& probe, const Eigen::Vector3d& lo, const Eigen:
               rule.weights.push_back(wa * wb * hd * g.weights[gd]);
             }
         }
+      }
     }
-  if (full > 0 && empty > 0) rule.crossed = true;
+  }
+  rule.crossed = tally.result();
+  rule.inside = !rule.crossed && tally.full > 0;
   return rule;
 }
 

@@ -19,6 +19,7 @@ struct CutCellRule {
   std::vector<Eigen::Vector3d> points;
   std::vector<double> weights;
   bool crossed = false;  // a line met the boundary inside the box
+  bool inside = false;   // not crossed: its lines are wholly inside the part (else outside)
 };
 
 struct CutCellStats {

@@ -73,8 +73,9 @@ class SolidProbe {
   std::vector<Event> events(const Eigen::Vector3d& point, int axis);
   void tighten_box();
   void make_intersectors();
+  // The pieces between `events` that overlap [lo, hi], classified at their midpoints.
   std::vector<Interval> classify_pieces(const Eigen::Vector3d& point, int axis,
-                                        const std::vector<Event>& events);
+                                        const std::vector<Event>& events, double lo, double hi);
 
   const CadSolid::Shape& shape_;
   std::vector<std::unique_ptr<FaceLineIntersector>> intersectors_;
