@@ -331,7 +331,7 @@ Fit run_fit(const Setup& setup, const Model& model, const std::vector<Eigen::Vec
   fit.stopped_negligible = progress.stopped;
   fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
   fit.rss = 2.0 * summary.final_cost;
-  for (const auto& w : weights) fit.rows += static_cast<int>((w.array() > 0.0).count());
+  fit.rows = weighted_rows;
   if (fit.ok && covariance) *covariance = fit_covariance(model, fit.theta, weights);
   return fit;
 }
