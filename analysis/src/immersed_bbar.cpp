@@ -3,14 +3,6 @@
 
 namespace isospring::analysis::detail {
 
-double bbar_bulk_modulus(const LameParameters& lame) {
-  return lame.lambda + 2.0 * lame.mu / 3.0;
-}
-
-LameParameters bbar_deviatoric_lame(const LameParameters& lame) {
-  return {-2.0 * lame.mu / 3.0, lame.mu};
-}
-
 Eigen::RowVectorXd cell_mean_divergence(const ImmersedContext& context, size_t cell) {
   const CellRule& rule = context.cell_rules[cell];
   const Element& e = context.cell_elements[cell];

@@ -23,13 +23,9 @@
 #include <Eigen/Core>
 
 #include "immersed_kernels.hpp"
+#include "volumetric_projection.hpp"
 
 namespace isospring::analysis::detail {
-
-/// The bulk modulus kappa = lambda + 2 mu / 3 of the split (3D and plane strain).
-double bbar_bulk_modulus(const LameParameters& lame);
-/// The Lame parameters of the deviatoric kernel: lambda' = -2 mu / 3, the same mu.
-LameParameters bbar_deviatoric_lame(const LameParameters& lame);
 
 /// theta_K as a row over the cell's local DOFs (a * dim + c, the basis order of
 /// BasisAt): theta_K = row . q for the cell's displacement coefficients q.

@@ -28,8 +28,7 @@ nurbs::KnotVector reduced_knots(const nurbs::KnotVector& knots) {
 }
 
 double bulk_modulus(const Problem& problem) {
-  const LameParameters lame = lame_parameters(problem.material, problem.formulation);
-  return lame.lambda + 2.0 * lame.mu / 3.0;
+  return bbar_bulk_modulus(lame_parameters(problem.material, problem.formulation));
 }
 
 // Per element: local Gram, local divergence operator (functions of Q x element DOFs a * dim + i),
@@ -204,8 +203,17 @@ Eigen::SparseMatrix<double> bbar_volumetric_stiffness(const Problem& problem, co
   return full.triangularView<Eigen::Upper>();
 }
 
+double bbar_bulk_modulus(const LameParameters& lame) {
+  return lame.lambda + 2.0 * lame.mu / 3.0;
+}
+
+LameParameters bbar_deviatoric_lame(const LameParameters& lame) {
+  return {-2.0 * lame.mu / 3.0, lame.mu};
+}
+
 double kernel_lambda(const Problem& problem, double lambda, double mu) {
-  return problem.volumetric == Volumetric::kBbar ? -2.0 * mu / 3.0 : lambda;
+  return problem.volumetric == Volumetric::kBbar ? bbar_deviatoric_lame({lambda, mu}).lambda
+                                                 : lambda;
 }
 
 Eigen::Matrix3d bbar_stress(const Eigen::Matrix3d& strain, double projected_dilatation,

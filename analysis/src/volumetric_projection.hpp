@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "assembly_structure.hpp"
+#include "isospring/analysis/elasticity.hpp"
 #include "isospring/analysis/problem.hpp"
 
 namespace isospring::analysis::detail {
@@ -85,6 +86,11 @@ void check_volumetric(const Problem& problem);
 /// kappa t C^T G C over the DOFs of `dofs`, upper triangle (added to the deviatoric stiffness).
 Eigen::SparseMatrix<double> bbar_volumetric_stiffness(const Problem& problem, const DofMap& dofs,
                                                       const AssemblyStructure& structure);
+
+/// The bulk modulus kappa = lambda + 2 mu / 3 of B-bar's split (3D and plane strain).
+double bbar_bulk_modulus(const LameParameters& lame);
+/// The Lame parameters of B-bar's deviatoric kernel: lambda' = -2 mu / 3, the same mu.
+LameParameters bbar_deviatoric_lame(const LameParameters& lame);
 
 /// The lambda the element kernel uses: lambda, or -2 mu / 3 under B-bar (deviatoric part only).
 double kernel_lambda(const Problem& problem, double lambda, double mu);
