@@ -211,6 +211,13 @@ TEST(PartsCalculix, CaxifRod) {
 TEST(PartsCalculix, GmshPart) {
   check_part("gmsh_part");
 }
+// The CAx-IF GD&T block (3 x 2 x 1 inch with a bore of 1 inch) as I-DEAS wrote it, in inches:
+// every face a B-spline surface (the bore a rational quadratic one of three 120-degree arcs, the
+// top and bottom trimmed by it). Clamped on an end face, whose outline meets the free faces at
+// 90 degrees (no re-entrant edge anywhere), and bent across its thickness by its weight.
+TEST(PartsCalculix, CaxifGd1) {
+  check_part("caxif_gd1");
+}
 
 }  // namespace
 }  // namespace isospring
