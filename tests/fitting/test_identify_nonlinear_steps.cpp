@@ -43,8 +43,10 @@ void count_calls(NonlinearTerm& term, const std::shared_ptr<Counts>& counts) {
 
 // One DOF with linear stiffness k and a nonlinear internal force r(u) (its part beyond the
 // linear one, r(u) - k u, is the model's nonlinear term with coefficient 1). theta = (w, load).
+// `cache`: shared with other models (their kept solutions and tangents), else one of its own.
 std::unique_ptr<ForwardModel> one_dof(double (*r)(double), double (*dr)(double),
-                                      const std::shared_ptr<Counts>& counts, double k = 1.0) {
+                                      const std::shared_ptr<Counts>& counts, double k = 1.0,
+                                      std::shared_ptr<FactorizationCache> cache = nullptr) {
   ModelTerms terms;
   terms.num_parameters = 2;
   Eigen::SparseMatrix<double> stiffness(1, 1);
@@ -73,7 +75,8 @@ std::unique_ptr<ForwardModel> one_dof(double (*r)(double), double (*dr)(double),
   all.operator_.resize(1, 1);
   all.operator_.setIdentity();
   return std::make_unique<ForwardModel>(std::move(terms), std::vector<Observation>{all},
-                                        std::vector<int>{}, std::vector<double>{}, 1, 1);
+                                        std::vector<int>{}, std::vector<double>{}, 1, 1,
+                                        std::move(cache));
 }
 
 // A saturating force, r = tanh(u): no equilibrium above the limit load 1, and Newton from rest
@@ -175,8 +178,42 @@ TEST(IdentifyNonlinearSteps, ForcesFarAboveTheLoadConvergeAtTheirRoundingFloor) 
   const double u =
       one_dof(cubic, cubic_tangent, counts, k)->evaluate(on(load), false).predictions[0][0];
   EXPECT_NEAR(u, exact, 1e-14 * k * exact / cubic_tangent(exact));
-  EXPECT_EQ(counts->at_rest.load(), 1);     // no load steps
-  EXPECT_LE(counts->residuals.load(), 31);  // one attempt
+  EXPECT_EQ(counts->at_rest.load(), 1);  // no load steps
+  // One attempt: from rest, the linear solution (u = load / k, far below the root), then Newton
+  // and chord steps to the floor; measured 14 residuals and 5 tangents (the limit is 31 and 30).
+  EXPECT_LE(counts->residuals.load(), 14);
+  EXPECT_LE(counts->tangents.load(), 5);
+}
+
+// The same rounding floor ends a model's first solve on another model's kept tangent (the chord
+// steps from that model's solution, as the large-deformation candidate's score test after the
+// first round and a hold-out refit start). Model A, the spring above, converges with its
+// Jacobian, so its tangent at the root is factorised and kept in the shared cache; model B, the
+// same spring on that cache at a load 1e-3 larger, starts from A's root on A's tangent. The
+// tangent is 1 + 3 u^2 = 5.4 there and moves by 6 u du ~ 1e-3 of it, so one chord step brings
+// the residual from 3e-3 to about 3e-6, below the floor 1e-14 |k u| = 1.2e-4: B converges in its
+// chord steps (2 residuals) and Newton's check of the start (1 more), without a tangent of its
+// own or an attempt from rest. With the force tolerance alone in the chord steps (as before the
+// one shared test) they ran to their stall limit before Newton accepted the iterate: 7 residuals.
+TEST(IdentifyNonlinearSteps, AFirstSolveOnAKeptTangentConvergesAtTheRoundingFloor) {
+  const auto counts = std::make_shared<Counts>();
+  const auto cache = make_factorization_cache();
+  const double k = 1e10, load = std::numbers::pi;
+  const auto model_a = one_dof(cubic, cubic_tangent, counts, k, cache);
+  (void)model_a->evaluate(on(load), true);  // keeps A's root and its tangent in the cache
+  ASSERT_GE(counts->tangents.load(), 1);
+  counts->reset();
+  const double load_b = load * (1.0 + 1e-3);
+  const double q = load_b / 2, d = std::sqrt(q * q + 1.0 / 27);
+  const double exact = std::cbrt(q + d) + std::cbrt(q - d);
+  ASSERT_NEAR(cubic(exact), load_b, 1e-12);
+  const double u = one_dof(cubic, cubic_tangent, counts, k, cache)
+                       ->evaluate(on(load_b), false)
+                       .predictions[0][0];
+  EXPECT_NEAR(u, exact, 1e-14 * k * exact / cubic_tangent(exact));
+  EXPECT_EQ(counts->at_rest.load(), 0);
+  EXPECT_EQ(counts->tangents.load(), 0);
+  EXPECT_EQ(counts->residuals.load(), 3);
 }
 
 }  // namespace

@@ -156,8 +156,9 @@ class ForwardModel::NonlinearEvaluation {
 
   Eigen::VectorXd internal_force(const Eigen::VectorXd& u, Parts& parts,
                                  Eigen::SparseMatrix<double>* tangent_ff) const;
-  bool free_residual(const Eigen::VectorXd& force, double s, const Eigen::VectorXd& internal,
-                     Eigen::VectorXd& r_free, double* scale = nullptr) const;
+  bool free_residual(const Eigen::VectorXd& force, double s, const Eigen::VectorXd& u,
+                     const Eigen::VectorXd& internal, Eigen::VectorXd& r_free) const;
+  bool residual_converged(double norm, double scale, const Eigen::VectorXd& u) const;
   void step(const analysis::TangentSolver& factor, const Eigen::VectorXd& r_free,
             Eigen::VectorXd& u) const;
   bool newton(size_t lc, const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
@@ -256,12 +257,12 @@ Eigen::VectorXd ForwardModel::NonlinearEvaluation::internal_force(
   return r;
 }
 
-// The residual on the free DOFs at load factor s, and whether it meets the tolerance; `scale`:
-// what the tolerance is relative to, the larger of the load and the reactions.
+// The residual on the free DOFs at load factor s at u (`internal`: the internal force there), and
+// whether it counts as converged (residual_converged).
 bool ForwardModel::NonlinearEvaluation::free_residual(const Eigen::VectorXd& force, double s,
+                                                      const Eigen::VectorXd& u,
                                                       const Eigen::VectorXd& internal,
-                                                      Eigen::VectorXd& r_free,
-                                                      double* scale) const {
+                                                      Eigen::VectorXd& r_free) const {
   r_free.resize(nf_);
   double load = 0.0, reaction = 0.0;
   for (int d = 0; d < m_.num_dofs_; ++d) {
@@ -273,9 +274,21 @@ bool ForwardModel::NonlinearEvaluation::free_residual(const Eigen::VectorXd& for
       reaction += internal[d] * internal[d];
     }
   }
-  const double norm = r_free.norm();
-  if (scale) *scale = std::sqrt(std::max(load, reaction));
-  return norm <= kTolerance * std::sqrt(std::max(load, reaction)) || norm == 0.0;
+  return residual_converged(r_free.norm(), std::sqrt(std::max(load, reaction)), u);
+}
+
+// The one convergence test of every Newton and chord loop here: the free residual's norm is
+// below kTolerance of `scale` (the larger of the load and the reactions), or it is at its
+// rounding floor at u, where no iteration can reduce it further. The floor is looked at only
+// once the residual is below kRoundOffGate of the scale (a pass over all of K, as the product
+// K u in the residual itself). One function, so that a loop cannot stall at the floor that
+// another accepts (a model's first solve on a kept tangent did, running its chord steps to the
+// stall limit and handing the converged iterate to Newton).
+bool ForwardModel::NonlinearEvaluation::residual_converged(double norm, double scale,
+                                                           const Eigen::VectorXd& u) const {
+  if (norm <= kTolerance * scale || norm == 0.0) return true;
+  return norm <= kRoundOffGate * scale &&
+         norm <= kRoundOff * force_magnitude(stiffness_, u, m_.free_index_);
 }
 
 void ForwardModel::NonlinearEvaluation::step(const analysis::TangentSolver& factor,
@@ -311,15 +324,8 @@ bool ForwardModel::NonlinearEvaluation::newton(size_t lc, const Eigen::VectorXd&
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = m_.observations_[lc].operator_;
   double marker_step = std::numeric_limits<double>::infinity();
   for (int it = 0; it <= kMaxIterations; ++it) {
-    double scale = 0.0;
-    bool converged = free_residual(force, s, internal_force(u, parts, nullptr), r_free, &scale);
+    bool converged = free_residual(force, s, u, internal_force(u, parts, nullptr), r_free);
     const double norm = r_free.norm();
-    // At the rounding floor: no iteration can reduce the residual further. Looked at only once
-    // the residual is below kRoundOffGate of the load (a pass over all of K, as the product K u
-    // in the residual itself).
-    if (!converged && norm <= kRoundOffGate * scale &&
-        norm <= kRoundOff * force_magnitude(stiffness_, u, m_.free_index_))
-      converged = true;
     if (marker_stop && !converged && after_chord && norm <= kChordRate * norm_before_chord &&
         marker_step <= kMarkerTolerance * (h * u).norm())
       converged = true;
@@ -545,7 +551,7 @@ bool ForwardModel::NonlinearEvaluation::chords_from_start(size_t lc,
   double last_size = best_size;
   int since_best = 0;
   for (int it = 0; it < kMaxStartChords; ++it) {
-    if (free_residual(forces_[lc], 1.0, internal_force(u, parts, nullptr), r_free)) return true;
+    if (free_residual(forces_[lc], 1.0, u, internal_force(u, parts, nullptr), r_free)) return true;
     const Eigen::VectorXd d = tangent.solve(r_free);
     const double size = d.norm();
     if (!std::isfinite(size)) break;
