@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "cad_solid_shape.hpp"
+#include "immersed_cad_budget.hpp"
 #include "immersed_cad_cells.hpp"
 #include "immersed_cad_faces.hpp"
 #include "immersed_cad_lines.hpp"
@@ -98,6 +99,8 @@ void check_options(const ImmersionOptions& o, const std::string& name) {
     throw InputError(where + "max_depth = " + std::to_string(o.max_depth) + ": give 0..8");
   if (!(o.tolerance > 0.0 && o.tolerance < 1.0))
     throw InputError(where + "tolerance must be in (0, 1)");
+  if (!(o.max_quadrature_gb > 0.0))
+    throw InputError(where + "max_quadrature_gb must be a size > 0 in GB");
   if (o.threads < 0 || o.threads > 256)
     throw InputError(where + "threads = " + std::to_string(o.threads) +
                      ": give 1..256, or 0 for one per core");
@@ -407,6 +410,8 @@ ImmersedDomain immerse(const CadSolid& solid, const ImmersionOptions& o, Immersi
 
   auto start = std::chrono::steady_clock::now();
   const int order = o.gauss > 0 ? o.gauss : o.degree + 2;
+  detail::check_face_quadrature_size(solid.shape(), order, grid.smallest(),
+                                     o.max_quadrature_gb * 1e9, solid.name());
   domain.boundary = detail::face_quadrature(solid.shape(), order, grid.smallest(), domain.warnings);
   stats.boundary_seconds = seconds_since(start);
 

@@ -156,5 +156,28 @@ TEST(GridSlivers, GradingBelowTheFractionIsRefused) {
   }
 }
 
+// The boundary quadrature's size is checked before it allocates: a 0.03 x 0.02 x 0.02 block on
+// 0.01 cells takes 6 faces x 5 x 2^2 pieces x 16 points x sizeof(BoundaryPoint) at least, so a
+// limit of 1e-6 GB (1,000 bytes) is refused, naming the option and a face, and the default passes.
+TEST(GridSlivers, QuadratureSizeGuard) {
+  const CadSolid block =
+      detail::make_cad_solid(BRepPrimAPI_MakeBox(0.03, 0.02, 0.02).Shape(), "block");
+  ImmersionOptions o;
+  o.cell_size = 0.01;
+  o.max_quadrature_gb = 1e-6;
+  try {
+    immerse_solid(block, o);
+    FAIL() << "no error";
+  } catch (const nurbs::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("max_quadrature_gb"), std::string::npos) << what;
+    EXPECT_NE(what.find("on face "), std::string::npos) << what;
+  }
+  o.max_quadrature_gb = 8.0;
+  EXPECT_NO_THROW(immerse_solid(block, o));
+  o.max_quadrature_gb = 0.0;
+  EXPECT_THROW(immerse_solid(block, o), nurbs::InputError);
+}
+
 }  // namespace
 }  // namespace isospring::geometry

@@ -120,6 +120,10 @@ struct ImmersionOptions {
   /// A cut cell (or a piece of it) is accepted when its volumes with `gauss` and `gauss` + 2
   /// points differ by less than this fraction of the background cell's volume.
   double tolerance = 1e-7;
+  /// The boundary quadrature's points may take at most this much memory (GB, estimated before
+  /// they are made: their pieces follow the grid's thinnest cell); above it immerse_solid throws
+  /// naming the largest face and the fix instead of allocating.
+  double max_quadrature_gb = 8.0;
   /// Threads integrating cut cells (0: one per core, OpenMP's default). The result does not
   /// depend on it.
   int threads = 0;
