@@ -1,6 +1,7 @@
 // Immersed domain of a CAD solid: grid, classification, cell and boundary quadrature
 // (immersed_cad.hpp).
 #include <omp.h>
+#include <Precision.hxx>
 #include <Standard_Failure.hxx>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <sstream>
 
 #include "cad_solid_shape.hpp"
+#include "immersed_cad_budget.hpp"
 #include "immersed_cad_cells.hpp"
 #include "immersed_cad_faces.hpp"
 #include "immersed_cad_lines.hpp"
@@ -97,9 +99,24 @@ void check_options(const ImmersionOptions& o, const std::string& name) {
     throw InputError(where + "max_depth = " + std::to_string(o.max_depth) + ": give 0..8");
   if (!(o.tolerance > 0.0 && o.tolerance < 1.0))
     throw InputError(where + "tolerance must be in (0, 1)");
+  if (!(o.max_quadrature_gb > 0.0))
+    throw InputError(where + "max_quadrature_gb must be a size > 0 in GB");
   if (o.threads < 0 || o.threads > 256)
     throw InputError(where + "threads = " + std::to_string(o.threads) +
                      ": give 1..256, or 0 for one per core");
+}
+
+// A grading plane asking for cells thinner than kSmallestCellFraction of the base cell would
+// make the slivers that breaks are kept from making (immersed_grading.hpp): refused, not clipped.
+void check_grading(const ImmersionOptions& o, const Eigen::Vector3d& base,
+                   const std::string& name) {
+  for (const GradingPlane& p : o.grading)
+    if (p.smallest < detail::kSmallestCellFraction * base[p.axis])
+      throw InputError(
+          name + ": immersion option grading: smallest = " + std::to_string(p.smallest) +
+          " m along axis " + std::to_string(p.axis) + " is below " +
+          std::to_string(detail::kSmallestCellFraction) + " of the base cell (" +
+          std::to_string(base[p.axis]) + " m); give a larger smallest or a smaller cell_size");
 }
 
 Grid make_grid(const detail::SolidProbe& probe, const ImmersionOptions& o,
@@ -120,6 +137,17 @@ Grid make_grid(const detail::SolidProbe& probe, const ImmersionOptions& o,
     grid.origin = part_min - Eigen::Vector3d::Constant(o.margin);
     grid.extent = part + Eigen::Vector3d::Constant(2.0 * o.margin);
   }
+  // A box end within the part's tolerance of a kept plane moves onto it before the cells are
+  // counted (a box 1e-9 m longer than 0.04 m must not get a fifth 0.01 m cell): the part's
+  // extreme planar face then lies on the grid's boundary instead of a tolerance off it. The
+  // tolerance is tighten_box's (10 confusions), so the part stays inside the box to it.
+  const double snap = 10.0 * Precision::Confusion();
+  for (int k = 0; k < 3; ++k) {
+    double a = grid.origin[k], b = grid.origin[k] + grid.extent[k];
+    detail::snap_ends(a, b, o.breaks[static_cast<size_t>(k)], snap);
+    grid.origin[k] = a;
+    grid.extent[k] = b - a;
+  }
   if ((o.cells.array() > 0).all()) {
     grid.cells = o.cells;
   } else {
@@ -128,10 +156,14 @@ Grid make_grid(const detail::SolidProbe& probe, const ImmersionOptions& o,
       grid.cells[k] = std::max(1, static_cast<int>(std::ceil(grid.extent[k] / size - 1e-9)));
   }
   grid.base = grid.extent.cwiseQuotient(grid.cells.cast<double>());
+  check_grading(o, grid.base, name);
   for (int k = 0; k < 3; ++k) {
     grid.ticks[static_cast<size_t>(k)] =
         detail::graded_ticks(grid.origin[k], grid.origin[k] + grid.extent[k], grid.cells[k],
-                             o.grading, k, o.breaks[static_cast<size_t>(k)]);
+                             o.grading, k, o.breaks[static_cast<size_t>(k)], snap);
+    const std::vector<double>& t = grid.ticks[static_cast<size_t>(k)];
+    grid.origin[k] = t.front();
+    grid.extent[k] = t.back() - t.front();
     const int cells = static_cast<int>(grid.ticks[static_cast<size_t>(k)].size()) - 1;
     grid.graded[static_cast<size_t>(k)] =
         !o.breaks[static_cast<size_t>(k)].empty() ||
@@ -378,6 +410,8 @@ ImmersedDomain immerse(const CadSolid& solid, const ImmersionOptions& o, Immersi
 
   auto start = std::chrono::steady_clock::now();
   const int order = o.gauss > 0 ? o.gauss : o.degree + 2;
+  detail::check_face_quadrature_size(solid.shape(), order, grid.smallest(),
+                                     o.max_quadrature_gb * 1e9, solid.name());
   domain.boundary = detail::face_quadrature(solid.shape(), order, grid.smallest(), domain.warnings);
   stats.boundary_seconds = seconds_since(start);
 

@@ -61,24 +61,40 @@ void equidistribute(double lo, double hi, double base, const std::vector<Grading
 
 }  // namespace
 
+void snap_ends(double& a, double& b, const std::vector<double>& breaks, double snap) {
+  double to_a = snap, to_b = snap;  // the nearest break within `snap` wins
+  double new_a = a, new_b = b;
+  for (double x : breaks) {
+    if (std::abs(x - a) <= to_a) to_a = std::abs(x - a), new_a = x;
+    if (std::abs(x - b) <= to_b) to_b = std::abs(x - b), new_b = x;
+  }
+  if (new_b - new_a > 0.5 * (b - a)) a = new_a, b = new_b;
+}
+
 std::vector<double> graded_ticks(double a, double b, int base_cells,
                                  const std::vector<GradingPlane>& planes, int axis,
-                                 const std::vector<double>& breaks) {
+                                 const std::vector<double>& breaks, double snap) {
   const double length = b - a, base = length / base_cells;
   std::vector<GradingPlane> mine;
   for (const GradingPlane& p : planes)
     if (p.axis == axis && p.smallest < base) mine.push_back(p);
-  // The pieces' ends: a, the breaks strictly inside, b.
-  const double merge = 1e-9 * length;
-  std::vector<double> ends{a};
+  // The pieces' ends: a, the breaks strictly inside, b. A break closer than `close` to an end or
+  // to the previous break would make a cell that thin (a sliver, whose cut-cell and face pieces
+  // follow its width): at an end within `snap` (the part's own tolerance) the end moves onto it,
+  // so the face stays on a grid plane; otherwise the break is dropped and the face cuts a cell of
+  // normal size.
+  const double close = std::max(kSmallestCellFraction * base, 1e-9 * length);
   std::vector<double> inner(breaks);
   std::sort(inner.begin(), inner.end());
+  snap_ends(a, b, inner, std::min(snap, close));
+  std::vector<double> ends{a};
   for (double x : inner)
-    if (x > ends.back() + merge && x < b - merge) ends.push_back(x);
+    if (x > ends.back() + close && x < b - close) ends.push_back(x);
   ends.push_back(b);
   std::vector<double> ticks{a};
   if (mine.empty() && ends.size() == 2) {
-    for (int i = 1; i <= base_cells; ++i) ticks.push_back(a + base * i);  // as before grading
+    const double h = (b - a) / base_cells;
+    for (int i = 1; i <= base_cells; ++i) ticks.push_back(a + h * i);  // as before grading
     ticks.back() = b;
     return ticks;
   }

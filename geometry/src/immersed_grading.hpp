@@ -16,9 +16,25 @@ namespace isospring::geometry::detail {
 ///
 /// `breaks` (any order) are kept as cell boundaries: the interval is split there and each piece
 /// gets its own cells by the same rule (so without grading planes a piece of length L holds
-/// ceil(L / H) equal cells). Breaks within 1e-9 (b - a) of an end or of each other count once.
+/// ceil(L / H) equal cells). Breaks closer than kSmallestCellFraction H (at least 1e-9 (b - a)) to
+/// the previous one count once. A break that close to an end moves that end onto it when it lies
+/// within `snap` of it (the part's tolerance: the box's end is the part's extreme face, known only
+/// to that tolerance), else it is dropped. So no piece, and no ungraded cell, is thinner than
+/// kSmallestCellFraction H; the first and last ticks are the (possibly moved) ends.
 std::vector<double> graded_ticks(double a, double b, int base_cells,
                                  const std::vector<GradingPlane>& planes, int axis,
-                                 const std::vector<double>& breaks = {});
+                                 const std::vector<double>& breaks = {}, double snap = 0.0);
+
+/// Moves each end of [a, b] onto the nearest break within `snap` of it (inside or outside), if
+/// any: a box end is the part's extreme face, known only to the B-rep's tolerance, while a
+/// break is that face's exact plane.
+void snap_ends(double& a, double& b, const std::vector<double>& breaks, double snap);
+
+/// The thinnest cell a grid may have, as a fraction of its base cell length H. A cut cell's
+/// octree and a face's pieces are sized by the thinnest cell they meet, so their number grows
+/// like H over it; at 1e-3 a face 1e-7 m off a grid plane of a millimetre grid (a B-rep's
+/// tolerance) no longer makes cells, while a break a thousandth of a cell off another changes
+/// the volume by at most that fraction of the cell if dropped (it is then integrated as cut).
+inline constexpr double kSmallestCellFraction = 1e-3;
 
 }  // namespace isospring::geometry::detail

@@ -104,8 +104,10 @@ struct ImmersionOptions {
   /// Coordinates (m) per axis kept as cell boundaries, e.g. the part's planar faces normal to the
   /// axes (planar_face_coordinates): such a face then lies on a grid plane and cuts no cell, also
   /// when the axis is graded. Between them the cells are uniform (a piece of length L holds
-  /// ceil(L / H) equal cells, H the base cell length) or graded as above. Coordinates outside the
-  /// box or within 1e-9 of its length from an end are ignored; empty: none.
+  /// ceil(L / H) equal cells, H the base cell length) or graded as above. A box end within 10
+  /// confusions (1e-6 m) of a coordinate moves onto it; coordinates closer than 1e-3 H to an end
+  /// or to each other count once (no cell thinner than that); outside the box: ignored; empty:
+  /// none.
   std::array<std::vector<double>, 3> breaks;
   /// Added on every side of the part's bounding box (m); ignored with a user box.
   double margin = 0.0;
@@ -120,6 +122,10 @@ struct ImmersionOptions {
   /// A cut cell (or a piece of it) is accepted when its volumes with `gauss` and `gauss` + 2
   /// points differ by less than this fraction of the background cell's volume.
   double tolerance = 1e-7;
+  /// The boundary quadrature's points may take at most this much memory (GB, estimated before
+  /// they are made: their pieces follow the grid's thinnest cell); above it immerse_solid throws
+  /// naming the largest face and the fix instead of allocating.
+  double max_quadrature_gb = 8.0;
   /// Threads integrating cut cells (0: one per core, OpenMP's default). The result does not
   /// depend on it.
   int threads = 0;
