@@ -219,5 +219,13 @@ TEST(PartsCalculix, CaxifGd1) {
   check_part("caxif_gd1");
 }
 
+// FreeCAD-library's M4 washer (a flat ring, outer radius 5 mm, bore radius 2 mm, 0.8 mm thick,
+// written by FreeCAD in metres): clamped on its bore and bent by its weight along the axis, an
+// annular plate clamped at its inner edge. The bore's rims meet the flat faces at 90 degrees
+// (convex) and the part has no re-entrant edge.
+TEST(PartsCalculix, FreecadWasherM4) {
+  check_part("freecad_washer_m4");
+}
+
 }  // namespace
 }  // namespace isospring
