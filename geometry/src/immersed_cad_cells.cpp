@@ -39,10 +39,43 @@ int line_axis(const std::vector<const BoundaryPoint*>& boundary) {
   return axis;
 }
 
+// Within this distance of a box's face, a break, a piece or the end of a line's inside interval
+// is the part's face lying on the box's face (a grid plane kept through ImmersionOptions::breaks,
+// or met by chance), not the boundary crossing the box. OpenCascade resolves a point on a face
+// only to its confusion (Precision::Confusion(), 1e-7 model units): on an L block with its faces
+// on grid planes, the lines along those faces ended about 1e-11 m short of them, topology breaks
+// fell 1e-8 m in, and lines in the pieces that thin beside a face (which run within the confusion
+// of the face's plane) came back empty or with breaks 1e-5 m in. Counted as crossings, these
+// made every cell along such a face cut. A part's face that far inside a box is lost from its
+// volume by at most 1e-7 x the face's area.
+constexpr double kOnBoxFace = 1e-7;
+
+// How closely a change of topology is located: to 1e-10 of the box, but no closer than a tenth
+// of OpenCascade's confusion (below it the lines' answers are noise, and each halving costs a
+// line or four).
+double resolution(double lo, double hi) {
+  return std::max(1e-10 * (hi - lo), std::min(0.1 * kOnBoxFace, 1e-6 * (hi - lo)));
+}
+
 // Lines on the box's faces are moved inside by a hair, so that a face of the part lying in the
 // box's face plane is met on one side, not along the line.
 Eigen::Vector3d hair(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   return 1e-9 * (hi - lo);
+}
+
+// The cross section's sides, whose topology is sampled, lie this far inside the box's faces: 1e-6
+// (or a thousandth of a small box), ten times OpenCascade's confusion. A hair in (hair()), on a
+// part whose faces lie on the grid's planes, they ran along those faces, where the holed plate's
+// rims are tori tangent to them: such a line grazes a torus, its answer flickered from one outer
+// coordinate to the next, and each flicker became a break (up to 16 per box, each piece with its
+// own abscissae and lines: five times the lines). A curved face reaching less than this into the
+// box through a side changes the cross section there by a sliver of that depth, which is left to
+// the Gauss-order estimate.
+Eigen::Vector3d side_inset(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  Eigen::Vector3d s;
+  for (int k = 0; k < 3; ++k)
+    s[k] = std::max(1e-9 * (hi[k] - lo[k]), std::min(1e-6, 1e-3 * (hi[k] - lo[k])));
+  return s;
 }
 
 // How a line's inside intervals meet [lo, hi]: whether it starts inside and how many of their
@@ -109,19 +142,20 @@ std::vector<double> outer_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
   // It changes where a section curve of the boundary has a tangent along the cross section (a
   // hole's extreme point) or a face normal to a crosses it without reaching the box's edges (a
   // face a sliver away from the box's face).
+  const Eigen::Vector3d s = side_inset(lo, hi);
   const auto section = [&](double t) {
     int n = 0;
     for (int side = 0; side < 4; ++side) {
       const int along = side < 2 ? b : d, across = side < 2 ? d : b;
       Eigen::Vector3d p = lo;
       p[a] = t;
-      p[across] = side % 2 == 0 ? lo[across] + e[across] : hi[across] - e[across];
+      p[across] = side % 2 == 0 ? lo[across] + s[across] : hi[across] - s[across];
       n = 8 * n +
           line_signature(probe.inside(p, along, lo[along], hi[along]), lo[along], hi[along]);
     }
     return n;
   };
-  return topology_breaks(pieces(lo[a], hi[a], breaks), section, samples, 1e-10 * (hi[a] - lo[a]),
+  return topology_breaks(pieces(lo[a], hi[a], breaks), section, samples, resolution(lo[a], hi[a]),
                          2.0 * probe.merge_distance(), face_probes(probe, lo, hi, d));
 }
 
@@ -174,20 +208,9 @@ std::vector<double> middle_pieces(SolidProbe& probe, const Eigen::Vector3d& lo,
   }
   for (double t : probe.edges().crossings(lo, hi, a, xa, b)) breaks.push_back(t);
   const auto topology = [&](double t) { return line_signature(lines.at(t), lo[d], hi[d]); };
-  return topology_breaks(pieces(lo[b], hi[b], breaks), topology, g.points, 1e-10 * (hi[b] - lo[b]),
+  return topology_breaks(pieces(lo[b], hi[b], breaks), topology, g.points, resolution(lo[b], hi[b]),
                          2.0 * probe.merge_distance());
 }
-
-// Within this distance of a box's face, a break, a piece or the end of a line's inside interval
-// is the part's face lying on the box's face (a grid plane kept through ImmersionOptions::breaks,
-// or met by chance), not the boundary crossing the box. OpenCascade resolves a point on a face
-// only to its confusion (Precision::Confusion(), 1e-7 model units): on an L block with its faces
-// on grid planes, the lines along those faces ended about 1e-11 m short of them, topology breaks
-// fell 1e-8 m in, and lines in the pieces that thin beside a face (which run within the confusion
-// of the face's plane) came back empty or with breaks 1e-5 m in. Counted as crossings, these
-// made every cell along such a face cut. A part's face that far inside a box is lost from its
-// volume by at most 1e-7 x the face's area.
-constexpr double kOnBoxFace = 1e-7;
 
 // Does a break in (lo, hi) lie farther than kOnBoxFace from both ends?
 bool breaks_inside(const std::vector<double>& breaks) {
