@@ -72,8 +72,8 @@ TEST(ImmersedBbarCli, AnalyzeAndStudyRunBbarAsTheLibraryDoes) {
               1e-12 * lc["max_displacement"].get<double>());
   // Locking stiffens the displacement formulation: under the same weight it stores less energy.
   const double w_disp = disp["load_cases"][0]["strain_energy"];
-  std::printf("cylinder nu 0.49 under its weight: W bbar %.6e, displacement %.6e (ratio %.4f)\n",
-              w, w_disp, w / w_disp);
+  std::printf("cylinder nu 0.49 under its weight: W bbar %.6e, displacement %.6e (ratio %.4f)\n", w,
+              w_disp, w / w_disp);
   EXPECT_GT(w, w_disp);
 
   // study: level 0 is analyze's solve, with B-bar, and the report says so.
@@ -101,9 +101,9 @@ TEST(ImmersedBbarCli, UnsupportedCombinationsAreNamedErrors) {
     json analysis;
     std::string text;
   };
-  for (const Bad& bad :
-       {Bad{{{"type", "plane_stress"}, {"volumetric", "bbar"}}, "an immersed CAD part is a 3D solid"},
-        Bad{{{"volumetric", "mixed"}}, "unknown volumetric treatment 'mixed'"}}) {
+  for (const Bad& bad : {Bad{{{"type", "plane_stress"}, {"volumetric", "bbar"}},
+                             "an immersed CAD part is a 3D solid"},
+                         Bad{{{"volumetric", "mixed"}}, "unknown volumetric treatment 'mixed'"}}) {
     const std::string file = write_case(out, "cylinder_gravity.json", "bad.json", bad.analysis);
     const auto run = run_isospring("analyze " + file + " -o " + (out / "bad"));
     EXPECT_NE(run.exit_code, 0) << run.output;

@@ -69,8 +69,7 @@ TEST(ImmersedBbarCase, NearlyIncompressibleOctantConvergesWithBbarAndLocksWithou
   EXPECT_LT(energy_rate, 2.5);
   // The displacement formulation locks: B-bar's L2 error is a factor below it on both grids
   // (see the bound's measurement in docs/immersed.md, "B-bar in case files").
-  for (size_t k = 0; k < 2; ++k)
-    EXPECT_LT(bbar.rows[k].l2 * 3, disp.rows[k].l2) << "level " << k;
+  for (size_t k = 0; k < 2; ++k) EXPECT_LT(bbar.rows[k].l2 * 3, disp.rows[k].l2) << "level " << k;
   EXPECT_LT(disp_rate, l2_rate - 0.3);
   // The strain energy converges to the exact compliance, W = P/2 int_inner u_r dA (Clapeyron).
   const double E = 1e5;
