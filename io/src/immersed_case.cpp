@@ -105,6 +105,26 @@ analysis::Material read_material(const Field& root) {
   return m;
 }
 
+/// "analysis": {"type": "solid", "volumetric": "displacement" | "bbar"}: the key of body-fitted
+/// cases. An immersed CAD part is always a solid, so "type" may only say so.
+analysis::Volumetric read_immersed_analysis(const Field& root) {
+  if (!root.has("analysis")) return analysis::Volumetric::kDisplacement;
+  const Field field = root.at("analysis");
+  field.expect_object({"type", "volumetric"});
+  if (field.has("type") && field.at("type").string() != "solid")
+    field.at("type").fail(": an immersed CAD part is a 3D solid; '" + field.at("type").string() +
+                          "' is not available for it. Use \"solid\" or leave \"type\" out");
+  if (!field.has("volumetric")) return analysis::Volumetric::kDisplacement;
+  const Field volumetric = field.at("volumetric");
+  const std::string name = volumetric.string();
+  if (name == "displacement") return analysis::Volumetric::kDisplacement;
+  if (name != "bbar")
+    volumetric.fail(": unknown volumetric treatment '" + name +
+                    "'; use \"displacement\" (default) or \"bbar\" (mean dilatation per cell, "
+                    "locking-free for nu near 0.5)");
+  return analysis::Volumetric::kBbar;
+}
+
 std::vector<analysis::ImmersedSupport> read_supports(const Field& boundary,
                                                      detail::ImmersedFaceChooser& chooser) {
   std::vector<analysis::ImmersedSupport> supports;
@@ -193,7 +213,7 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
   // "measurements" by `isospring identify` (io::read_measurement_settings).
   root.expect_object({"schema_version", "name", "description", "units", "geometry", "material",
                       "boundary", "load_cases", "faces", "output", "analytic", "calibration",
-                      "measurements"});
+                      "measurements", "analysis"});
   ImmersedCase c;
   c.file = case_file;
   c.raw = document;
@@ -204,6 +224,7 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
     if (output.has("cells")) c.write_cells = output.at("cells").boolean();
   }
   c.material = read_material(root);
+  c.volumetric = read_immersed_analysis(root);
   read_geometry(root, case_file, c);
   detail::ImmersedFaceChooser chooser(*c.cad);
   c.supports = read_supports(root.at("boundary"), chooser);
@@ -222,10 +243,21 @@ ImmersedCase read_immersed_case(const fs::path& path) {
   return build_immersed_case(document, path);
 }
 
+std::string volumetric_key(analysis::Volumetric volumetric) {
+  return volumetric == analysis::Volumetric::kBbar ? "bbar" : "displacement";
+}
+
+std::string volumetric_sentence(analysis::Volumetric volumetric) {
+  return volumetric == analysis::Volumetric::kBbar
+             ? "B-bar: the volumetric strain is its mean over each cell's part (mean dilatation)"
+             : "displacement formulation";
+}
+
 analysis::ImmersedOptions immersed_options(const ImmersedCase& c, const ImmersedLoadCase& load) {
   analysis::ImmersedOptions o;
   o.formulation = analysis::Formulation::kSolid;
   o.material = c.material;
+  o.volumetric = c.volumetric;
   o.supports = c.supports;
   o.tractions = load.tractions;
   o.pressures = load.pressures;

@@ -43,7 +43,8 @@ py::dict load_case(const workflows::ImmersedLoadCaseResult& lc) {
   return d;
 }
 
-py::dict analyze_immersed(const std::string& case_file, const std::string& solver) {
+py::dict analyze_immersed(const std::string& case_file, const std::string& solver,
+                          const std::string& volumetric) {
   using Method = analysis::SolverOptions::Method;
   if (solver != "cholesky" && solver != "cg" && solver != "auto")
     throw nurbs::InputError("analyze_immersed: solver must be \"cholesky\", \"cg\" or \"auto\"");
@@ -54,8 +55,12 @@ py::dict analyze_immersed(const std::string& case_file, const std::string& solve
   {
     // The immersion and solves hold no Python object: other Python threads may run meanwhile.
     py::gil_scoped_release release;
-    const nlohmann::json document =
+    nlohmann::json document =
         io::parse_json_text(io::read_text_file(case_file, "case file"), case_file, "case file");
+    // The argument stands for the case file's "analysis": {"volumetric": ...} and is checked by
+    // the same reader, so its errors are the case file's.
+    if (!volumetric.empty() && document.is_object())
+      document["analysis"]["volumetric"] = volumetric;
     if (!io::is_immersed_case(document))
       throw nurbs::InputError(case_file +
                               ": geometry is not {\"type\": \"immersed\", ...}; a body-fitted "
@@ -65,6 +70,7 @@ py::dict analyze_immersed(const std::string& case_file, const std::string& solve
   }
   py::dict out;
   out["name"] = a.c.name;
+  out["volumetric"] = io::volumetric_key(a.c.volumetric);
   out["inside_cells"] = a.stats.inside_cells;
   out["cut_cells"] = a.stats.cut_cells;
   out["opencascade"] = measures(a.occ);
@@ -87,12 +93,15 @@ py::dict analyze_immersed(const std::string& case_file, const std::string& solve
 
 void bind_immersed(py::module_& m) {
   m.def("analyze_immersed", &analyze_immersed, py::arg("case_file"), py::arg("solver") = "cholesky",
+        py::arg("volumetric") = "",
         "Immersed linear elasticity of a case file whose geometry is {\"type\": \"immersed\"}, as "
         "`isospring analyze` runs it: dict of the grid's inside and cut cells, the part's "
         "measures from OpenCascade and from the quadrature, the surface triangulation (points "
         "(n, 3), triangles (m, 3), triangle_face) and per load case strain_energy, "
         "max_displacement, max_von_mises, reaction_sum, applied_load, and displacement (n, 3) "
-        "and von_mises (n,) at the surface points.");
+        "and von_mises (n,) at the surface points; volumetric says which formulation ran. "
+        "volumetric=\"bbar\" or \"displacement\" overrides the case file's "
+        "\"analysis\": {\"volumetric\"} (empty: as the case file says).");
 }
 
 }  // namespace isospring::python

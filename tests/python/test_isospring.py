@@ -340,6 +340,47 @@ def test_immersed_analysis_matches_the_program():
         assert "geometry" in str(e), str(e)
 
 
+def test_immersed_bbar_matches_the_program():
+    """analyze_immersed(volumetric="bbar") and `isospring analyze` of the case file with
+    "analysis": {"volumetric": "bbar"}: the same B-bar numbers to 1e-12 on the shipped cylinder
+    at nu = 0.49; a bad value is the case file's named error."""
+    shipped = os.path.join(EXAMPLES, "immersed", "cylinder_gravity.json")
+    with open(shipped) as f:
+        case = json.load(f)
+    case["geometry"]["file"] = os.path.join(EXAMPLES, "immersed", case["geometry"]["file"])
+    case["material"]["nu"] = 0.49
+    with tempfile.TemporaryDirectory() as folder:
+        plain = os.path.join(folder, "cylinder.json")
+        with open(plain, "w") as f:
+            json.dump(case, f)
+        case["analysis"] = {"volumetric": "bbar"}
+        bbar_file = os.path.join(folder, "cylinder_bbar.json")
+        with open(bbar_file, "w") as f:
+            json.dump(case, f)
+        subprocess.run([PROGRAM, "analyze", bbar_file, "-o", os.path.join(folder, "out"), "-q"],
+                       check=True)
+        with open(os.path.join(folder, "out", "report.json")) as f:
+            report = json.load(f)
+        by_argument = isospring.analyze_immersed(plain, volumetric="bbar")
+        by_file = isospring.analyze_immersed(bbar_file)
+        displacement = isospring.analyze_immersed(plain)
+        assert report["volumetric"] == "bbar"
+        assert by_argument["volumetric"] == by_file["volumetric"] == "bbar"
+        assert displacement["volumetric"] == "displacement"
+        for result in (by_argument, by_file):
+            ours, theirs = result["load_cases"][0], report["load_cases"][0]
+            for key in ("strain_energy", "max_displacement", "max_von_mises"):
+                assert abs(ours[key] - theirs[key]) <= 1e-12 * abs(theirs[key]), key
+        # Locking: the displacement formulation stores less energy under the same weight.
+        assert (displacement["load_cases"][0]["strain_energy"] <
+                by_file["load_cases"][0]["strain_energy"])
+        try:
+            isospring.analyze_immersed(plain, volumetric="bar")
+            raise AssertionError("volumetric='bar' was accepted")
+        except isospring.InputError as e:
+            assert "volumetric" in str(e) and "'bar'" in str(e), str(e)
+
+
 def test_calibrate_immersed_matches_the_program():
     """calibrate_immersed() and `isospring calibrate` on an immersed case: the same errors."""
     case_file = os.path.join(EXAMPLES, "immersed", "rounded_bracket_calibrate.json")

@@ -142,6 +142,7 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
   report["material"] = {{"E", c.material.youngs_modulus},
                         {"nu", c.material.poisson_ratio},
                         {"density", c.material.density}};
+  report["volumetric"] = volumetric_key(c.volumetric);
   MarkdownReport md;
   md.heading(1, "isospring analyze (immersed): " + c.name);
   md.paragraph("Immersed path: " + report["path_reason"].get<std::string>() + ". Part volume " +
@@ -149,7 +150,8 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
                format_number(a.occ.volume) + " m^3 from OpenCascade; " +
                std::to_string(a.stats.inside_cells) + " inside and " +
                std::to_string(a.stats.cut_cells) + " cut cells, immersed in " +
-               format_number(a.immersion_seconds, 3) + " s.");
+               format_number(a.immersion_seconds, 3) +
+               " s. Volumetric strain: " + volumetric_sentence(c.volumetric) + ".");
   std::vector<SurfacePointField> fields;
   std::vector<std::vector<std::string>> rows;
   for (const ImmersedLoadCaseResult& lc : a.load_cases) {

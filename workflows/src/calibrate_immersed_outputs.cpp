@@ -88,6 +88,7 @@ nlohmann::json report_json(const ImmersedCalibrateResult& r) {
       {"cells", {n.x(), n.y(), n.z()}},     {"inside_cells", r.stats.inside_cells},
       {"cut_cells", r.stats.cut_cells},     {"volume", r.quadrature.volume},
       {"volume_opencascade", r.occ.volume}, {"seconds", r.immersion_seconds}};
+  report["volumetric"] = volumetric_key(r.c.volumetric);  // of the reference solves
   const std::string freedom =
       r.request.settings.per_spring
           ? "one stiffness per spring (" + std::to_string(result.parameters) +
@@ -137,7 +138,8 @@ MarkdownReport report_markdown(const ImmersedCalibrateResult& r, const nlohmann:
                std::to_string(r.stats.cut_cells) + " cut cells; " +
                std::to_string(result.mesh.network.positions.size()) + " particles (" +
                std::to_string(r.calibration.held_particles) + " held), " +
-               std::to_string(result.mesh.network.springs.size()) + " springs.");
+               std::to_string(result.mesh.network.springs.size()) +
+               " springs. Reference solves: " + volumetric_sentence(r.c.volumetric) + ".");
   md.heading(2, "Protocol");
   md.paragraph(report["protocol"].get<std::string>());
   md.heading(2, "Errors");

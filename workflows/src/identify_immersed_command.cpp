@@ -21,6 +21,7 @@ nlohmann::json immersed_summary(const ImmersedCase& c, const geometry::ImmersedD
   s["file"] = c.file.string();
   s["dimension"] = domain.dimension;
   s["formulation"] = "solid";
+  s["volumetric"] = volumetric_key(c.volumetric);
   s["geometry"] = "immersed";
   s["part"] = c.part.string();
   s["material"] = {{"E", c.material.youngs_modulus},

@@ -98,7 +98,7 @@ nlohmann::json immersed_summary(const ImmersedCase& c, const geometry::ImmersedD
   s["part"] = c.part.string();
   s["dimension"] = 3;
   s["formulation"] = "solid";
-  s["volumetric"] = "displacement";
+  s["volumetric"] = volumetric_key(c.volumetric);
   s["material"] = {{"E", c.material.youngs_modulus},
                    {"nu", c.material.poisson_ratio},
                    {"density", c.material.density}};

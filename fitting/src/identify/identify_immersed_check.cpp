@@ -226,7 +226,11 @@ std::unique_ptr<Setup> run_immersed_check(
   check = DiscretizationCheck();
   check.noise = noise;
   check.target = options.target_fraction * noise;
-  check.volumetric_rule = "displacement formulation (the immersed assembly has no B-bar)";
+  const bool bbar =
+      !cases.empty() && cases.front().options.volumetric == analysis::Volumetric::kBbar;
+  check.volumetric = bbar ? "bbar" : "displacement";
+  check.volumetric_rule = bbar ? "B-bar (mean dilatation per cell), as the case asks"
+                               : "displacement formulation, as the case asks";
   if (!options.enabled) {
     check.note = "turned off";
     return nullptr;

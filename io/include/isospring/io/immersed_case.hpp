@@ -10,6 +10,7 @@
 //   {"name": "cylinder", "geometry": {"type": "immersed", "file": "part.step", "solid": 1,
 //                                      "cells": [6, 6, 6], "degree": 2},
 //    "material": {"E": 2.1e11, "nu": 0.3, "density": 7850},
+//    "analysis": {"volumetric": "bbar"},   (optional; "displacement" by default)
 //    "boundary": [{"face": 0, "fix": ["x", "y", "z"]},
 //                 {"face": {"plane": {"point": [0, 0, 0.01], "normal": [0, 0, 1]}},
 //                  "symmetry": true}],
@@ -49,6 +50,9 @@ struct ImmersedCase {
   std::shared_ptr<const geometry::CadSolid> cad;  // read and validated
   geometry::ImmersionOptions immersion;
   analysis::Material material;
+  /// "analysis": {"volumetric": "bbar"}: mean-dilatation B-bar (analysis::ImmersedOptions), for
+  /// nearly incompressible parts; "displacement" (the default) otherwise.
+  analysis::Volumetric volumetric = analysis::Volumetric::kDisplacement;
   std::vector<analysis::ImmersedSupport> supports;
   std::vector<ImmersedLoadCase> load_cases;
   bool write_cells = false;  // "output": {"cells": true}: also the background cells (cells.vtu)
@@ -66,6 +70,12 @@ ImmersedCase read_immersed_case(const std::filesystem::path& path);
 /// The same from a parsed document; `case_file` names it in messages and anchors relative paths.
 ImmersedCase build_immersed_case(const nlohmann::json& document,
                                  const std::filesystem::path& case_file);
+
+/// "bbar" or "displacement", as the case file spells the formulation of the volumetric strain.
+std::string volumetric_key(analysis::Volumetric volumetric);
+
+/// The same in words for the reports ("B-bar: ..." or "displacement formulation").
+std::string volumetric_sentence(analysis::Volumetric volumetric);
 
 /// The solver options of one load case (supports, material and that case's loads).
 analysis::ImmersedOptions immersed_options(const ImmersedCase& c, const ImmersedLoadCase& load);
