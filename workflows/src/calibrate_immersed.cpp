@@ -53,14 +53,6 @@ std::vector<std::string> calibrate_immersed_output_files(const std::vector<std::
 }
 
 ImmersedCalibrateResult run_calibrate_immersed(const ImmersedCase& c, const Progress& progress) {
-  // The reference solves share one factorisation and assemble each further load case's right-hand
-  // side alone; that loads-only assembly does not yet have B-bar's cell means (it gives
-  // non-finite loads), so the combination is refused rather than run wrong.
-  if (c.volumetric == analysis::Volumetric::kBbar)
-    throw nurbs::InputError(c.file.string() +
-                            ": analysis.volumetric: \"bbar\" is not available in `isospring "
-                            "calibrate` for immersed cases yet; use \"displacement\" (analyze, "
-                            "study and identify run B-bar)");
   ImmersedCalibrateResult r;
   r.c = c;
   r.request = immersed_request(c);
