@@ -360,7 +360,9 @@ Eigen::VectorXd assemble_immersed_loads(const geometry::ImmersedDomain& domain,
   detail::ImmersedContext context = make_context(domain, options);
   ImmersedSystem located;
   const Eigen::Vector3d body = options.body_force + options.material.density * options.gravity;
-  activate(context, located, !body.head(domain.dimension).isZero(0.0));
+  // The cells' reduced rules serve the body load and, under B-bar, the Nitsche terms' cell means.
+  activate(context, located,
+           !body.head(domain.dimension).isZero(0.0) || options.volumetric == Volumetric::kBbar);
   if (located.node_of_control_point != system.node_of_control_point)
     throw nurbs::InputError(
         "immersed analysis: the loads-only assembly was given another domain than the system's; "
