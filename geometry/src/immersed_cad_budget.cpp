@@ -1,8 +1,8 @@
 // A size check of the boundary quadrature before it allocates (immersed_cad_budget.hpp).
 #include "immersed_cad_budget.hpp"
 
-#include <BRepAdaptor_Surface.hxx>
-#include <BRepTools.hxx>
+#include "immersed_cad_faces.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -13,17 +13,8 @@ namespace isospring::geometry::detail {
 
 double face_quadrature_bytes(const CadSolid::Shape& shape, size_t f, int order,
                              double piece_length) {
-  // The face's size on the surface as face_quadrature measures it (its UV box's diagonal image).
-  const TopoDS_Face& face = shape.faces[f];
-  BRepAdaptor_Surface surface(face, true);
-  double u0, u1, v0, v1;
-  BRepTools::UVBounds(face, u0, u1, v0, v1);
-  double length = 0.0;
-  for (int k = 0; k < 8; ++k) {
-    const double s = k / 8.0, t = (k + 1) / 8.0;
-    length += surface.Value(u0 + s * (u1 - u0), v0 + s * (v1 - v0))
-                  .Distance(surface.Value(u0 + t * (u1 - u0), v0 + t * (v1 - v0)));
-  }
+  // The face's size on the surface as face_quadrature measures it.
+  const double length = face_surface_length(shape.faces[f]);
   const double pieces = std::max(1.0, std::ceil(length / piece_length));
   return 5.0 * pieces * pieces * order * order * static_cast<double>(sizeof(BoundaryPoint));
 }

@@ -213,6 +213,19 @@ Eigen::Vector4d moments(const std::vector<BoundaryPoint>& points) {
 
 }  // namespace
 
+double face_surface_length(const TopoDS_Face& face) {
+  BRepAdaptor_Surface surface(face, true);
+  double u0, u1, v0, v1;
+  BRepTools::UVBounds(face, u0, u1, v0, v1);
+  double length = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const double s = k / 8.0, t = (k + 1) / 8.0;
+    length += surface.Value(u0 + s * (u1 - u0), v0 + s * (v1 - v0))
+                  .Distance(surface.Value(u0 + t * (u1 - u0), v0 + t * (v1 - v0)));
+  }
+  return length;
+}
+
 std::vector<BoundaryPoint> face_quadrature(const CadSolid::Shape& shape, int order,
                                            double piece_length,
                                            std::vector<std::string>& warnings) {
@@ -224,15 +237,7 @@ std::vector<BoundaryPoint> face_quadrature(const CadSolid::Shape& shape, int ord
       FaceIntegrator integrator(face, index, order);
       // Pieces from the face's size on the surface (its UV box's diagonal image), so that a
       // piece spans about one background cell or less.
-      BRepAdaptor_Surface surface(face, true);
-      double u0, u1, v0, v1;
-      BRepTools::UVBounds(face, u0, u1, v0, v1);
-      double length = 0.0;
-      for (int k = 0; k < 8; ++k) {
-        const double s = k / 8.0, t = (k + 1) / 8.0;
-        length += surface.Value(u0 + s * (u1 - u0), v0 + s * (v1 - v0))
-                      .Distance(surface.Value(u0 + t * (u1 - u0), v0 + t * (v1 - v0)));
-      }
+      const double length = face_surface_length(face);
       int pieces = std::max(1, static_cast<int>(std::ceil(length / piece_length)));
       std::vector<BoundaryPoint> coarse = integrator.points(pieces);
       std::vector<BoundaryPoint> fine = integrator.points(2 * pieces);
