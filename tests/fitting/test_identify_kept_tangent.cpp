@@ -81,20 +81,19 @@ class KeptTangentCantilever : public ::testing::Test {
                        kSigma, 11);
     identify_loop::make_setup(setup_, prior_, markers_, placements, false,
                               [](const std::string&) {});
-    weights_ = identify_loop::make_weights(setup_, kSigma,
-                                           std::vector<bool>(markers_.size(), true));
+    weights_ =
+        identify_loop::make_weights(setup_, kSigma, std::vector<bool>(markers_.size(), true));
     std::string why;
-    for (const char* name :
-         {"geometric_nonlinearity", "load_scale", "rigid_offset", "stiffness_gradient",
-          "support_compliance"}) {
+    for (const char* name : {"geometric_nonlinearity", "load_scale", "rigid_offset",
+                             "stiffness_gradient", "support_compliance"}) {
       effects_.push_back(make_effect(name, setup_.context, &why));
       ASSERT_TRUE(effects_.back()) << why;
     }
     current_ = std::make_unique<Model>(
         identify_loop::build_model(setup_, {nonlinear()}, Eigen::VectorXd::Ones(1)));
     Eigen::MatrixXd covariance;
-    fit_ = identify_loop::run_fit(setup_, *current_, weights_, &covariance,
-                                  FitStart::kNewParameters);
+    fit_ =
+        identify_loop::run_fit(setup_, *current_, weights_, &covariance, FitStart::kNewParameters);
     ASSERT_TRUE(fit_.ok) << fit_.message;
     errors_ = covariance.diagonal().cwiseSqrt() *
               std::sqrt(fit_.rss / static_cast<double>(fit_.rows - fit_.theta.size()));
@@ -126,16 +125,16 @@ Difference difference(const ModelEvaluation& a, const ModelEvaluation& b) {
   for (size_t l = 0; l < b.predictions.size(); ++l)
     largest = std::max(largest, b.predictions[l].cwiseAbs().maxCoeff());
   for (size_t l = 0; l < b.predictions.size(); ++l) {
-    d.prediction =
-        std::max(d.prediction, (a.predictions[l] - b.predictions[l]).cwiseAbs().maxCoeff() / largest);
+    d.prediction = std::max(d.prediction,
+                            (a.predictions[l] - b.predictions[l]).cwiseAbs().maxCoeff() / largest);
     for (Eigen::Index c = 0; c < b.jacobians[l].cols(); ++c) {
       double column = 0.0;
       for (size_t k = 0; k < b.jacobians.size(); ++k)
         column = std::max(column, b.jacobians[k].col(c).cwiseAbs().maxCoeff());
       if (column > 0.0)
         d.jacobian = std::max(
-            d.jacobian, (a.jacobians[l].col(c) - b.jacobians[l].col(c)).cwiseAbs().maxCoeff() /
-                            column);
+            d.jacobian,
+            (a.jacobians[l].col(c) - b.jacobians[l].col(c)).cwiseAbs().maxCoeff() / column);
     }
   }
   return d;
@@ -162,14 +161,17 @@ TEST_F(KeptTangentCantilever, AFoldsRefitOnTheLoopsTangentsMatchesOneWithoutThem
   const Fit b = identify_loop::run_fit(setup_, without, fold_weights);
   ASSERT_TRUE(a.ok && b.ok) << a.message << " / " << b.message;
   ASSERT_EQ(a.theta.size(), 2);
-  // The refit moves the parameters by standard errors; both end at the same point to far below
-  // them (the Newton solves' tolerance, 1e-10 of the load, is all that differs).
-  EXPECT_GT(((a.theta - fit_.theta).array() / errors_.array()).abs().maxCoeff(), 1e-2);
+  // The refit moves the parameters by standard errors (measured: 0.60 of them); both refits
+  // end at the same point to far below that, where only the Newton solves' tolerance (1e-10 of
+  // the load) and rounding differ: measured 1.1e-11 relative in E and w. The RSS moves by the
+  // predictions' difference times the residual over the noise (rows of order 1, noise 1e-3 of
+  // the deflection: 1e3 x): measured 9.1e-11 relative.
+  EXPECT_GT(((a.theta - fit_.theta).array() / errors_.array()).abs().maxCoeff(), 0.1);
   for (Eigen::Index k = 0; k < 2; ++k)
     EXPECT_LE(std::abs(a.theta[k] - b.theta[k]), 1e-10 * std::abs(b.theta[k]))
         << "parameter " << k << ": " << a.theta[k] << " with the kept tangents, " << b.theta[k]
         << " without";
-  EXPECT_LE(std::abs(a.rss - b.rss), 1e-10 * b.rss);
+  EXPECT_LE(std::abs(a.rss - b.rss), 1e-8 * b.rss);
   EXPECT_EQ(a.iterations, b.iterations);
   EXPECT_EQ(kept->kept_state_reuses, 2);
   EXPECT_EQ(starts_only->kept_state_reuses, 0);
@@ -181,6 +183,8 @@ TEST_F(KeptTangentCantilever, AFoldsRefitOnTheLoopsTangentsMatchesOneWithoutThem
   EXPECT_EQ(kept->kept_state_reuses, 4);
   const auto fresh_cache = make_factorization_cache();
   const Model fresh = identify_loop::build_model(setup_, {nonlinear()}, a.theta, fresh_cache);
+  // Against Newton from rest with its own tangents: measured 1.4e-12 (predictions) and 4.0e-11
+  // (Jacobian columns), the solves' tolerance and rounding.
   const Difference d = difference(at_fit, fresh.forward->evaluate(a.theta, true));
   EXPECT_LE(d.prediction, 1e-9);
   EXPECT_LE(d.jacobian, 1e-8);
@@ -215,6 +219,8 @@ TEST_F(KeptTangentCantilever, NeutralCandidatesSolveOnTheCurrentModelsTangents) 
     }
     const Model alone =
         identify_loop::build_model(setup_, effects, theta, make_factorization_cache());
+    // Measured: 1.6e-11 (predictions) and 1.9e-10 (Jacobian columns) on the kept tangents,
+    // 3.3e-12 and 5.0e-11 for the compliant support's own.
     const Difference d = difference(reused, alone.forward->evaluate(theta, true));
     EXPECT_LE(d.prediction, 1e-9);
     EXPECT_LE(d.jacobian, 1e-8);
@@ -223,7 +229,9 @@ TEST_F(KeptTangentCantilever, NeutralCandidatesSolveOnTheCurrentModelsTangents) 
 
 // The blend's linear stiffness after a change of E alone is the factorised one scaled: one
 // factorisation for both evaluations, and at w = 0 (where the prediction is the linear solution)
-// the predictions and the Jacobian's column in E those of a new factorisation.
+// the predictions and the Jacobian's column in E those of a new factorisation, to the rounding of
+// two factorisations of proportional matrices (measured 6.6e-12 and 1.1e-11 of the largest
+// entry; a solve's relative rounding is up to the condition number of K, ~1e5 here, times 1e-16).
 TEST_F(KeptTangentCantilever, TheBlendsLinearFactorServesAChangeOfEScaled) {
   const auto cache = make_factorization_cache();
   const Model model = identify_loop::build_model(setup_, {nonlinear()}, fit_.theta, cache);
@@ -237,10 +245,10 @@ TEST_F(KeptTangentCantilever, TheBlendsLinearFactorServesAChangeOfEScaled) {
   EXPECT_EQ(fresh_cache->blend_factorizations, 1);
   for (size_t l = 0; l < direct.predictions.size(); ++l) {
     const double size = direct.predictions[l].cwiseAbs().maxCoeff();
-    EXPECT_LE((scaled.predictions[l] - direct.predictions[l]).cwiseAbs().maxCoeff(), 1e-13 * size);
+    EXPECT_LE((scaled.predictions[l] - direct.predictions[l]).cwiseAbs().maxCoeff(), 1e-10 * size);
     const double column = direct.jacobians[l].col(0).cwiseAbs().maxCoeff();
     EXPECT_LE((scaled.jacobians[l].col(0) - direct.jacobians[l].col(0)).cwiseAbs().maxCoeff(),
-              1e-13 * column);
+              1e-10 * column);
   }
   // Another Poisson ratio or stiffness term would not be a scale: a model whose E alone moves
   // never factorises again, however far it moves.

@@ -266,9 +266,9 @@ void ForwardModel::NonlinearEvaluation::evaluate_coefficients() {
 
 // The linear stiffness's factor, for the linear solutions of the blend. A fit of the model
 // changes E at every step, which scales K_ff as a whole: the factor made at the first
-// evaluation serves every later one, scaled (a factorisation of the nearly incompressible
-// K_ff at 8,019 DOFs costs about 0.4 CPU s, one per evaluation before). The relative
-// difference to a new factorisation is that of the coefficients, below 1e-13.
+// evaluation serves every later one, scaled (one factorisation per evaluation before). The
+// solutions differ from a new factorisation's by rounding
+// (KeptTangentCantilever.TheBlendsLinearFactorServesAChangeOfEScaled).
 void ForwardModel::NonlinearEvaluation::factorise_linear_stiffness() {
   if (w_index_ < 0) return;
   const double scale = common_scale(c_, cache_.linear_coefficients);
@@ -572,7 +572,7 @@ void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluati
 // added): the moved start was 6-9 % of the marker displacement off, and Newton's chord steps,
 // judged by the residual's norm, spent 1-2 new tangents per load case (2-5 CPU s each).
 Eigen::VectorXd ForwardModel::NonlinearEvaluation::newton_start(size_t lc, bool factorised,
-                                                               const KeptTangent*& borrowed) {
+                                                                const KeptTangent*& borrowed) {
   const int n = m_.num_dofs_;
   Eigen::VectorXd u, u_linear_then;
   {
