@@ -154,18 +154,33 @@ void factor_final_model(const Selection& selection) {
 }
 
 // A fold's cache starts with the loop's large-deformation solutions (Newton's starts) and its
-// kept tangents, the last of them the final model's at its fit: a fold's refit starts there, so
-// its first Jacobian solves on them without a tangent of its own, and its first trial step takes
-// its chord steps on them (KeptTangent). The same factors, not copies: their solves take turns,
-// and a copy per fold would hold one more factor per load case in memory.
+// latest kept tangent per load case, the final model's at its fit: a fold's refit starts there,
+// so its first Jacobian solves on it without a tangent of its own, and its first trial step
+// takes its chord steps on it (KeptTangent). The same factors, not copies: their solves take
+// turns, and a copy per fold would hold one more factor per load case in memory.
 std::shared_ptr<FactorizationCache> fold_cache(FactorizationCache& loop) {
   auto cache = make_factorization_cache();
   const std::lock_guard<std::mutex> lock(loop.nonlinear_mutex);
   cache->nonlinear_starts = loop.nonlinear_starts;
   cache->linear_starts = loop.linear_starts;
-  cache->tangents = loop.tangents;
+  cache->tangents.resize(loop.tangents.size());
+  for (size_t l = 0; l < loop.tangents.size(); ++l)
+    if (!loop.tangents[l].empty()) cache->tangents[l] = {loop.tangents[l].front()};
   return cache;
 }
+
+namespace {
+
+// The loop's models are done when the folds start: of its kept tangents only the latest per load
+// case serve them (fold_cache), and the older ones are freed before the folds factorise their
+// own (each a factor per load case, two folds at a time).
+void free_older_tangents(FactorizationCache& loop) {
+  const std::lock_guard<std::mutex> lock(loop.nonlinear_mutex);
+  for (auto& kept : loop.tangents)
+    if (kept.size() > 1) kept.resize(1);
+}
+
+}  // namespace
 
 // Stage 9: hold-out folds, independent refits: fit on the even markers of every load case and
 // validate on the odd ones (fold 0), and leave one load case out (folds 1..). They run on the
@@ -182,6 +197,7 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
   const int folds =
       in.options.holdout ? 1 + (leave_cases_out ? static_cast<int>(num_cases) : 0) : 0;
   Folds fold_inputs{in, setup, nominal, selection, result.noise_estimate, {}};
+  if (folds > 0) free_older_tangents(*setup.factorizations);
   for (int f = 0; f < folds; ++f) fold_inputs.caches.push_back(fold_cache(*setup.factorizations));
   if (folds > 0 && !selection.chosen.empty()) factor_final_model(selection);
   std::optional<HoldoutCheck> marker_check;
