@@ -121,6 +121,15 @@ struct FactorizationCache {
   std::atomic<long> tangent_factorizations{0}, kept_state_reuses{0};
   // Factorisations of the linear K_ff of the large-deformation blend (its u_lin).
   std::atomic<long> blend_factorizations{0};
+  // Jacobians of the cache's large-deformation models solve on the tangent at hand (the model's
+  // last one, else the one it borrowed for its chord steps) instead of one factorised at the
+  // solution: the hold-out folds' refits (fold_cache), which start at the loop's fit and move by
+  // about a standard error, where the tangent changes by about the relative change of E. A
+  // Gauss-Newton refit with such a Jacobian J_k ends where J_k^T r = 0, within that relative
+  // change (times the residual's projection, of order one standard error) of where exact
+  // Jacobians end; the folds only predict the markers they hold out. Counted per load case.
+  bool jacobians_on_kept_tangents = false;
+  std::atomic<long> jacobians_on_kept_tangent{0};
 
   // Load case lc's `tangent` as the most recent, the oldest beyond kKeptTangents dropped.
   void keep_tangent(size_t lc, const std::shared_ptr<KeptTangent>& tangent) {

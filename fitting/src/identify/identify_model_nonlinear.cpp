@@ -203,6 +203,9 @@ class ForwardModel::NonlinearEvaluation {
   int w_index_ = -1;           // the blend weight's index (ModelTerms::nonlinear_weight)
   double w_ = 1.0;             // the blend weight
   bool need_tangent_ = false;  // the Jacobian needs the tangent at the converged state
+  // Newton ends with a factorised tangent at its solution (exact Jacobians); else, with
+  // FactorizationCache::jacobians_on_kept_tangents, the Jacobian solves on the tangent at hand.
+  bool tangent_at_solution_ = false;
   // Which tangent matrix this evaluation's coefficients make (KeptTangent::key and terms).
   std::vector<double> tangent_key_;
   std::vector<const void*> tangent_terms_;
@@ -243,6 +246,7 @@ void ForwardModel::NonlinearEvaluation::evaluate_coefficients() {
   // du/dtheta = du_lin/dtheta and du/dw = u_nl - u_lin, so u_nl itself is all that is needed
   // (the score screening of the candidate evaluates exactly there, at its neutral w = 0).
   need_tangent_ = with_jacobian_ && w_ != 0.0;
+  tangent_at_solution_ = need_tangent_ && !shared_.jacobians_on_kept_tangents;
   // The tangent K_ff + sum_k e_k dn_k/du is fixed by the free DOFs, the stiffness terms with a
   // non-zero coefficient (each named by its part of the model's fingerprint: entries, sum,
   // weighted sum) and their coefficients, and the nonlinear terms and theirs. Terms with a zero
@@ -348,7 +352,7 @@ void ForwardModel::NonlinearEvaluation::step(const KeptTangent& factor,
 // chord steps while they converge fast: on `solver` when it holds a factorised tangent
 // (`factorised`), else on `borrowed` (another model's last tangent at the same free DOFs), else
 // on the linear stiffness (the tangent at u = 0, factorised for the blend), which is all a small
-// deformation needs. On success at s = 1 with need_tangent_, `solver` holds the factorised
+// deformation needs. On success at s = 1 with tangent_at_solution_, `solver` holds the factorised
 // tangent at the converged u (else that factorisation is skipped: no solve needs it).
 bool ForwardModel::NonlinearEvaluation::newton(size_t lc, const Eigen::VectorXd& force, double s,
                                                Eigen::VectorXd& u, KeptTangent& solver,
@@ -380,7 +384,7 @@ bool ForwardModel::NonlinearEvaluation::newton(size_t lc, const Eigen::VectorXd&
     if (after_chord && !converged && !(norm <= kChordRate * norm_before_chord)) {
       u = before_chord;  // too slow: a Newton step from where the chord step started
       r_free = r_before_chord;
-    } else if (converged && !(need_tangent_ && s == 1.0)) {
+    } else if (converged && !(tangent_at_solution_ && s == 1.0)) {
       return true;
     } else if (!converged && (factorised || borrowed || w_index_ >= 0) && chords < kMaxChordSteps) {
       before_chord = u;
@@ -540,6 +544,20 @@ void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluati
   }
   u = newton_start(lc, factorised, borrowed);
   const bool converged = solve_equilibrium(lc, u, solver, factorised, borrowed, own_start, parts);
+  // The Jacobian on the tangent at hand (jacobians_on_kept_tangents): this model's last one,
+  // else the one its chord steps borrowed; a new one only when there is neither.
+  const KeptTangent* jacobian_tangent = &solver;
+  if (converged && need_tangent_ && !tangent_at_solution_) {
+    if (!factorised && borrowed) {
+      jacobian_tangent = borrowed;
+    } else if (!factorised) {
+      factorised = factorise_tangent(u, parts, solver);
+      if (!factorised)
+        throw std::runtime_error("the large-deformation tangent is singular for load case " +
+                                 std::to_string(lc + 1) + " at the current parameters");
+    }
+    ++shared_.jacobians_on_kept_tangent;
+  }
   remember(lc, u, converged, factorised);
   if (!converged)
     throw std::runtime_error(
@@ -553,7 +571,7 @@ void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluati
     cache_.solutions[lc] = u;
     cache_.linear_solutions[lc] = u_linear_[lc];
   }
-  predict(lc, std::move(u), parts, solver, out);
+  predict(lc, std::move(u), parts, *jacobian_tangent, out);
 }
 
 // Newton's start: the last solution, this model's or another's (FactorizationCache), moved by
