@@ -3,6 +3,9 @@
 // derivatives from the tangent at the converged state (implicit function theorem:
 // R(u(theta), theta) = f(theta)). With ModelTerms::nonlinear_weight the prediction blends the
 // linear and nonlinear solutions, u = (1 - w) u_lin + w u_nl, with exact derivatives of both.
+// A factorised tangent carries the state it was made at (KeptTangent): a Jacobian at an
+// equilibrium of the same matrix solves on it. Only the hold-out folds' caches take their
+// Jacobians on the tangent at hand instead (FactorizationCache::jacobians_on_kept_tangents).
 #include <Eigen/CholmodSupport>
 #include <Eigen/QR>
 #include <Eigen/SparseCholesky>
@@ -548,15 +551,15 @@ void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluati
   // else the one its chord steps borrowed; a new one only when there is neither.
   const KeptTangent* jacobian_tangent = &solver;
   if (converged && need_tangent_ && !tangent_at_solution_) {
-    if (!factorised && borrowed) {
-      jacobian_tangent = borrowed;
-    } else if (!factorised) {
+    if (factorised || borrowed) {
+      if (!factorised) jacobian_tangent = borrowed;
+      ++shared_.jacobians_on_kept_tangent;
+    } else {
       factorised = factorise_tangent(u, parts, solver);
       if (!factorised)
         throw std::runtime_error("the large-deformation tangent is singular for load case " +
                                  std::to_string(lc + 1) + " at the current parameters");
     }
-    ++shared_.jacobians_on_kept_tangent;
   }
   remember(lc, u, converged, factorised);
   if (!converged)
