@@ -3,7 +3,8 @@
 // tangent. Checked against the same evaluations without the kept tangents (new caches, Newton
 // and a factorisation of their own): a hold-out fold's refit from the loop's fit, a later
 // round's score tests of candidates whose neutral values leave the stiffness as it was, and the
-// blend's linear factor reused, scaled, after a change of E.
+// blend's linear factor reused, scaled, after a change of E. The folds' own refits, whose
+// Jacobians solve on the tangent at hand, against the exact refit.
 #include <gtest/gtest.h>
 
 #include <algorithm>

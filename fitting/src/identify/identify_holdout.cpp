@@ -27,6 +27,16 @@ struct Folds {
   std::vector<std::shared_ptr<FactorizationCache>> caches;
 };
 
+// A fold's refit. Its large-deformation Jacobians solve on the tangent at hand (fold_cache); a
+// refit that fails that way is repeated with exact ones, as the folds refitted before.
+Fit fold_fit(const Setup& setup, const Model& model, const std::vector<Eigen::VectorXd>& weights,
+             FactorizationCache& cache) {
+  const Fit fit = run_fit(setup, model, weights);
+  if (fit.ok || !cache.jacobians_on_kept_tangents || !model.forward->nonlinear()) return fit;
+  cache.jacobians_on_kept_tangents = false;
+  return run_fit(setup, model, weights);
+}
+
 // Fold 0: fit on the even markers of every load case, validate on the odd ones.
 std::optional<HoldoutCheck> markers_fold(const Folds& folds) {
   const Setup& setup = folds.setup;
@@ -52,7 +62,7 @@ std::optional<HoldoutCheck> markers_fold(const Folds& folds) {
   if (with_effects) {
     const Model full =
         build_model(setup, folds.selection.chosen, folds.selection.current_fit.theta, cache);
-    const Fit full_fit = run_fit(setup, full, holdout_weights);
+    const Fit full_fit = fold_fit(setup, full, holdout_weights, *cache);
     if (!full_fit.ok) return std::nullopt;
     check.validation_after =
         summarize(marker_misfit(setup, full, full_fit.theta, markers), validation, setup.dim);
@@ -119,7 +129,7 @@ std::optional<LoadCaseHoldout> case_fold(const Folds& folds, size_t l) {
     const Model model = final_model ? build_model(setup, folds.selection.chosen,
                                                   folds.selection.current_fit.theta, cache)
                                     : build_model(setup, {}, folds.nominal.fit.theta, cache);
-    const Fit fit = run_fit(setup, model, w);
+    const Fit fit = fold_fit(setup, model, w, *cache);
     if (!fit.ok) return std::nullopt;
     const ModelEvaluation eval = model.forward->evaluate(fit.theta, true);
     int local_parameters = 0;
