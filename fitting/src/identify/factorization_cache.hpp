@@ -47,10 +47,10 @@ class CopyableCholmod
 // coefficients; `terms`: which nonlinear terms; the free DOFs) at which displacement `u`. An
 // evaluation that needs the tangent at an equilibrium of the same matrix solves with this one
 // instead of assembling and factorising it again (about 1 CPU s per load case at 8,019 DOFs): a
-// refit's first Jacobian at the parameters of the loop's last one (every
-// hold-out fold), a covariance at a fit's last point, a candidate whose neutral values leave the
-// stiffness and the equilibrium as they were (a later round's score tests of gravity, a load
-// factor, a rigid motion or a stiffness gradient).
+// refit's first Jacobian at the parameters of the loop's last one (every hold-out fold), a
+// covariance at a fit's last point, a candidate whose neutral values leave the stiffness and the
+// equilibrium as they were (a later round's score tests of gravity, a load factor, a rigid
+// motion or a stiffness gradient).
 struct KeptTangent {
   analysis::TangentSolver solver;
   // The matrix solved is `scale` times the factorised one (the linear stiffness after a change
