@@ -121,6 +121,7 @@ class GeometricNonlinearity : public Effect {
       parts->evaluate(u, e, out, tangent);
     };
     term.threads = context.threads;
+    term.identity = parts.get();  // every model with this effect has the same SVK parts
     terms.nonlinear.push_back(std::move(term));
     terms.nonlinear_weight = first;
   }

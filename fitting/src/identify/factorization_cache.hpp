@@ -41,6 +41,50 @@ class CopyableCholmod
   }
 };
 
+// A factorisation of a large-deformation model's tangent for one load case (or of its linear
+// stiffness, the tangent at u = 0), and the state it was factorised at: which matrix (`key`: the
+// stiffness terms with a non-zero coefficient and their coefficients, then the nonlinear terms'
+// coefficients; `terms`: which nonlinear terms; the free DOFs) at which displacement `u`. An
+// evaluation that needs the tangent at an equilibrium of the same matrix solves with this one
+// instead of assembling and factorising it again (about 1 CPU s per load case at 8,019 DOFs): a
+// refit's first Jacobian at the parameters of the loop's last one (every hold-out fold), a
+// covariance at a fit's last point, a candidate whose neutral values leave the stiffness and the
+// equilibrium as they were (a later round's score tests of gravity, a load factor, a rigid
+// motion or a stiffness gradient).
+struct KeptTangent {
+  analysis::TangentSolver solver;
+  // The matrix solved is `scale` times the factorised one (the linear stiffness after a change
+  // of E alone); 1 for tangents.
+  double scale = 1.0;
+  bool has_state = false;  // `solver` holds the factor of the matrix `key` names, at `u`
+  std::vector<double> key;
+  std::vector<const void*> terms;
+  std::vector<int> free_dofs;
+  Eigen::VectorXd u;
+
+  // Solves one at a time: the hold-out folds share the loop's tangents and run side by side,
+  // and a factor's solves share CHOLMOD's workspace.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const {
+    const std::lock_guard<std::mutex> lock(mutex);
+    Eigen::MatrixXd x = solver.solve(rhs);
+    if (scale != 1.0) x /= scale;
+    return x;
+  }
+  // Whether this holds the factor of the matrix (key, terms, free_dofs).
+  bool holds(const std::vector<double>& k, const std::vector<const void*>& t,
+             const std::vector<int>& dofs) const {
+    return has_state && key == k && terms == t && free_dofs == dofs;
+  }
+
+ private:
+  mutable std::mutex mutex;
+};
+
+// How many factorised tangents a cache keeps per load case for the state lookup: the current
+// model's, and one more (a later round's score tests meet the current model's state again after
+// a candidate with other free DOFs, a compliant support, factorised its own).
+inline constexpr size_t kKeptTangents = 2;
+
 struct FactorizationCache {
   std::mutex mutex;  // evaluate() is const and may be called from several threads
   // The symbolic analysis (fill-reducing ordering, supernodes) depends on K_ff's pattern only:
@@ -66,12 +110,34 @@ struct FactorizationCache {
   std::mutex nonlinear_mutex;
   std::vector<Eigen::VectorXd> nonlinear_starts;
   std::vector<Eigen::VectorXd> linear_starts;  // the linear solutions at the same parameters
-  std::vector<std::shared_ptr<analysis::TangentSolver>> tangents;
-  std::vector<std::vector<int>> tangent_free_dofs;  // the free DOFs each tangent was made for
+  // Per load case, the last kKeptTangents factorised or used tangents, most recent first (the
+  // first is the one a new model borrows for its chord steps).
+  std::vector<std::vector<std::shared_ptr<KeptTangent>>> tangents;
   // Load-case solves that started on another model's tangent (Anderson-accelerated chord steps
-  // from its solution), and those of them that converged there without a tangent of their own:
-  // what tests and profiles read. Load cases run concurrently, hence atomic.
+  // from its solution), and those of them that converged there without a tangent of their own;
+  // tangents factorised, and Jacobians solved on a kept tangent at its own state instead: what
+  // tests and profiles read. Load cases run concurrently, hence atomic.
   std::atomic<long> kept_tangent_starts{0}, kept_tangent_converged{0};
+  std::atomic<long> tangent_factorizations{0}, kept_state_reuses{0};
+  // Factorisations of the linear K_ff of the large-deformation blend (its u_lin).
+  std::atomic<long> blend_factorizations{0};
+  // Jacobians of the cache's large-deformation models solve on the tangent at hand (the model's
+  // last one, else the one it borrowed for its chord steps) instead of one factorised at the
+  // solution: the hold-out folds' refits (fold_cache), which start at the loop's fit and move by
+  // about a standard error, where the tangent changes by about the relative change of E. A
+  // Gauss-Newton refit with such a Jacobian J_k ends where J_k^T r = 0, within that relative
+  // change (times the residual's projection, of order one standard error) of where exact
+  // Jacobians end; the folds only predict the markers they hold out. Counted per load case.
+  bool jacobians_on_kept_tangents = false;
+  std::atomic<long> jacobians_on_kept_tangent{0};
+
+  // Load case lc's `tangent` as the most recent, the oldest beyond kKeptTangents dropped.
+  void keep_tangent(size_t lc, const std::shared_ptr<KeptTangent>& tangent) {
+    auto& list = tangents[lc];
+    list.erase(std::remove(list.begin(), list.end(), tangent), list.end());
+    list.insert(list.begin(), tangent);
+    if (list.size() > kKeptTangents) list.resize(kKeptTangents);
+  }
 
   // Factorises `kff` (numerically only when its pattern is the analysed one); false when it is
   // not positive definite.

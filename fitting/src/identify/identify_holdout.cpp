@@ -27,6 +27,16 @@ struct Folds {
   std::vector<std::shared_ptr<FactorizationCache>> caches;
 };
 
+// A fold's refit. Its large-deformation Jacobians solve on the tangent at hand (fold_cache); a
+// refit that fails that way is repeated with exact ones, as the folds refitted before.
+Fit fold_fit(const Setup& setup, const Model& model, const std::vector<Eigen::VectorXd>& weights,
+             FactorizationCache& cache) {
+  const Fit fit = run_fit(setup, model, weights);
+  if (fit.ok || !cache.jacobians_on_kept_tangents || !model.forward->nonlinear()) return fit;
+  cache.jacobians_on_kept_tangents = false;
+  return run_fit(setup, model, weights);
+}
+
 // Fold 0: fit on the even markers of every load case, validate on the odd ones.
 std::optional<HoldoutCheck> markers_fold(const Folds& folds) {
   const Setup& setup = folds.setup;
@@ -52,7 +62,7 @@ std::optional<HoldoutCheck> markers_fold(const Folds& folds) {
   if (with_effects) {
     const Model full =
         build_model(setup, folds.selection.chosen, folds.selection.current_fit.theta, cache);
-    const Fit full_fit = run_fit(setup, full, holdout_weights);
+    const Fit full_fit = fold_fit(setup, full, holdout_weights, *cache);
     if (!full_fit.ok) return std::nullopt;
     check.validation_after =
         summarize(marker_misfit(setup, full, full_fit.theta, markers), validation, setup.dim);
@@ -119,7 +129,7 @@ std::optional<LoadCaseHoldout> case_fold(const Folds& folds, size_t l) {
     const Model model = final_model ? build_model(setup, folds.selection.chosen,
                                                   folds.selection.current_fit.theta, cache)
                                     : build_model(setup, {}, folds.nominal.fit.theta, cache);
-    const Fit fit = run_fit(setup, model, w);
+    const Fit fit = fold_fit(setup, model, w, *cache);
     if (!fit.ok) return std::nullopt;
     const ModelEvaluation eval = model.forward->evaluate(fit.theta, true);
     int local_parameters = 0;
@@ -153,6 +163,36 @@ void factor_final_model(const Selection& selection) {
   }
 }
 
+// A fold's cache starts with the loop's large-deformation solutions (Newton's starts) and its
+// latest kept tangent per load case, the final model's at its fit: a fold's refit starts there,
+// so its first Jacobian solves on it without a tangent of its own, and its first trial step
+// takes its chord steps on it (KeptTangent). The same factors, not copies: their solves take
+// turns, and a copy per fold would hold one more factor per load case in memory.
+std::shared_ptr<FactorizationCache> fold_cache(FactorizationCache& loop) {
+  auto cache = make_factorization_cache();
+  const std::lock_guard<std::mutex> lock(loop.nonlinear_mutex);
+  cache->nonlinear_starts = loop.nonlinear_starts;
+  cache->linear_starts = loop.linear_starts;
+  cache->jacobians_on_kept_tangents = true;
+  cache->tangents.resize(loop.tangents.size());
+  for (size_t l = 0; l < loop.tangents.size(); ++l)
+    if (!loop.tangents[l].empty()) cache->tangents[l] = {loop.tangents[l].front()};
+  return cache;
+}
+
+namespace {
+
+// The loop's models are done when the folds start: of its kept tangents only the latest per load
+// case serve them (fold_cache), and the older ones are freed before the folds factorise their
+// own (each a factor per load case, two folds at a time).
+void free_older_tangents(FactorizationCache& loop) {
+  const std::lock_guard<std::mutex> lock(loop.nonlinear_mutex);
+  for (auto& kept : loop.tangents)
+    if (kept.size() > 1) kept.resize(1);
+}
+
+}  // namespace
+
 // Stage 9: hold-out folds, independent refits: fit on the even markers of every load case and
 // validate on the odd ones (fold 0), and leave one load case out (folds 1..). They run on the
 // machine's cores, each with a factorisation cache of its own (they differ in their weights, so
@@ -168,16 +208,16 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
   const int folds =
       in.options.holdout ? 1 + (leave_cases_out ? static_cast<int>(num_cases) : 0) : 0;
   Folds fold_inputs{in, setup, nominal, selection, result.noise_estimate, {}};
-  // Each fold's cache starts with the loop's large-deformation solutions (Newton's starts).
-  for (int f = 0; f < folds; ++f) {
-    fold_inputs.caches.push_back(make_factorization_cache());
-    fold_inputs.caches.back()->nonlinear_starts = setup.factorizations->nonlinear_starts;
-    fold_inputs.caches.back()->linear_starts = setup.factorizations->linear_starts;
-  }
+  if (folds > 0) free_older_tangents(*setup.factorizations);
+  for (int f = 0; f < folds; ++f) fold_inputs.caches.push_back(fold_cache(*setup.factorizations));
   if (folds > 0 && !selection.chosen.empty()) factor_final_model(selection);
   std::optional<HoldoutCheck> marker_check;
   std::vector<std::optional<LoadCaseHoldout>> case_folds(num_cases);
   std::vector<std::exception_ptr> fold_errors(static_cast<size_t>(folds));
+  // What the folds' large-deformation refits cost, for the progress line that profiles read.
+  std::vector<long> tangents_factorised(static_cast<size_t>(folds), 0);
+  std::vector<long> kept_reused(static_cast<size_t>(folds), 0);
+  std::vector<long> on_kept(static_cast<size_t>(folds), 0);
   if (folds > 0)
     in.say(
         "hold-out checks (" + std::to_string(folds) + " refits of " +
@@ -197,6 +237,10 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
         marker_check = markers_fold(fold_inputs);
       else
         case_folds[static_cast<size_t>(f - 1)] = case_fold(fold_inputs, static_cast<size_t>(f - 1));
+      const FactorizationCache& cache = *fold_inputs.caches[static_cast<size_t>(f)];
+      tangents_factorised[static_cast<size_t>(f)] = cache.tangent_factorizations;
+      kept_reused[static_cast<size_t>(f)] = cache.kept_state_reuses;
+      on_kept[static_cast<size_t>(f)] = cache.jacobians_on_kept_tangent;
       fold_inputs.caches[static_cast<size_t>(f)].reset();  // its models are gone: free the factor
     } catch (...) {
       fold_errors[static_cast<size_t>(f)] = std::current_exception();
@@ -204,6 +248,17 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
   }
   for (const auto& error : fold_errors)
     if (error) std::rethrow_exception(error);
+  long factorised = 0, reused = 0, approximate = 0;
+  for (int f = 0; f < folds; ++f) {
+    factorised += tangents_factorised[static_cast<size_t>(f)];
+    reused += kept_reused[static_cast<size_t>(f)];
+    approximate += on_kept[static_cast<size_t>(f)];
+  }
+  if (factorised + reused + approximate > 0)
+    in.say("hold-out refits: " + std::to_string(factorised) +
+           " large-deformation tangents factorised; load-case Jacobians on a kept tangent: " +
+           std::to_string(reused) + " at its own state, " + std::to_string(approximate) +
+           " at a nearby one");
   if (marker_check) {
     result.holdout = *marker_check;
     result.holdout_done = true;

@@ -3,6 +3,9 @@
 // derivatives from the tangent at the converged state (implicit function theorem:
 // R(u(theta), theta) = f(theta)). With ModelTerms::nonlinear_weight the prediction blends the
 // linear and nonlinear solutions, u = (1 - w) u_lin + w u_nl, with exact derivatives of both.
+// A factorised tangent carries the state it was made at (KeptTangent): a Jacobian at an
+// equilibrium of the same matrix solves on it. Only the hold-out folds' caches take their
+// Jacobians on the tangent at hand instead (FactorizationCache::jacobians_on_kept_tangents).
 #include <Eigen/CholmodSupport>
 #include <Eigen/QR>
 #include <Eigen/SparseCholesky>
@@ -29,10 +32,13 @@ struct ForwardModel::NonlinearCache {
   // The factorisations of an evaluation, kept so that the next one reuses their symbolic
   // analyses (the tangent's pattern does not change with u or theta); one evaluation at a time.
   std::mutex solver_mutex;
-  analysis::TangentSolver linear_solver;
+  // The linear K_ff's factor and the coefficients it was made for: a fit's next evaluation
+  // that changed only E (every coefficient scaled alike) solves with it, scaled.
+  KeptTangent linear_solver;
+  std::vector<double> linear_coefficients;  // empty: no factor
   // Per load case: its last factorised tangent (valid once factorised), the chord matrix of the
   // next evaluation's Newton iterations.
-  std::vector<std::shared_ptr<analysis::TangentSolver>> tangent_solvers;
+  std::vector<std::shared_ptr<KeptTangent>> tangent_solvers;
   std::vector<char> factorised;  // not vector<bool>: load cases write theirs concurrently
 };
 
@@ -100,6 +106,18 @@ constexpr int kAndersonDepth = 5;
 constexpr int kMaxStartChords = 20;
 constexpr int kStartStall = 3;
 
+// s > 0 with c_j = s c0_j to 1e-13 of c_j for every j, else 0.
+double common_scale(const std::vector<double>& c, const std::vector<double>& c0) {
+  if (c.size() != c0.size() || c.empty()) return 0.0;
+  double s = 0.0;
+  for (size_t j = 0; j < c.size() && s == 0.0; ++j)
+    if (c0[j] != 0.0) s = c[j] / c0[j];
+  if (!(s > 0.0)) return 0.0;
+  for (size_t j = 0; j < c.size(); ++j)
+    if (std::abs(c[j] - s * c0[j]) > 1e-13 * std::abs(c[j])) return 0.0;
+  return s;
+}
+
 }  // namespace
 
 // One evaluation at theta, as its stages: the coefficients at theta and the summed stiffness,
@@ -143,30 +161,26 @@ class ForwardModel::NonlinearEvaluation {
   ModelEvaluation linearised_at_zero_weight(double* series) const;
   Eigen::VectorXd second_order_term(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const;
   void solve_load_case(size_t lc, ModelEvaluation& out);
-  Eigen::VectorXd newton_start(size_t lc, bool factorised,
-                               const analysis::TangentSolver*& borrowed);
-  bool chords_from_start(size_t lc, const analysis::TangentSolver& tangent,
-                         Eigen::VectorXd& u) const;
-  bool solve_equilibrium(size_t lc, Eigen::VectorXd& u, analysis::TangentSolver& solver,
-                         bool& factorised, const analysis::TangentSolver* borrowed, bool own_start,
-                         Parts& parts);
+  Eigen::VectorXd newton_start(size_t lc, bool factorised, const KeptTangent*& borrowed);
+  bool chords_from_start(size_t lc, const KeptTangent& tangent, Eigen::VectorXd& u) const;
+  bool solve_equilibrium(size_t lc, Eigen::VectorXd& u, KeptTangent& solver, bool& factorised,
+                         const KeptTangent* borrowed, bool own_start, Parts& parts);
+  std::shared_ptr<KeptTangent> kept_equilibrium(size_t lc, Eigen::VectorXd& u, Parts& parts) const;
   void remember(size_t lc, const Eigen::VectorXd& u, bool converged, bool factorised);
-  void predict(size_t lc, Eigen::VectorXd u, const Parts& parts,
-               const analysis::TangentSolver& solver, ModelEvaluation& out) const;
+  void predict(size_t lc, Eigen::VectorXd u, const Parts& parts, const KeptTangent& solver,
+               ModelEvaluation& out) const;
 
   Eigen::VectorXd internal_force(const Eigen::VectorXd& u, Parts& parts,
                                  Eigen::SparseMatrix<double>* tangent_ff) const;
   bool free_residual(const Eigen::VectorXd& force, double s, const Eigen::VectorXd& u,
                      const Eigen::VectorXd& internal, Eigen::VectorXd& r_free) const;
   bool residual_converged(double norm, double scale, const Eigen::VectorXd& u) const;
-  void step(const analysis::TangentSolver& factor, const Eigen::VectorXd& r_free,
-            Eigen::VectorXd& u) const;
+  void step(const KeptTangent& factor, const Eigen::VectorXd& r_free, Eigen::VectorXd& u) const;
   bool newton(size_t lc, const Eigen::VectorXd& force, double s, Eigen::VectorXd& u,
-              analysis::TangentSolver& solver, bool& factorised,
-              const analysis::TangentSolver* borrowed, Parts& parts);
+              KeptTangent& solver, bool& factorised, const KeptTangent* borrowed, Parts& parts);
+  bool factorise_tangent(const Eigen::VectorXd& u, Parts& parts, KeptTangent& solver) const;
   Eigen::MatrixXd linear_rhs(const Eigen::MatrixXd& dforce, const Eigen::VectorXd& v) const;
-  Eigen::MatrixXd solve_free(const analysis::TangentSolver& factor,
-                             const Eigen::MatrixXd& rhs) const;
+  Eigen::MatrixXd solve_free(const KeptTangent& factor, const Eigen::MatrixXd& rhs) const;
 
   const ForwardModel& m_;
   const Eigen::VectorXd& theta_;
@@ -177,10 +191,9 @@ class ForwardModel::NonlinearEvaluation {
   const size_t nls_;       // load cases
   NonlinearCache& cache_;
   FactorizationCache& shared_;
-  analysis::TangentSolver& linear_solver_;  // the linear K_ff at theta (the tangent at u = 0)
-  // The chord steps of the load cases that run at the same time share the linear stiffness's
-  // factor, whose solves share CHOLMOD's workspace: one at a time.
-  std::mutex linear_solver_mutex_;
+  // The linear K_ff at theta (the tangent at u = 0). The chord steps of the load cases that run
+  // at the same time share it; its solves take turns (KeptTangent::solve).
+  KeptTangent& linear_solver_;
 
   // Set by evaluate_coefficients: the linear terms' coefficients c_j and gradients, K_ff and
   // K = sum_j c_j K_j; the nonlinear terms' coefficients e_k and gradients, per term.
@@ -193,6 +206,12 @@ class ForwardModel::NonlinearEvaluation {
   int w_index_ = -1;           // the blend weight's index (ModelTerms::nonlinear_weight)
   double w_ = 1.0;             // the blend weight
   bool need_tangent_ = false;  // the Jacobian needs the tangent at the converged state
+  // Newton ends with a factorised tangent at its solution (exact Jacobians); else, with
+  // FactorizationCache::jacobians_on_kept_tangents, the Jacobian solves on the tangent at hand.
+  bool tangent_at_solution_ = false;
+  // Which tangent matrix this evaluation's coefficients make (KeptTangent::key and terms).
+  std::vector<double> tangent_key_;
+  std::vector<const void*> tangent_terms_;
 
   // Set by solve_linear, per load case: the load and its derivatives, the linear solution and
   // its derivatives (with the blend only).
@@ -230,14 +249,48 @@ void ForwardModel::NonlinearEvaluation::evaluate_coefficients() {
   // du/dtheta = du_lin/dtheta and du/dw = u_nl - u_lin, so u_nl itself is all that is needed
   // (the score screening of the candidate evaluates exactly there, at its neutral w = 0).
   need_tangent_ = with_jacobian_ && w_ != 0.0;
+  tangent_at_solution_ = need_tangent_ && !shared_.jacobians_on_kept_tangents;
+  // The tangent K_ff + sum_k e_k dn_k/du is fixed by the free DOFs, the stiffness terms with a
+  // non-zero coefficient (each named by its part of the model's fingerprint: entries, sum,
+  // weighted sum) and their coefficients, and the nonlinear terms and theirs. Terms with a zero
+  // coefficient add nothing: a candidate at its neutral values (a stiffness gradient at a = 0)
+  // makes the tangent of the model without it.
+  tangent_key_.clear();
+  for (size_t j = 0; j < nt; ++j)
+    if (c_[j] != 0.0) {
+      const auto at = m_.fingerprint_.begin() + 3 + 3 * static_cast<std::ptrdiff_t>(j);
+      tangent_key_.insert(tangent_key_.end(), at, at + 3);
+      tangent_key_.push_back(c_[j]);
+    }
+  tangent_terms_.clear();
+  for (size_t t = 0; t < nn; ++t) {
+    tangent_key_.insert(tangent_key_.end(), e_[t].begin(), e_[t].end());
+    // A term without an identity is this model's own: only its own tangents match.
+    const void* identity = m_.terms_.nonlinear[t].identity;
+    tangent_terms_.push_back(identity ? identity : &cache_);
+  }
 }
 
-// The linear stiffness's factor, for the linear solutions of the blend.
+// The linear stiffness's factor, for the linear solutions of the blend. A fit of the model
+// changes E at every step, which scales K_ff as a whole: the factor made at the first
+// evaluation serves every later one, scaled (one factorisation per evaluation before). The
+// solutions differ from a new factorisation's by rounding
+// (KeptTangentCantilever.TheBlendsLinearFactorServesAChangeOfEScaled).
 void ForwardModel::NonlinearEvaluation::factorise_linear_stiffness() {
-  if (w_index_ >= 0 && !linear_solver_.compute(kff_))
+  if (w_index_ < 0) return;
+  const double scale = common_scale(c_, cache_.linear_coefficients);
+  if (scale > 0.0) {
+    linear_solver_.scale = scale;
+    return;
+  }
+  cache_.linear_coefficients.clear();
+  linear_solver_.scale = 1.0;
+  ++shared_.blend_factorizations;
+  if (!linear_solver_.solver.compute(kff_))
     throw std::runtime_error(
         "the stiffness at the current parameters is not positive definite (a parameter left "
         "its physical range, e.g. a negative Young's modulus or nu >= 0.5)");
+  cache_.linear_coefficients = c_;
 }
 
 // Internal force at u: K u + sum_k e_k n_k(u); the nonlinear parts and the free tangent block
@@ -291,7 +344,7 @@ bool ForwardModel::NonlinearEvaluation::residual_converged(double norm, double s
          norm <= kRoundOff * force_magnitude(stiffness_, u, m_.free_index_);
 }
 
-void ForwardModel::NonlinearEvaluation::step(const analysis::TangentSolver& factor,
+void ForwardModel::NonlinearEvaluation::step(const KeptTangent& factor,
                                              const Eigen::VectorXd& r_free,
                                              Eigen::VectorXd& u) const {
   const Eigen::VectorXd du = factor.solve(r_free);
@@ -302,16 +355,14 @@ void ForwardModel::NonlinearEvaluation::step(const analysis::TangentSolver& fact
 // chord steps while they converge fast: on `solver` when it holds a factorised tangent
 // (`factorised`), else on `borrowed` (another model's last tangent at the same free DOFs), else
 // on the linear stiffness (the tangent at u = 0, factorised for the blend), which is all a small
-// deformation needs. On success at s = 1 with need_tangent_, `solver` holds the factorised
+// deformation needs. On success at s = 1 with tangent_at_solution_, `solver` holds the factorised
 // tangent at the converged u (else that factorisation is skipped: no solve needs it).
 bool ForwardModel::NonlinearEvaluation::newton(size_t lc, const Eigen::VectorXd& force, double s,
-                                               Eigen::VectorXd& u, analysis::TangentSolver& solver,
-                                               bool& factorised,
-                                               const analysis::TangentSolver* borrowed,
+                                               Eigen::VectorXd& u, KeptTangent& solver,
+                                               bool& factorised, const KeptTangent* borrowed,
                                                Parts& parts) {
   for (int d = 0; d < m_.num_dofs_; ++d)
     if (m_.free_index_[static_cast<size_t>(d)] < 0) u[d] = s * m_.prescribed_[d];
-  Eigen::SparseMatrix<double> tangent_ff;
   Eigen::VectorXd r_free, before_chord, r_before_chord;
   double norm_before_chord = 0.0;
   bool after_chord = false;
@@ -336,7 +387,7 @@ bool ForwardModel::NonlinearEvaluation::newton(size_t lc, const Eigen::VectorXd&
     if (after_chord && !converged && !(norm <= kChordRate * norm_before_chord)) {
       u = before_chord;  // too slow: a Newton step from where the chord step started
       r_free = r_before_chord;
-    } else if (converged && !(need_tangent_ && s == 1.0)) {
+    } else if (converged && !(tangent_at_solution_ && s == 1.0)) {
       return true;
     } else if (!converged && (factorised || borrowed || w_index_ >= 0) && chords < kMaxChordSteps) {
       before_chord = u;
@@ -354,7 +405,6 @@ bool ForwardModel::NonlinearEvaluation::newton(size_t lc, const Eigen::VectorXd&
         // cantilever at nu = 0.45, 8,019 DOFs: the residual at the linear solution is 48 x the
         // load, and 2 of the first score test's 5 factorisations were those).
         if (u.isZero(0.0)) after_chord = false;
-        const std::lock_guard<std::mutex> lock(linear_solver_mutex_);
         step(linear_solver_, r_free, u);
       }
       if (marker_stop) marker_step = (h * (u - before_chord)).norm();
@@ -362,13 +412,29 @@ bool ForwardModel::NonlinearEvaluation::newton(size_t lc, const Eigen::VectorXd&
     }
     after_chord = false;
     if (it == kMaxIterations) return false;
-    internal_force(u, parts, &tangent_ff);
-    factorised = solver.compute(tangent_ff);
+    factorised = factorise_tangent(u, parts, solver);
     if (!factorised) return false;
     if (converged) return true;
     step(solver, r_free, u);
   }
   return false;
+}
+
+// The tangent at u assembled and factorised into `solver`, which then carries the state it was
+// made at (KeptTangent); `parts` are the nonlinear parts at u. False when it is singular.
+bool ForwardModel::NonlinearEvaluation::factorise_tangent(const Eigen::VectorXd& u, Parts& parts,
+                                                          KeptTangent& solver) const {
+  Eigen::SparseMatrix<double> tangent_ff;
+  internal_force(u, parts, &tangent_ff);
+  ++shared_.tangent_factorizations;
+  solver.scale = 1.0;
+  solver.has_state = solver.solver.compute(tangent_ff);
+  if (!solver.has_state) return false;
+  solver.key = tangent_key_;
+  solver.terms = tangent_terms_;
+  solver.free_dofs = m_.free_dofs_;
+  solver.u = u;
+  return true;
 }
 
 // Right-hand sides df/dtheta - dK/dtheta v for the linear terms at displacement v.
@@ -382,7 +448,7 @@ Eigen::MatrixXd ForwardModel::NonlinearEvaluation::linear_rhs(const Eigen::Matri
 }
 
 // factor^-1 rhs on the free DOFs, zero on the others.
-Eigen::MatrixXd ForwardModel::NonlinearEvaluation::solve_free(const analysis::TangentSolver& factor,
+Eigen::MatrixXd ForwardModel::NonlinearEvaluation::solve_free(const KeptTangent& factor,
                                                               const Eigen::MatrixXd& rhs) const {
   Eigen::MatrixXd rhs_free(nf_, rhs.cols());
   for (int k = 0; k < nf_; ++k) rhs_free.row(k) = rhs.row(m_.free_dofs_[static_cast<size_t>(k)]);
@@ -417,12 +483,11 @@ void ForwardModel::NonlinearEvaluation::prepare_caches() {
     cache_.factorised.resize(nls_, 0);
   }
   for (auto& owned : cache_.tangent_solvers)
-    if (!owned) owned = std::make_shared<analysis::TangentSolver>();
+    if (!owned) owned = std::make_shared<KeptTangent>();
   auto grow = [this](auto& per_load_case) {
     if (per_load_case.size() < nls_) per_load_case.resize(nls_);
   };
-  grow(shared_.nonlinear_starts), grow(shared_.linear_starts);
-  grow(shared_.tangents), grow(shared_.tangent_free_dofs);
+  grow(shared_.nonlinear_starts), grow(shared_.linear_starts), grow(shared_.tangents);
   const std::lock_guard<std::mutex> lock(cache_.mutex);
   grow(cache_.solutions), grow(cache_.linear_solutions);
 }
@@ -453,18 +518,49 @@ ModelEvaluation ForwardModel::NonlinearEvaluation::solve_load_cases() {
 }
 
 void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluation& out) {
-  const std::shared_ptr<analysis::TangentSolver>& owned_solver = cache_.tangent_solvers[lc];
-  analysis::TangentSolver& solver = *owned_solver;
+  Eigen::VectorXd u;
+  Parts parts;
+  if (need_tangent_) {
+    // A Jacobian at an equilibrium whose tangent is factorised already: no Newton, no tangent.
+    if (const std::shared_ptr<KeptTangent> kept = kept_equilibrium(lc, u, parts)) {
+      ++shared_.kept_state_reuses;
+      shared_.keep_tangent(lc, kept);  // the one a new model borrows next
+      shared_.nonlinear_starts[lc] = u;
+      shared_.linear_starts[lc] = u_linear_[lc];
+      {
+        const std::lock_guard<std::mutex> lock(cache_.mutex);
+        cache_.solutions[lc] = u;
+        cache_.linear_solutions[lc] = u_linear_[lc];
+      }
+      predict(lc, std::move(u), parts, *kept, out);
+      return;
+    }
+  }
+  const std::shared_ptr<KeptTangent>& owned_solver = cache_.tangent_solvers[lc];
+  KeptTangent& solver = *owned_solver;
   bool factorised = cache_.factorised[lc] != 0;
-  const analysis::TangentSolver* borrowed = nullptr;
+  const KeptTangent* borrowed = nullptr;
   bool own_start = false;  // this model's own last equilibrium is at hand
   {
     const std::lock_guard<std::mutex> lock(cache_.mutex);
     own_start = cache_.solutions[lc].size() == m_.num_dofs_;
   }
-  Eigen::VectorXd u = newton_start(lc, factorised, borrowed);
-  Parts parts;
+  u = newton_start(lc, factorised, borrowed);
   const bool converged = solve_equilibrium(lc, u, solver, factorised, borrowed, own_start, parts);
+  // The Jacobian on the tangent at hand (jacobians_on_kept_tangents): this model's last one,
+  // else the one its chord steps borrowed; a new one only when there is neither.
+  const KeptTangent* jacobian_tangent = &solver;
+  if (converged && need_tangent_ && !tangent_at_solution_) {
+    if (factorised || borrowed) {
+      if (!factorised) jacobian_tangent = borrowed;
+      ++shared_.jacobians_on_kept_tangent;
+    } else {
+      factorised = factorise_tangent(u, parts, solver);
+      if (!factorised)
+        throw std::runtime_error("the large-deformation tangent is singular for load case " +
+                                 std::to_string(lc + 1) + " at the current parameters");
+    }
+  }
   remember(lc, u, converged, factorised);
   if (!converged)
     throw std::runtime_error(
@@ -478,7 +574,7 @@ void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluati
     cache_.solutions[lc] = u;
     cache_.linear_solutions[lc] = u_linear_[lc];
   }
-  predict(lc, std::move(u), parts, solver, out);
+  predict(lc, std::move(u), parts, *jacobian_tangent, out);
 }
 
 // Newton's start: the last solution, this model's or another's (FactorizationCache), moved by
@@ -496,8 +592,8 @@ void ForwardModel::NonlinearEvaluation::solve_load_case(size_t lc, ModelEvaluati
 // cantilever_frame_gravity_nu049 (8,019 DOFs), round 2 (E refitted after the frame's motion was
 // added): the moved start was 6-9 % of the marker displacement off, and Newton's chord steps,
 // judged by the residual's norm, spent 1-2 new tangents per load case (2-5 CPU s each).
-Eigen::VectorXd ForwardModel::NonlinearEvaluation::newton_start(
-    size_t lc, bool factorised, const analysis::TangentSolver*& borrowed) {
+Eigen::VectorXd ForwardModel::NonlinearEvaluation::newton_start(size_t lc, bool factorised,
+                                                                const KeptTangent*& borrowed) {
   const int n = m_.num_dofs_;
   Eigen::VectorXd u, u_linear_then;
   {
@@ -510,9 +606,11 @@ Eigen::VectorXd ForwardModel::NonlinearEvaluation::newton_start(
     u = shared_.nonlinear_starts[lc];
     u_linear_then = shared_.linear_starts[lc];
   }
-  if (!factorised && shared_.tangents[lc] && shared_.tangents[lc] != cache_.tangent_solvers[lc] &&
-      shared_.tangent_free_dofs[lc] == m_.free_dofs_)
-    borrowed = shared_.tangents[lc].get();
+  if (!factorised && !shared_.tangents[lc].empty()) {
+    const std::shared_ptr<KeptTangent>& last = shared_.tangents[lc].front();
+    if (last != cache_.tangent_solvers[lc] && last->has_state && last->free_dofs == m_.free_dofs_)
+      borrowed = last.get();
+  }
   if (u.size() == n && borrowed) {
     ++shared_.kept_tangent_starts;
     if (chords_from_start(lc, *borrowed, u)) ++shared_.kept_tangent_converged;
@@ -534,8 +632,7 @@ Eigen::VectorXd ForwardModel::NonlinearEvaluation::newton_start(
 // often raises it 10-40-fold before it falls. Only the residual decides convergence, so the
 // solution is the equilibrium Newton finds, to the same force tolerance. Ends there (true), else
 // leaves u at the iterate with the smallest increment for Newton to continue from.
-bool ForwardModel::NonlinearEvaluation::chords_from_start(size_t lc,
-                                                          const analysis::TangentSolver& tangent,
+bool ForwardModel::NonlinearEvaluation::chords_from_start(size_t lc, const KeptTangent& tangent,
                                                           Eigen::VectorXd& u) const {
   for (int d = 0; d < m_.num_dofs_; ++d)
     if (m_.free_index_[static_cast<size_t>(d)] < 0) u[d] = m_.prescribed_[d];
@@ -607,9 +704,8 @@ bool ForwardModel::NonlinearEvaluation::chords_from_start(size_t lc,
 // follow. On the suite's cantilever at nu = 0.49 (8,019 DOFs) a tangent costs 1.8 CPU s, and a
 // ladder that fails runs up to 30 of them per attempt.
 bool ForwardModel::NonlinearEvaluation::solve_equilibrium(size_t lc, Eigen::VectorXd& u,
-                                                          analysis::TangentSolver& solver,
-                                                          bool& factorised,
-                                                          const analysis::TangentSolver* borrowed,
+                                                          KeptTangent& solver, bool& factorised,
+                                                          const KeptTangent* borrowed,
                                                           bool own_start, Parts& parts) {
   const Eigen::VectorXd& force = forces_[lc];
   bool converged =
@@ -632,21 +728,46 @@ bool ForwardModel::NonlinearEvaluation::solve_equilibrium(size_t lc, Eigen::Vect
 // What the next evaluations start from: this load case's solution and its tangent.
 void ForwardModel::NonlinearEvaluation::remember(size_t lc, const Eigen::VectorXd& u,
                                                  bool converged, bool factorised) {
-  const std::shared_ptr<analysis::TangentSolver>& owned_solver = cache_.tangent_solvers[lc];
   cache_.factorised[lc] = factorised ? 1 : 0;
   if (converged) {
     shared_.nonlinear_starts[lc] = u;
     shared_.linear_starts[lc] = u_linear_[lc];
   }
-  if (factorised && shared_.tangents[lc] != owned_solver) {
-    shared_.tangents[lc] = owned_solver;
-    shared_.tangent_free_dofs[lc] = m_.free_dofs_;
+  if (factorised) shared_.keep_tangent(lc, cache_.tangent_solvers[lc]);
+}
+
+// A tangent factorised for this evaluation's matrix (tangent_key_) at a displacement that is an
+// equilibrium of load case lc here (the one convergence test of every solve): this model's own
+// last one, else one the cache kept. Its u is then the solution, as good as Newton's own (both
+// pass the same test), and the tangent is exact there, so the Jacobian is the one Newton and a
+// new factorisation would give at that u. Writes u and the nonlinear parts at u; null when none.
+std::shared_ptr<KeptTangent> ForwardModel::NonlinearEvaluation::kept_equilibrium(
+    size_t lc, Eigen::VectorXd& u, Parts& parts) const {
+  std::vector<std::shared_ptr<KeptTangent>> candidates = {cache_.tangent_solvers[lc]};
+  candidates.insert(candidates.end(), shared_.tangents[lc].begin(), shared_.tangents[lc].end());
+  Eigen::VectorXd r_free;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    const std::shared_ptr<KeptTangent>& kept = candidates[k];
+    if (k > 0 && kept == candidates[0]) continue;  // this model's own, tried first
+    if (!kept || !kept->holds(tangent_key_, tangent_terms_, m_.free_dofs_) ||
+        kept->u.size() != m_.num_dofs_)
+      continue;
+    bool supported_alike = true;  // the prescribed values are this model's
+    for (int d = 0; d < m_.num_dofs_ && supported_alike; ++d)
+      if (m_.free_index_[static_cast<size_t>(d)] < 0 && kept->u[d] != m_.prescribed_[d])
+        supported_alike = false;
+    if (supported_alike &&
+        free_residual(forces_[lc], 1.0, kept->u, internal_force(kept->u, parts, nullptr), r_free)) {
+      u = kept->u;
+      return kept;
+    }
   }
+  return nullptr;
 }
 
 // The prediction at the converged u (blended with the linear one) and its Jacobian.
 void ForwardModel::NonlinearEvaluation::predict(size_t lc, Eigen::VectorXd u, const Parts& parts,
-                                                const analysis::TangentSolver& solver,
+                                                const KeptTangent& solver,
                                                 ModelEvaluation& out) const {
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = m_.observations_[lc].operator_;
   Eigen::MatrixXd jac;

@@ -338,5 +338,7 @@ void run_holdout(const LoopInputs& in, const Setup& setup, const Nominal& nomina
 // The cache of the final model (the loop's, setup.factorizations) holding the factor of its K at
 // its fitted parameters, for the folds to copy (identify_holdout.cpp; run_holdout calls it).
 void factor_final_model(const Selection& selection);
+// A hold-out fold's cache: the loop's large-deformation starts and kept tangents, shared.
+std::shared_ptr<FactorizationCache> fold_cache(FactorizationCache& loop);
 
 }  // namespace isospring::fitting::identify_loop

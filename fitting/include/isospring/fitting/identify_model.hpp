@@ -58,6 +58,10 @@ struct NonlinearTerm {
   /// Threads the model may solve its load cases on, one Newton solve each (evaluate is then
   /// called from several threads at once, and runs its own element loops serially there).
   int threads = 1;
+  /// What n_k are: terms with the same non-null identity compute the same n_k, so that models
+  /// sharing a cache can tell that their tangents are the same matrix (and one model's
+  /// factorised tangent serves another's Jacobian). Null: a model's tangents are its own.
+  const void* identity = nullptr;
 };
 
 struct ModelTerms {
