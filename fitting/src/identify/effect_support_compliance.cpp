@@ -74,19 +74,6 @@ class SupportCompliance : public Effect {
     // of k_a itself, so the data pull it off the bound only once they see a confined clamp.
     return Eigen::Vector3d(std::log(100.0), std::log(100.0), 0.0);
   }
-  // Two kinds of value restart at the initial ones. A spring stiffer than the start's (100 x
-  // the body): there the markers move by less than 1 % of the clamp's share and the derivative
-  // falls with 1 / k, so a fit that starts there stays stiff where the optimum is finite. On a
-  // test plate a forward round's fit beside a rigid offset left log_kt at 680, and the swap fit
-  // from there ended 34 residual variances above the optimum; from the screening values
-  // (log 1e5) too. And log(k_a / k_n), which starts on its bound so that run_fit fits the
-  // one-stiffness support first (started at 0.69, the same swap fit was pinned on the bound on
-  // the way and crawled there, 41 iterations, to 1.9 residual variances above the optimum).
-  Eigen::VectorXd restart_values(const Eigen::VectorXd& fitted) const override {
-    Eigen::VectorXd restart = fitted.cwiseMin(initial_values());
-    restart[2] = initial_values()[2];
-    return restart;
-  }
   // 0 <= log(k_a / k_n) <= log(kMaxConfinement).
   Eigen::VectorXd lower_bounds() const override {
     return Eigen::Vector3d(-kInfinity, -kInfinity, 0.0);

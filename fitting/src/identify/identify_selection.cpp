@@ -204,10 +204,7 @@ void try_candidate(const SelectionInputs& s, Selection& selection, const Effect*
   Eigen::MatrixXd covariance;
   const Fit fit = run_fit(s.setup, model, s.nominal.weights,
                           check_expectations ? &covariance : nullptr, FitStart::kNewParameters);
-  if (fit.ok && !model.forward->nonlinear()) {
-    selection.linear_fits[trial] = fit;
-    selection.fitted_values[effect] = fit.theta.tail(effect->num_parameters());
-  }
+  if (fit.ok && !model.forward->nonlinear()) selection.linear_fits[trial] = fit;
   test.seconds = seconds_since(fit_start);
   report_cost("fitted");
   if (!fit.ok) {
@@ -268,14 +265,6 @@ void consider_change(const SelectionInputs& s, Selection& selection,
   }
 }
 
-// Where the parameters of the effect in place e of `effects` start in a model's theta.
-Eigen::Index first_parameter(const Setup& setup, const std::vector<const Effect*>& effects,
-                             size_t e) {
-  Eigen::Index first = setup.material_parameters;
-  for (size_t k = 0; k < e; ++k) first += effects[k]->num_parameters();
-  return first;
-}
-
 // The swap that BIC favours most among every selected effect replaced by every other linear
 // candidate; `seen` collects every alternative fitted.
 struct SwapSearch {
@@ -304,12 +293,12 @@ SwapSearch search_swaps(const SelectionInputs& s, Selection& selection, double n
         s.in.say("swap stage: fitting " + candidate->name() + " in place of " + chosen[e]->name());
       // Not large-deformation models (Newton fits): the score test handled them.
       const std::optional<Fit> swap_fit =
-          fit_of(s, selection, swapped, swap_start(s.setup, selection, e, candidate.get()),
+          fit_of(s, selection, swapped,
+                 start_replacing(s.setup, selection.current, selection.current_fit.theta, e,
+                                 candidate.get()),
                  FitStart::kNewParameters, false);
       if (!swap_fit || !swap_fit->ok) continue;
       const Fit& fit = *swap_fit;
-      selection.fitted_values[candidate.get()] =
-          fit.theta.segment(first_parameter(s.setup, swapped, e), candidate->num_parameters());
       const Alternative alternative{chosen[e]->name(), candidate->name(),
                                     bic(fit) - bic(selection.current_fit), false};
       search.seen.push_back(alternative);
@@ -399,22 +388,6 @@ void backward_step(const SelectionInputs& s, SelectionRound& round, Selection& s
     selection.current = build_model(s.setup, selection.chosen, worst.fit.theta);
     selection.current_fit = worst.fit;
   }
-}
-
-Eigen::VectorXd swap_start(const Setup& setup, const Selection& selection, size_t e,
-                           const Effect* candidate) {
-  Eigen::VectorXd start =
-      start_replacing(setup, selection.current, selection.current_fit.theta, e, candidate);
-  const auto known = selection.fitted_values.find(candidate);
-  if (known == selection.fitted_values.end() ||
-      known->second.size() != candidate->num_parameters() || !known->second.allFinite())
-    return start;
-  // Inside the bounds: a fit's values are, but the bounds are the fit's guards, so make sure.
-  start.segment(first_parameter(setup, selection.chosen, e), candidate->num_parameters()) =
-      candidate->restart_values(known->second)
-          .cwiseMax(candidate->lower_bounds())
-          .cwiseMin(candidate->upper_bounds());
-  return start;
 }
 
 // Stage 6: the swap stage. Forward selection is path dependent: an effect that explains a bit of

@@ -298,13 +298,6 @@ struct Selection {
   // model of round 1): a refit would repeat the fit (measured on the suite's tube_graded: 6 s
   // for one support_compliance refit).
   std::map<std::vector<const Effect*>, Fit> linear_fits;
-  // Each linear effect's parameters at its latest fit under those weights (a forward round's
-  // candidate fit, a swap): where the swap stage's fits of models with that effect start. A
-  // candidate's optimum moves little when one other effect is replaced, while its initial values
-  // (a zero gradient, a rigid clamp) are far from it (measured on the suite's
-  // cantilever_frame_gravity_nu049: the swap stage's fits from round 2's values needed fewer
-  // factorisations than from the initial values and ended at the same parameters).
-  std::map<const Effect*, Eigen::VectorXd> fitted_values;
 };
 
 // Stage 7: the final fit under the weights of the final noise estimate.
@@ -332,12 +325,6 @@ void select_forward(const SelectionInputs& s, IdentifyResult& result,
                     Selection& selection);  // identify_selection.cpp
 void backward_step(const SelectionInputs& s, SelectionRound& round, Selection& selection);
 void swap_effects(const SelectionInputs& s, IdentifyResult& result, Selection& selection);
-// Starting values for the swap stage's fit of the current effects with effect e replaced by
-// `candidate`: those of start_replacing, except the candidate's own parameters, which are its
-// values in Selection::fitted_values when it has been fitted (Effect::restart_values of them,
-// within its bounds).
-Eigen::VectorXd swap_start(const Setup& setup, const Selection& selection, size_t e,
-                           const Effect* candidate);
 
 void fit_final(const LoopInputs& in, const Setup& setup, const CaseNominal& case_nominal,
                const Nominal& nominal, IdentifyResult& result, Selection& selection,

@@ -101,10 +101,6 @@ class Effect {
   int num_parameters() const { return static_cast<int>(parameter_names().size()); }
   /// Starting values: the effect switched off (or, for compliance, nearly rigid).
   virtual Eigen::VectorXd initial_values() const { return Eigen::VectorXd::Zero(num_parameters()); }
-  /// Where a fit of this effect in another model starts, given its values at an earlier fit
-  /// (the selection's swap stage): those values, except any that sit where the data cannot move
-  /// them (a support stiffer than the nearly rigid start), which go back to initial_values().
-  virtual Eigen::VectorXd restart_values(const Eigen::VectorXd& fitted) const { return fitted; }
   /// Values at which the effect vanishes (the model equals the one without it), for the score
   /// screening of expensive candidates; empty when there are none (a compliance is rigid only
   /// in the limit).
