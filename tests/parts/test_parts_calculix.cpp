@@ -227,5 +227,14 @@ TEST(PartsCalculix, FreecadWasherM4) {
   check_part("freecad_washer_m4");
 }
 
+// FreeCAD-library's door magnet plate (a 50 x 15.2 mm stadium, 1.4 mm thick, in millimetres)
+// with two holes whose top edges are rounded by 1 mm fillets (tori tangent to the top face and
+// to the bore): standing on its bottom face under its weight. The clamped face's outline meets
+// the sides and the bores at 90 degrees and the part has no re-entrant edge; the fillets lie on
+// the free side.
+TEST(PartsCalculix, FreecadDoorMagnetPlate) {
+  check_part("freecad_door_magnet_plate");
+}
+
 }  // namespace
 }  // namespace isospring
