@@ -28,6 +28,7 @@
 #include <sstream>
 
 #include "cad_face_recognisers.hpp"
+#include "cad_pcurves.hpp"
 #include "cad_reader.hpp"
 #include "cad_solid_recognisers.hpp"
 #include "crash_guard.hpp"
@@ -146,6 +147,8 @@ TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string
     throw InputError(name +
                      ": the file holds no geometry OpenCascade can transfer (no solids, "
                      "shells or faces)");
+  // Pcurves the reader fitted loosely would trim the faces wrongly (cad_pcurves.hpp).
+  detail::rebuild_stray_pcurves(shape);
   return shape;
 }
 
