@@ -1,9 +1,7 @@
 // STEP/IGES import through OpenCascade: faces to NURBS patches, hexahedral solids to volumes.
 #include <BRepAdaptor_Surface.hxx>
-#include <BRepBndLib.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
-#include <Bnd_Box.hxx>
 #include <Eigen/Geometry>
 #include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -36,6 +34,7 @@
 #include "isospring/geometry/conforming_sides.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "occt_box.hpp"
 #include "occt_silence.hpp"
 #include "step_entities.hpp"
 
@@ -200,12 +199,9 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
     throw InputError(file.string() +
                      ": the file holds no faces (points or curves only); a part "
                      "needs surfaces or solids");
-  Bnd_Box box;
-  BRepBndLib::AddOptimal(shape, box, false, false);
-  double x0, y0, z0, x1, y1, z1;
-  box.Get(x0, y0, z0, x1, y1, z1);
-  model.bbox_min = {x0, y0, z0};
-  model.bbox_max = {x1, y1, z1};
+  const detail::Corners box = detail::tight_box(shape);
+  model.bbox_min = box.lo;
+  model.bbox_max = box.hi;
   for (int s = 1; s <= model.solids; ++s) {
     GProp_GProps props;
     BRepGProp::VolumeProperties(solids(s), props, 1e-9);
