@@ -59,14 +59,15 @@ bool rebuild(const TopoDS_Edge& edge, const TopoDS_Face& face) {
   const double tolerance = BRep_Tool::Tolerance(edge);
   const Handle(Geom2d_Curve) fresh = projected_pcurve(edge, face, tolerance);
   if (fresh.IsNull()) return false;
-  double first = 0.0, last = 0.0;
-  const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(edge, face, first, last);
+  double first = 0.0, last = 0.0, old_first = 0.0, old_last = 0.0;
+  BRep_Tool::Range(edge, first, last);  // the projection's parameters are the 3D curve's
+  const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(edge, face, old_first, old_last);
   BRep_Builder builder;
   builder.UpdateEdge(edge, fresh, face, tolerance);
   builder.Range(edge, face, first, last);
   if (deviation(edge, face) <= tolerance) return true;
   builder.UpdateEdge(edge, old, face, tolerance);
-  builder.Range(edge, face, first, last);
+  builder.Range(edge, face, old_first, old_last);
   return false;
 }
 
