@@ -1,9 +1,7 @@
 // STEP/IGES import through OpenCascade: faces to NURBS patches, hexahedral solids to volumes.
 #include <BRepAdaptor_Surface.hxx>
-#include <BRepBndLib.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
-#include <Bnd_Box.hxx>
 #include <Eigen/Geometry>
 #include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -28,6 +26,7 @@
 #include <sstream>
 
 #include "cad_face_recognisers.hpp"
+#include "cad_pcurves.hpp"
 #include "cad_reader.hpp"
 #include "cad_solid_recognisers.hpp"
 #include "crash_guard.hpp"
@@ -35,6 +34,7 @@
 #include "isospring/geometry/conforming_sides.hpp"
 #include "isospring/geometry/construction.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "occt_box.hpp"
 #include "occt_silence.hpp"
 #include "step_entities.hpp"
 
@@ -146,6 +146,8 @@ TopoDS_Shape read_shape_unguarded(const std::filesystem::path& file, std::string
     throw InputError(name +
                      ": the file holds no geometry OpenCascade can transfer (no solids, "
                      "shells or faces)");
+  // Pcurves the reader fitted loosely would trim the faces wrongly (cad_pcurves.hpp).
+  detail::rebuild_stray_pcurves(shape);
   return shape;
 }
 
@@ -197,12 +199,9 @@ CadModel read_cad_unguarded(const std::filesystem::path& file) {
     throw InputError(file.string() +
                      ": the file holds no faces (points or curves only); a part "
                      "needs surfaces or solids");
-  Bnd_Box box;
-  BRepBndLib::AddOptimal(shape, box, false, false);
-  double x0, y0, z0, x1, y1, z1;
-  box.Get(x0, y0, z0, x1, y1, z1);
-  model.bbox_min = {x0, y0, z0};
-  model.bbox_max = {x1, y1, z1};
+  const detail::Corners box = detail::tight_box(shape);
+  model.bbox_min = box.lo;
+  model.bbox_max = box.hi;
   for (int s = 1; s <= model.solids; ++s) {
     GProp_GProps props;
     BRepGProp::VolumeProperties(solids(s), props, 1e-9);

@@ -2,12 +2,10 @@
 // box, plane normal or cylinder axis, STEP name, and the sample points the selectors test.
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
-#include <BRepBndLib.hxx>
 #include <BRepGProp.hxx>
 #include <BRepTools.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Tool.hxx>
-#include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Controller.hxx>
@@ -30,6 +28,7 @@
 #include "cad_solid_shape.hpp"
 #include "isospring/geometry/cad_face_selection.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "occt_box.hpp"
 #include "occt_silence.hpp"
 
 namespace isospring::geometry {
@@ -111,12 +110,9 @@ SolidFace describe_solid_face(const TopoDS_Face& face, int index) {
   BRepGProp::SurfaceProperties(face, props, 1e-9);
   f.area = props.Mass();
   f.centroid = vec(props.CentreOfMass().XYZ());
-  Bnd_Box box;
-  BRepBndLib::AddOptimal(face, box, false, false);
-  double x0, y0, z0, x1, y1, z1;
-  box.Get(x0, y0, z0, x1, y1, z1);
-  f.box_min = {x0, y0, z0};
-  f.box_max = {x1, y1, z1};
+  const detail::Corners box = detail::tight_box(face);
+  f.box_min = box.lo;
+  f.box_max = box.hi;
   const BRepAdaptor_Surface surface(face);
   if (surface.GetType() == GeomAbs_Plane) {
     const gp_Pln plane = surface.Plane();

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "occt_box.hpp"
+
 namespace isospring::geometry::detail {
 
 namespace {
@@ -61,10 +63,9 @@ EdgeCrossings::EdgeCrossings(const CadSolid::Shape& shape) {
     }
     Bnd_Box box;
     BRepBndLib::Add(e, box, false);
-    double x0, y0, z0, x1, y1, z1;
-    box.Get(x0, y0, z0, x1, y1, z1);
-    edge.box_min = Eigen::Vector3d(x0, y0, z0);
-    edge.box_max = Eigen::Vector3d(x1, y1, z1);
+    const Corners box_corners = corners(box);
+    edge.box_min = box_corners.lo;
+    edge.box_max = box_corners.hi;
     edges->push_back(std::move(edge));
   }
   edges_ = edges;

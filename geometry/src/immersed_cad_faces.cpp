@@ -78,7 +78,14 @@ std::vector<double> surface_breaks(const BRepAdaptor_Surface& surface, bool u) {
   return std::vector<double>(ends.begin(), ends.end());
 }
 
-// Sorted break points in [lo, hi], both ends included, without near-duplicates.
+// The hatcher's confusion distance in (u, v): iso-lines and trimming curves closer than this meet.
+constexpr double kHatchConfusion = 1e-8;
+
+// Sorted break points in [lo, hi], both ends included, without near-duplicates. Breaks closer than
+// the hatcher's confusion distance are one: a trimming curve fitted by a polynomial (a circle's
+// pcurve) overshoots the u of its end vertex by a few 1e-9 (the CAx-IF GD&T block: 5.7e-9), and
+// every iso-line in that sliver grazes the curve within the hatcher's tolerance, so the hatcher
+// fails on it; the sliver's area is below 1e-8 of the face's u range times its v-extent there.
 std::vector<double> cleaned(std::vector<double> breaks, double lo, double hi) {
   breaks.push_back(lo);
   breaks.push_back(hi);
@@ -86,7 +93,7 @@ std::vector<double> cleaned(std::vector<double> breaks, double lo, double hi) {
   std::sort(breaks.begin(), breaks.end());
   for (double b : breaks) {
     if (b < lo || b > hi) continue;
-    if (!kept.empty() && b - kept.back() <= 1e-12 * (hi - lo)) continue;
+    if (!kept.empty() && b - kept.back() <= std::max(1e-12 * (hi - lo), kHatchConfusion)) continue;
     kept.push_back(b);
   }
   if (kept.back() < hi) kept.back() = hi;
@@ -100,7 +107,8 @@ class FaceIntegrator {
         index_(index),
         rule_(nurbs::gauss_legendre(order)),
         surface_(face, true),
-        hatcher_(Geom2dHatch_Intersector(1e-10, 1e-10), 1e-8, 1e-8, true, false) {
+        hatcher_(Geom2dHatch_Intersector(1e-10, 1e-10), kHatchConfusion, kHatchConfusion, true,
+                 false) {
     BRepTools::UVBounds(face, u0_, u1_, v0_, v1_);
     std::vector<double> ubreaks = surface_breaks(surface_, true);
     const TopoDS_Face forward = TopoDS::Face(face.Oriented(TopAbs_FORWARD));

@@ -13,6 +13,7 @@
 #include "cad_solid_shape.hpp"
 #include "isospring/geometry/immersed_cad.hpp"
 #include "isospring/nurbs/error.hpp"
+#include "occt_box.hpp"
 
 namespace isospring::geometry {
 
@@ -23,12 +24,8 @@ std::vector<GradingPlane> grading_towards_face(const CadSolid& solid, int face, 
     if (shape.face_index[k] != face) continue;
     // The tight box (on the exact surfaces and their trimming, without tolerance enlargement),
     // so that its planes are the face's own extreme coordinates.
-    Bnd_Box box;
-    BRepBndLib::AddOptimal(shape.faces[k], box, false, false);
-    double lo[3], hi[3];
-    box.Get(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-    const double flat =
-        1e-9 * (Eigen::Vector3d(hi[0], hi[1], hi[2]) - Eigen::Vector3d(lo[0], lo[1], lo[2])).norm();
+    const auto [lo, hi] = detail::tight_box(shape.faces[k]);
+    const double flat = 1e-9 * (hi - lo).norm();
     std::vector<GradingPlane> planes;
     for (int axis = 0; axis < 3; ++axis) {
       planes.push_back({axis, lo[axis], smallest, ratio});

@@ -1,12 +1,10 @@
 // Axis-parallel lines against a solid's exact B-rep (immersed_cad_lines.hpp).
 #include "immersed_cad_lines.hpp"
 
-#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Tool.hxx>
-#include <Bnd_Box.hxx>
 #include <Precision.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -16,15 +14,11 @@
 #include <algorithm>
 #include <optional>
 
+#include "occt_box.hpp"
+
 namespace isospring::geometry::detail {
 
 namespace {
-
-Eigen::Vector3d corner(const Bnd_Box& box, bool upper) {
-  double x0, y0, z0, x1, y1, z1;
-  box.Get(x0, y0, z0, x1, y1, z1);
-  return upper ? Eigen::Vector3d(x1, y1, z1) : Eigen::Vector3d(x0, y0, z0);
-}
 
 gp_Pnt to_gp(const Eigen::Vector3d& x) {
   return gp_Pnt(x.x(), x.y(), x.z());
@@ -34,10 +28,9 @@ gp_Pnt to_gp(const Eigen::Vector3d& x) {
 
 SolidProbe::SolidProbe(const CadSolid::Shape& shape)
     : shape_(shape), classifier_(shape.solid), edges_(shape) {
-  Bnd_Box box;
-  BRepBndLib::AddOptimal(shape.solid, box, false, false);
-  box_min_ = corner(box, false);
-  box_max_ = corner(box, true);
+  const Corners box = tight_box(shape.solid);
+  box_min_ = box.lo;
+  box_max_ = box.hi;
   tighten_box();
   // Two faces report a crossing through their common edge each, within the edge's tolerance.
   double tolerance = 0.0;
@@ -45,10 +38,9 @@ SolidProbe::SolidProbe(const CadSolid::Shape& shape)
     tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Edge(e.Current())));
   merge_ = std::max(4.0 * tolerance, 1e-10 * size());
   for (const TopoDS_Face& face : shape.faces) {
-    Bnd_Box face_box;
-    BRepBndLib::AddOptimal(face, face_box, false, false);
-    face_min_.push_back(corner(face_box, false) - Eigen::Vector3d::Constant(merge_));
-    face_max_.push_back(corner(face_box, true) + Eigen::Vector3d::Constant(merge_));
+    const Corners face_box = tight_box(face);
+    face_min_.push_back(face_box.lo - Eigen::Vector3d::Constant(merge_));
+    face_max_.push_back(face_box.hi + Eigen::Vector3d::Constant(merge_));
     bounds_.emplace_back(face);
   }
   make_intersectors();
@@ -107,9 +99,8 @@ void SolidProbe::tighten_box() {
                                   -extent, extent, -extent, extent);
       double nearest = slack;
       for (const TopoDS_Face& face : shape_.faces) {
-        Bnd_Box face_box;
-        BRepBndLib::AddOptimal(face, face_box, false, false);
-        const double side = upper ? corner(face_box, true)[k] : corner(face_box, false)[k];
+        const Corners face_box = tight_box(face);
+        const double side = upper ? face_box.hi[k] : face_box.lo[k];
         if (std::abs(side - bound) > slack) continue;
         BRepExtrema_DistShapeShape distance(plane, face, Extrema_ExtFlag_MIN);
         if (distance.IsDone()) nearest = std::min(nearest, distance.Value());

@@ -6,6 +6,7 @@
 #include <numeric>
 #include "case_file_conditions.hpp"
 #include "case_file_json.hpp"
+#include "case_volumetric.hpp"
 #include "isospring/analysis/dof_map.hpp"
 #include "isospring/analysis/resource_estimate.hpp"
 #include "isospring/io/atomic_file.hpp"
@@ -158,23 +159,6 @@ std::optional<analysis::HyperelasticMaterial> read_material_model(
   return law;
 }
 
-/// "analysis": "volumetric": "displacement" (default) or "bbar" (plane strain and solids).
-analysis::Volumetric read_volumetric(const Field& field, analysis::Formulation formulation) {
-  if (!field.has("volumetric")) return analysis::Volumetric::kDisplacement;
-  const Field volumetric = field.at("volumetric");
-  const std::string name = volumetric.string();
-  if (name == "displacement") return analysis::Volumetric::kDisplacement;
-  if (name != "bbar")
-    volumetric.fail(": unknown volumetric treatment '" + name +
-                    "'; use \"displacement\" (default) or \"bbar\" (locking-free for nu near "
-                    "0.5)");
-  if (formulation == analysis::Formulation::kPlaneStress)
-    volumetric.fail(
-        ": \"bbar\" needs plane_strain or solid; plane stress does not lock, use "
-        "\"displacement\"");
-  return analysis::Volumetric::kBbar;
-}
-
 /// "analysis": plane_stress (default for 2D, thickness 1 m), plane_strain or solid (3D only).
 analysis::Formulation read_formulation(const Field& root, int dimension,
                                        analysis::Material& material, int& quadrature_points,
@@ -219,7 +203,7 @@ analysis::Formulation read_formulation(const Field& root, int dimension,
     if (quadrature_points < 1 || quadrature_points > 20)
       field.at("quadrature_points").fail(" must be 1..20 Gauss points per direction");
   }
-  volumetric = read_volumetric(field, formulation);
+  volumetric = case_json::read_volumetric(field, formulation);
   return formulation;
 }
 

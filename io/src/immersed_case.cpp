@@ -4,6 +4,7 @@
 #include <set>
 
 #include "case_file_json.hpp"
+#include "case_volumetric.hpp"
 #include "immersed_faces.hpp"
 #include "isospring/io/atomic_file.hpp"
 #include "isospring/io/json_text.hpp"
@@ -114,15 +115,7 @@ analysis::Volumetric read_immersed_analysis(const Field& root) {
   if (field.has("type") && field.at("type").string() != "solid")
     field.at("type").fail(": an immersed CAD part is a 3D solid; '" + field.at("type").string() +
                           "' is not available for it. Use \"solid\" or leave \"type\" out");
-  if (!field.has("volumetric")) return analysis::Volumetric::kDisplacement;
-  const Field volumetric = field.at("volumetric");
-  const std::string name = volumetric.string();
-  if (name == "displacement") return analysis::Volumetric::kDisplacement;
-  if (name != "bbar")
-    volumetric.fail(": unknown volumetric treatment '" + name +
-                    "'; use \"displacement\" (default) or \"bbar\" (mean dilatation per cell, "
-                    "locking-free for nu near 0.5)");
-  return analysis::Volumetric::kBbar;
+  return case_json::read_volumetric(field, analysis::Formulation::kSolid);
 }
 
 std::vector<analysis::ImmersedSupport> read_supports(const Field& boundary,
