@@ -72,8 +72,8 @@ TEST(ImmersedCutCost, GrazingLinesAlongFacesOnGridPlanesAddNoBreaks) {
   EXPECT_LT(lines_per_box, 1500.0);
   // The hits near the holes' rims: OpenCascade's point-in-face classifiers (its exact one about
   // 65,000 instructions a point) were asked at least 73,356 times (63,290 hits, 10,066 strict
-  // tests; callgrind); the plate's top and bottom faces are
-  // now classified in closed form, leaving the tori and cylinders: 18,836.
+  // tests; callgrind); with the plate's top and bottom faces classified in closed form, the tori
+  // and cylinders leave 18,836.
   EXPECT_LT(stats.face_classifications, 30000);
 
   const SolidMeasures q = measure_quadrature(domain), o = measure_solid(solid);
