@@ -58,15 +58,16 @@ PlanarFaceBoundary::Nearest PlanarFaceBoundary::nearest(const gp_Pnt2d& uv) cons
   best.distance = std::numeric_limits<double>::infinity();
   for (const Curve& c : curves_) {
     const double px = uv.X() - c.origin.X(), py = uv.Y() - c.origin.Y();
-    double t = 0.0, qx = 0.0, qy = 0.0, tx = 0.0, ty = 0.0;  // nearest parameter, point, tangent
+    double qx = 0.0, qy = 0.0, tx = 0.0, ty = 0.0;  // the nearest point and the tangent there
+    bool at_end = false;  // the nearest point is an end of the edge (a vertex)
     if (!c.circle) {
-      t = px * c.dx + py * c.dy;
+      const double t = px * c.dx + py * c.dy;
       const double clamped = std::clamp(t, c.first, c.last);
       qx = clamped * c.dx;
       qy = clamped * c.dy;
       tx = c.dx;
       ty = c.dy;
-      t = t == clamped ? t : clamped + (t < clamped ? -1.0 : 1.0);  // mark an end below
+      at_end = !(clamped > c.first && clamped < c.last);
     } else {
       // The angle of uv in the circle's frame, in [first, first + 2 pi).
       const double x = px * c.dx + py * c.dy, y = px * c.yx + py * c.yy;
@@ -85,13 +86,13 @@ PlanarFaceBoundary::Nearest PlanarFaceBoundary::nearest(const gp_Pnt2d& uv) cons
       qy = c.radius * (std::cos(at) * c.dy + std::sin(at) * c.yy);
       tx = -std::sin(at) * c.dx + std::cos(at) * c.yx;
       ty = -std::sin(at) * c.dy + std::cos(at) * c.yy;
-      t = at == angle ? at : c.last + 1.0;  // mark an end below
+      at_end = !(at > c.first && at < c.last);
     }
     const double distance = std::hypot(px - qx, py - qy);
     if (distance >= best.distance) continue;
     best.distance = distance;
     // The nearest point at a curve's end is a vertex: the two curves there may disagree.
-    best.decided = t > c.first && t < c.last;
+    best.decided = !at_end;
     // Left of the edge's direction in the face (against the curve's when reversed) is inside.
     const double cross = tx * (py - qy) - ty * (px - qx);
     best.inside = c.reversed ? cross < 0.0 : cross > 0.0;
