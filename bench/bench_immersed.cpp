@@ -96,6 +96,7 @@ void report(benchmark::State& state, const CadSolid& solid, const ImmersedDomain
   state.counters["distances"] = static_cast<double>(stats.distance_queries);
   state.counters["face_lines"] = static_cast<double>(stats.face_lines);
   state.counters["binned_face_lines"] = static_cast<double>(stats.binned_face_lines);
+  state.counters["face_classifications"] = static_cast<double>(stats.face_classifications);
   state.counters["threads"] = stats.threads;
   state.counters["volume_err"] = std::abs(q.volume / o.volume - 1.0);
   state.counters["area_err"] = std::abs(q.area / o.area - 1.0);

@@ -313,6 +313,7 @@ std::vector<detail::CutCellRule> cut_cell_rules(
     stats.lines += copy->lines();
     stats.classified_lines += copy->classified_lines();
     stats.binned_face_lines += copy->fast_face_lines();
+    stats.face_classifications += copy->face_classifications();
     stats.face_lines += copy->fast_face_lines() + copy->full_face_lines();
   }
   return rules;
@@ -427,6 +428,7 @@ ImmersedDomain immerse(const CadSolid& solid, const ImmersionOptions& o, Immersi
   stats.lines += probe.lines();
   stats.classified_lines += probe.classified_lines();
   stats.binned_face_lines += probe.fast_face_lines();
+  stats.face_classifications += probe.face_classifications();
   stats.face_lines += probe.fast_face_lines() + probe.full_face_lines();
   return domain;
 }

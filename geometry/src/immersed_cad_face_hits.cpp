@@ -42,6 +42,13 @@ double uv_tolerance(const TopoDS_Face& face, const BRepAdaptor_Surface& surface,
   return std::max({surface.UResolution(tol3d), surface.VResolution(tol3d), tolerance});
 }
 
+// Is a closed-form distance clear of a classifier's tolerance? At the tolerance itself (a line
+// placed exactly that far from an edge) OpenCascade's answer depends on its own rounding, so
+// those points are left to it.
+bool clear_of(double distance, double tolerance) {
+  return std::abs(distance - tolerance) > 1e-6 * tolerance;
+}
+
 }  // namespace
 
 FaceLineIntersector::FaceLineIntersector(const TopoDS_Face& face, double tolerance)
@@ -74,6 +81,12 @@ FaceLineIntersector::FaceLineIntersector(const TopoDS_Face& face, double toleran
       std::max({surface_->UResolution(smallest), surface_->VResolution(smallest), tolerance});
   two_tolerances_ = uv_tol > smallest_uv;
   tight_classifier_ = std::make_unique<BRepTopAdaptor_FClass2d>(face, smallest_uv);
+  tight_uv_ = smallest_uv;
+  loose_uv_ = uv_tol;
+  if (path_ == Path::kAnalytic) {
+    planar_ = std::make_unique<PlanarFaceBoundary>(face);
+    if (!planar_->usable()) planar_.reset();
+  }
   nu_ = nv_ = kBins;
   bins_.assign(static_cast<size_t>(nu_) * static_cast<size_t>(nv_), Bin::kUnknown);
   mark_trimming_curves();
@@ -221,11 +234,29 @@ bool FaceLineIntersector::surface_hits(const gp_Lin& line, double w0, double w1)
 // test with the smallest UV tolerance of the face and its edges; if that says OUT, the test with
 // the largest, and if that says ON, ON only when an edge's 3D curve comes within the largest 3D
 // tolerance. Classifiers are built once per face (IntCurvesFace builds the second one per line).
+// On a planar face bounded by lines and circles the two classifiers' answers are found in closed
+// form (ON within their tolerance of the nearest curve, else the side of it), unless the nearest
+// point is a vertex.
 TopAbs_State FaceLineIntersector::face_state(const SurfaceHit& hit, const gp_Lin& line) {
   const gp_Pnt2d uv(hit.u, hit.v);
-  TopAbs_State state = tight_classifier_->Perform(uv);
+  TopAbs_State state = TopAbs_UNKNOWN;
+  PlanarFaceBoundary::Nearest nearest;
+  if (planar_) nearest = planar_->nearest(uv);
+  nearest.decided = nearest.decided && clear_of(nearest.distance, tight_uv_) &&
+                    (!two_tolerances_ || clear_of(nearest.distance, loose_uv_));
+  if (nearest.decided) {
+    state = nearest.distance < tight_uv_ ? TopAbs_ON : nearest.inside ? TopAbs_IN : TopAbs_OUT;
+  } else {
+    ++classifier_calls_;
+    state = tight_classifier_->Perform(uv);
+  }
   if (state == TopAbs_OUT && two_tolerances_) {
-    state = classifier_->Perform(uv);
+    if (nearest.decided) {
+      state = nearest.distance < loose_uv_ ? TopAbs_ON : TopAbs_OUT;
+    } else {
+      ++classifier_calls_;
+      state = classifier_->Perform(uv);
+    }
     if (state == TopAbs_ON) {
       state = TopAbs_OUT;
       const gp_Pnt point = line.Location().Translated(hit.w * gp_Vec(line.Direction()));
@@ -251,6 +282,12 @@ bool FaceLineIntersector::outside_strictly(double u, double v) {
     strict_uv_ = 1e-3 * std::max(surface.UResolution(smallest), surface.VResolution(smallest));
     if (!(strict_uv_ > 0.0)) strict_uv_ = 1e-300;
   }
+  if (planar_) {
+    const PlanarFaceBoundary::Nearest nearest = planar_->nearest(gp_Pnt2d(u, v));
+    if (nearest.decided && clear_of(nearest.distance, strict_uv_))
+      return nearest.distance >= strict_uv_ && !nearest.inside;
+  }
+  ++classifier_calls_;
   const TopoDS_Face forward = TopoDS::Face(face_.Oriented(TopAbs_FORWARD));
   const BRepClass_FaceClassifier exact(forward, gp_Pnt2d(u, v), strict_uv_);
   return exact.State() == TopAbs_OUT;

@@ -30,6 +30,7 @@
 #include <memory>
 #include <vector>
 
+#include "immersed_cad_planar_faces.hpp"
 #include "immersed_cad_spline_hits.hpp"
 
 namespace isospring::geometry::detail {
@@ -66,6 +67,9 @@ class FaceLineIntersector {
   /// The B-spline path's surface (null on other faces).
   const SplineLineHits* spline() const { return path_ == Path::kSpline ? spline_.get() : nullptr; }
   long full_lines() const { return full_; }
+  /// Hits near a trimming curve classified by OpenCascade (the rest of them, on planar faces
+  /// bounded by lines and circles, in closed form: immersed_cad_planar_faces.hpp).
+  long classifier_calls() const { return classifier_calls_; }
 
  private:
   enum class Bin : unsigned char { kUnknown, kIn, kOut, kBoundary };
@@ -92,7 +96,9 @@ class FaceLineIntersector {
   std::vector<Bin> bins_;              // kBoundary or kUnknown (free) per bin, while labelling
   std::vector<std::uint16_t> region_;  // per bin: 0 on a trimming curve, else its free region
   std::vector<Bin> region_state_;      // per region (index 0 unused)
-  long fast_ = 0, full_ = 0;
+  std::unique_ptr<PlanarFaceBoundary> planar_;  // when the face is planar, lines and circles
+  double tight_uv_ = 0.0, loose_uv_ = 0.0;      // the two classifiers' UV tolerances
+  long fast_ = 0, full_ = 0, classifier_calls_ = 0;
   double strict_uv_ = 0.0;  // the strict test's UV tolerance (1e-3 of the smallest edge's)
 };
 

@@ -72,6 +72,12 @@ long SolidProbe::fast_face_lines() const {
   return n;
 }
 
+long SolidProbe::face_classifications() const {
+  long n = 0;
+  for (const auto& intersector : intersectors_) n += intersector->classifier_calls();
+  return n;
+}
+
 long SolidProbe::full_face_lines() const {
   long n = 0;
   for (const auto& intersector : intersectors_) n += intersector->full_lines();

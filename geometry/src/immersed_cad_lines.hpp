@@ -64,6 +64,8 @@ class SolidProbe {
   /// Line-face intersections answered by the bins / by IntCurvesFace's own classification.
   long fast_face_lines() const;
   long full_face_lines() const;
+  /// Hits near a trimming curve that OpenCascade's point-in-face classifiers were asked about.
+  long face_classifications() const;
 
  private:
   struct Event {

@@ -144,7 +144,8 @@ struct ImmersionStats {
   long distance_queries = 0;   // exact point-face distances of the classification
   long face_lines = 0;         // line-face intersections (lines x faces near them)
   long binned_face_lines = 0;  // of which every hit was classified by the face's UV bins
-  int threads = 1;             // that integrated the cut cells
+  long face_classifications = 0;  // hits near a trimming curve classified by OpenCascade
+  int threads = 1;                // that integrated the cut cells
 };
 
 /// Grading planes through the bounding box of face `face` (its index as `isospring info` prints
