@@ -1,8 +1,11 @@
 // Report numbers of shipped examples pinned to the values the program gives today, so that a
 // change meant to keep behaviour (a refactoring, a move between modules) fails loudly when it
-// changes a number. The tolerance is 1e-12 relative, not exact bits: BLAS kernels and the
-// order of their sums differ between CPUs. Where a value has a closed form (the deck's node
-// count, the resultant of a constant traction), the test checks it against that instead.
+// changes a number. The tolerance is 1e-9 relative, not exact bits: BLAS kernels and the
+// order of their sums differ between CPUs, and a fit's iterations carry that rounding on (two
+// machines of the same kind gave values 1.3e-11 apart); a change of the algorithm (an iteration
+// more, another start or weight) moves these numbers by 1e-6 or more. Where a value has a closed
+// form (the deck's node count, the resultant of a constant traction), the test checks it against
+// that instead.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -28,7 +31,7 @@ json read_json(const std::string& path) {
 }
 
 void expect_pinned(double value, double pinned, const std::string& what) {
-  EXPECT_NEAR(value, pinned, 1e-12 * std::abs(pinned)) << what;
+  EXPECT_NEAR(value, pinned, 1e-9 * std::abs(pinned)) << what;
 }
 
 // `isospring calibrate` on a case (file or JSON written into `out`); its report.json.
@@ -98,22 +101,33 @@ TEST(PinnedReports, CalibrateSquareGammaSweep) {
   }
 }
 
-// Cross-validated choice of the model's freedom, then the chosen candidate refitted.
+// Cross-validated choice of the model's freedom, then the chosen candidate refitted. The refit
+// (270 log-stiffnesses, L-BFGS) runs to or near its iteration cap, where the iterate depends on how
+// the CPU rounds: two machines of the same kind stopped after 1,451 and 1,501 iterations with the
+// numbers below up to 5.6e-4 apart (relative). So the structure is pinned exactly and the numbers
+// to 5e-3; a change of the choice (another reach, prior weight or gamma) fails the exact checks.
+void expect_near_relative(double value, double pinned, const std::string& what) {
+  EXPECT_NEAR(value, pinned, 5e-3 * std::abs(pinned)) << what;
+}
+
 TEST(PinnedReports, CalibrateSquareGeneralised) {
   TemporaryFolder out;
   const json r = calibrate(out, example("calibrate_square_generalised.json"));
   EXPECT_EQ(r["gamma"], 0.01);
   EXPECT_EQ(r["groups"], 270);
-  EXPECT_EQ(r["iterations"], 1451);
+  EXPECT_GE(r["iterations"], 1400);
+  EXPECT_LE(r["iterations"], 1501);
   const json& chosen = r["generalisation"];  // the chosen candidate
   EXPECT_EQ(chosen["reach"], 2);
   EXPECT_EQ(chosen["prior_weight"], 0.001);
   EXPECT_EQ(r["generalisation"]["candidates"].size(), 16u);
-  expect_pinned(chosen["cross_validation_worst"], 4.4778571069030875, "cross-validation worst");
-  expect_pinned(r["percent_e_rms"], 1.358981114402983, "fitted %e_rms");
-  expect_pinned(r["holdout"]["percent_e_rms"], 1.8711515620996768, "validation %e_rms");
-  expect_pinned(r["worst_holdout_percent_e_rms"], 4.186111746686518, "worst validation %e_rms");
-  expect_pinned(r["final_cost"], 0.00015148363036654518, "final cost");
+  expect_near_relative(chosen["cross_validation_worst"], 4.4778571069030875,
+                       "cross-validation worst");
+  expect_near_relative(r["percent_e_rms"], 1.358981114402983, "fitted %e_rms");
+  expect_near_relative(r["holdout"]["percent_e_rms"], 1.8711515620996768, "validation %e_rms");
+  expect_near_relative(r["worst_holdout_percent_e_rms"], 4.186111746686518,
+                       "worst validation %e_rms");
+  expect_near_relative(r["final_cost"], 0.00015148363036654518, "final cost");
 }
 
 // The CalculiX deck of the shipped cantilever: serendipity node count and the resultants of its

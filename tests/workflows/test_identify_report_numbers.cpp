@@ -3,8 +3,9 @@
 // loop's stages were reorganised without changing any of them; recorded again when the fits
 // learned to stop on an RSS decrease below 1e-3 residual variances, which moved E by 1e-3 of its
 // standard error). Not bitwise: another CPU's BLAS
-// kernels may round differently, so each number is held to 1e-12 of its recorded value; a change
-// of the algorithm (an iteration more, a different weight or start) moves them far more.
+// kernels may round differently and the fit carries that on (two machines of the same kind gave
+// gx 1.6e-12 of itself apart), so each number is held to 1e-9 of its recorded value; a change of
+// the algorithm (an iteration more, a different weight or start) moves them by 1e-6 or more.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,7 +22,7 @@ namespace {
 const std::string kExamples = std::string(ISOSPRING_SOURCE_DIR) + "/examples/";
 
 void expect_recorded(double value, double recorded, const char* what) {
-  EXPECT_LE(std::abs(value - recorded), 1e-12 * std::abs(recorded))
+  EXPECT_LE(std::abs(value - recorded), 1e-9 * std::abs(recorded))
       << what << " = " << value << ", recorded " << recorded;
 }
 
