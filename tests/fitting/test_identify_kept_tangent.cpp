@@ -16,7 +16,7 @@
 #include "../../fitting/src/identify/loop_state.hpp"
 #include "isospring/fitting/effect.hpp"
 #include "isospring/fitting/identify.hpp"
-#include "test_identify_plate.hpp"
+#include "test_identify_cantilever.hpp"
 
 namespace isospring::fitting {
 namespace {
@@ -25,46 +25,12 @@ using identify_loop::Fit;
 using identify_loop::FitStart;
 using identify_loop::Model;
 
-constexpr double kLength = 1.0, kDepth = 0.1, kPriorE = 1e6, kNu = 0.3, kLoad = 450.0;
+constexpr double kLoad = 450.0;
 
-// Plane-strain cantilever clamped at x = 0, two load cases on x = L: a downward shear traction
-// (tip deflection 14 % of the length at E = 1.15 E_prior) and an upward one of half of it with an
-// axial pull of a quarter.
 analysis::Problem cantilever() {
-  analysis::Problem problem;
-  problem.patches.push_back(testing::rectangle(kLength, kDepth, 16, 2));
-  problem.formulation = analysis::Formulation::kPlaneStrain;
-  problem.material.youngs_modulus = kPriorE;
-  problem.material.poisson_ratio = kNu;
-  problem.material.thickness = 1.0;
-  analysis::Support clamp;
-  clamp.side = analysis::parse_side("u0");
-  clamp.fixed = {true, true, false};
-  problem.supports.push_back(clamp);
-  analysis::LoadCase down, up;
-  down.id = "down";
-  down.tractions.push_back({analysis::parse_side("u1"), Eigen::Vector3d(0, -kLoad, 0), {}});
-  up.id = "up";
-  up.tractions.push_back(
-      {analysis::parse_side("u1"), Eigen::Vector3d(kLoad / 4, kLoad / 2, 0), {}});
-  problem.load_cases = {down, up};
-  return problem;
+  return testing::two_load_cantilever(kLoad);
 }
-
-// 20 x 3 markers along the beam per load case.
-std::vector<Marker> beam_markers(const analysis::Problem& problem) {
-  std::vector<Marker> markers;
-  for (const analysis::LoadCase& load : problem.load_cases)
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 20; ++i) {
-        Marker m;
-        m.load_case = load.id;
-        m.position = Eigen::Vector3d(kLength * (i + 0.5) / 20, kDepth * (j + 0.5) / 3, 0.0);
-        m.row = static_cast<int>(markers.size()) + 2;
-        markers.push_back(m);
-      }
-  return markers;
-}
+using testing::beam_markers;
 
 // SVK data (w = 1) with E = 1.15 E_prior, noise 1/1000 of the tip deflection; the loop's setup
 // and weights, the large-deformation model fitted on the loop's cache with its covariance (the

@@ -12,7 +12,7 @@
 #include "../../fitting/src/identify/loop_state.hpp"
 #include "isospring/fitting/effect.hpp"
 #include "isospring/fitting/identify.hpp"
-#include "test_identify_plate.hpp"
+#include "test_identify_cantilever.hpp"
 
 namespace isospring::fitting {
 namespace {
@@ -22,45 +22,10 @@ using identify_loop::FitStart;
 using identify_loop::Model;
 using identify_loop::ScoreTest;
 
-constexpr double kLength = 1.0, kDepth = 0.1, kPriorE = 1e6, kNu = 0.3;
-
-// Plane-strain cantilever clamped at x = 0, two load cases on x = L: a downward shear traction q
-// (tip deflection 14 % of the length at q = 450 Pa and E = 1.15e6 Pa) and an upward one of q / 2
-// with an axial pull of q / 4.
 analysis::Problem cantilever(double q) {
-  analysis::Problem problem;
-  problem.patches.push_back(testing::rectangle(kLength, kDepth, 16, 2));
-  problem.formulation = analysis::Formulation::kPlaneStrain;
-  problem.material.youngs_modulus = kPriorE;
-  problem.material.poisson_ratio = kNu;
-  problem.material.thickness = 1.0;
-  analysis::Support clamp;
-  clamp.side = analysis::parse_side("u0");
-  clamp.fixed = {true, true, false};
-  problem.supports.push_back(clamp);
-  analysis::LoadCase down, up;
-  down.id = "down";
-  down.tractions.push_back({analysis::parse_side("u1"), Eigen::Vector3d(0, -q, 0), {}});
-  up.id = "up";
-  up.tractions.push_back({analysis::parse_side("u1"), Eigen::Vector3d(q / 4, q / 2, 0), {}});
-  problem.load_cases = {down, up};
-  return problem;
+  return testing::two_load_cantilever(q);
 }
-
-// 20 x 3 markers along the beam per load case.
-std::vector<Marker> beam_markers(const analysis::Problem& problem) {
-  std::vector<Marker> markers;
-  for (const analysis::LoadCase& load : problem.load_cases)
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 20; ++i) {
-        Marker m;
-        m.load_case = load.id;
-        m.position = Eigen::Vector3d(kLength * (i + 0.5) / 20, kDepth * (j + 0.5) / 3, 0.0);
-        m.row = static_cast<int>(markers.size()) + 2;
-        markers.push_back(m);
-      }
-  return markers;
-}
+using testing::beam_markers;
 
 void expect_relative(double reused, double fresh, double tolerance, const std::string& what) {
   EXPECT_LE(std::abs(reused - fresh), tolerance * std::abs(fresh))
