@@ -13,17 +13,13 @@
 #include "run_program.hpp"
 
 using isospring::testing::example;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::run_isospring_with_environment;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
 namespace {
-json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
-
 /// Rows of a control-displacement table: i, x, y, z, ux, uy, uz.
 std::vector<std::array<double, 7>> read_table(const std::string& path) {
   std::ifstream in(path);

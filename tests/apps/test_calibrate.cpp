@@ -20,16 +20,12 @@
 #include "run_program.hpp"
 
 using isospring::testing::example;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
 namespace {
-json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
-
 // %e_rms of the model's linear response against the IGA reference for one load case.
 double recomputed_e_rms(const isospring::io::Case& c, const isospring::analysis::SpringNetwork& net,
                         const std::string& id) {

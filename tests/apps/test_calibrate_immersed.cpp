@@ -14,17 +14,13 @@
 #include "vtk_read.hpp"
 
 using isospring::testing::example;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 namespace its = isospring::testing;
 
 namespace {
-
-json read_json(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
 
 TEST(CalibrateImmersed, HeldOutErrorsReferenceAndExports) {
   TemporaryFolder out;

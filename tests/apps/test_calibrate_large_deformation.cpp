@@ -19,16 +19,12 @@
 #include "isospring/io/model_file.hpp"
 #include "run_program.hpp"
 
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
 namespace {
-
-json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
 
 // A 10 cm square in plane strain (4 x 4 quadratic net), E = 15 kPa, clamped on x = 0: end
 // stretch and bending fitted, a shear load on the top side held out (as given: about 12 %

@@ -19,18 +19,12 @@
 #include "run_program.hpp"
 
 using isospring::testing::example;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
-namespace {
-
-json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TEST(CalibrateShearTerms, ModelCarriesThemAndItsHeldOutErrorIsTheWrittenModels) {
   TemporaryFolder out;

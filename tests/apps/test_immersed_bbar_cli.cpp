@@ -19,16 +19,12 @@
 
 using isospring::testing::example;
 using isospring::testing::file_contents;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
 namespace {
-
-json read_json(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
 
 // The shipped case at nu = 0.49 with `analysis` (none: the default), its CAD file by absolute
 // path so that the copy runs from the temporary folder.

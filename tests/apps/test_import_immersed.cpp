@@ -19,17 +19,13 @@
 #include "vtk_read.hpp"
 
 using isospring::testing::example;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
 namespace {
-
-json read_json(const fs::path& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
 
 Eigen::Vector3d vec3(const json& j) {
   return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};

@@ -19,16 +19,12 @@
 
 using isospring::testing::example;
 using isospring::testing::file_contents;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
 namespace {
-
-json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
 
 void expect_pinned(double value, double pinned, const std::string& what) {
   EXPECT_NEAR(value, pinned, 1e-9 * std::abs(pinned)) << what;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
@@ -50,6 +51,12 @@ inline std::string example(const std::string& name) {
 }
 
 /// The whole text of a file ("" when it cannot be read).
+// A JSON file the program wrote (report.json, model.json), parsed.
+inline nlohmann::json read_json(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
 inline std::string file_contents(const std::string& path) {
   std::ifstream in(path);
   std::stringstream text;

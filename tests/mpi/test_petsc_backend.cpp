@@ -17,17 +17,13 @@
 #include "run_program.hpp"
 
 using isospring::testing::example;
+using isospring::testing::read_json;
 using isospring::testing::run_isospring;
 using isospring::testing::run_program;
 using isospring::testing::TemporaryFolder;
 using nlohmann::json;
 
 namespace {
-
-json read_json(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
 
 std::vector<std::array<double, 3>> read_displacements(const std::filesystem::path& path) {
   std::ifstream in(path);
