@@ -192,8 +192,8 @@ void check_part(const std::string& name) {
 // The CAx-IF plate (six holes), nut (a bore), bolt (a head on a shank) and rod (a slender
 // cylinder, clamped at one end: a cantilever under its weight), and gmsh's machined part. The
 // other parts of parts.json (the screw, gmsh's t20 nut and housing, the CAx-IF flanged hub,
-// FreeCAD-library's door magnet plate and M10 hex nut) have no CalculiX reference known to well
-// within 1 % (docs/immersed.md, "Verified against CalculiX"), so they are not compared.
+// FreeCAD-library's door magnet plate) have no CalculiX reference known to well within 1 %
+// (docs/immersed.md, "Verified against CalculiX"), so they are not compared.
 TEST(PartsCalculix, CaxifPlate) {
   check_part("caxif_plate");
 }
