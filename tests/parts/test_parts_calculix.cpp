@@ -227,5 +227,15 @@ TEST(PartsCalculix, FreecadWasherM4) {
   check_part("freecad_washer_m4");
 }
 
+// The CAx-IF B-rep-with-voids model bv1 (a 100 mm cube with two box-shaped cavities, each an
+// inner shell of the solid): clamped on the face x = 0, which meets its neighbours at 90 degrees,
+// and bent by its weight across the clamp (-z), a stubby cantilever. The larger cavity lies 10 mm
+// behind the clamp and 20 mm under the top face, where the bending stresses are largest, so the
+// cavities' faces carry stress; the cavities' 24 edges are re-entrant and graded in CalculiX's
+// meshes.
+TEST(PartsCalculix, CaxifBv1) {
+  check_part("caxif_bv1");
+}
+
 }  // namespace
 }  // namespace isospring
