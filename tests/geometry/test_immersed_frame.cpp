@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -173,11 +174,17 @@ TEST(ImmersedFrame, PrincipalAxesFollowTheRotation) {
   }
   EXPECT_LT((b.moments - a.moments).norm(), 1e-9 * a.moments.norm());
   // The nut's axes are the file's (a plate in the x-y plane, longest along x), up to sign; the
-  // turned nut's are Q's, up to sign.
+  // turned nut's are Q's, up to sign. The angle between them (the cross product's norm) is
+  // OpenCascade's integration error: 8.9e-9 rad, turned or not. (It makes the turned nut's
+  // box 1.3e-10 m longer than its extent, which a cell size dividing the extent exactly turns
+  // into one more layer of cells: docs/immersed.md, "User frame".)
+  double angle = 0;
   for (int k = 0; k < 3; ++k) {
-    EXPECT_NEAR(std::abs(a.axes.col(k).dot(Eigen::Vector3d::Unit(k))), 1.0, 1e-9) << k;
-    EXPECT_NEAR(std::abs(b.axes.col(k).dot(q.col(k))), 1.0, 1e-9) << k;
+    EXPECT_LT(a.axes.col(k).cross(Eigen::Vector3d::Unit(k)).norm(), 1e-7) << k;
+    EXPECT_LT(b.axes.col(k).cross(q.col(k)).norm(), 1e-7) << k;
+    angle = std::max(angle, b.axes.col(k).cross(q.col(k)).norm());
   }
+  std::printf("turned nut's principal axes off Q's by %.2e rad\n", angle);
   // Immersed in its principal frame, the turned nut gets the unturned nut's box (its faces along
   // the grid planes, none cut obliquely) and the volume to the quadrature's accuracy.
   ImmersionOptions options;
