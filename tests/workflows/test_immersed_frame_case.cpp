@@ -2,7 +2,10 @@
 // part's principal axes, the report saying which, and the refusals. On the CAx-IF nut
 // (tests/data/parts/caxif_nut.stp), clamped on face 4 under its weight: a frame turned by 90
 // degrees about z (entries 0 and +-1, so exact) gives the file-axes grid turned, and so the same
-// strain energy and largest surface displacement to round-off (1e-12).
+// DOFs, strain energy and largest surface displacement to the cut-cell quadrature's tolerance:
+// in the frame the grid's x is the world's y, and the cut-cell rules, which pick their line
+// directions and nesting by axis, integrate the same cells differently within their tolerance
+// (1e-7 of a cell's volume); measured 1.8e-7 (energy) and 1.9e-7 (displacement), checked to 1e-6.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -66,9 +69,9 @@ TEST(ImmersedFrameCase, TurnedFrameGivesTheSameSolutionAndTheReportSaysSo) {
   ASSERT_EQ(b.load_cases.size(), 1u);
   const analysis::ImmersedResult &ra = a.load_cases[0].result, &rb = b.load_cases[0].result;
   EXPECT_EQ(rb.dofs, ra.dofs);
-  EXPECT_NEAR(rb.strain_energy, ra.strain_energy, 1e-12 * ra.strain_energy);
+  EXPECT_NEAR(rb.strain_energy, ra.strain_energy, 1e-6 * ra.strain_energy);
   EXPECT_NEAR(b.load_cases[0].max_displacement, a.load_cases[0].max_displacement,
-              1e-12 * a.load_cases[0].max_displacement);
+              1e-6 * a.load_cases[0].max_displacement);
   const nlohmann::json report =
       write_immersed_outputs(b, dir.path / "out", quiet, std::chrono::steady_clock::now());
   EXPECT_EQ(report.at("immersion").at("frame"), "user");
