@@ -256,7 +256,7 @@ TEST(PartsCalculix, FreecadWasherM4) {
 // and its gravity with it, so the problem is the nut's seen from another frame: CalculiX's
 // Richardson limits of the turned meshes are the unturned ones' to 0.005 %, inside both GCIs.
 // On the world's axes every face cuts cells obliquely; in the placement's frame the grid is the
-// unturned nut's, and so are the immersed results (to round-off).
+// unturned nut's, and so are the DOFs and the energy (to the seven digits printed).
 TEST(PartsCalculix, CaxifNutOblique) {
   check_part("caxif_nut_oblique");
 }
