@@ -14,11 +14,19 @@ BackgroundBasis::BackgroundBasis(const geometry::ImmersedDomain& domain, bool va
     : patch_(&domain.background),
       dim_(domain.dimension),
       origin_(domain.origin),
-      extent_(domain.extent) {
+      extent_(domain.extent),
+      frame_(domain.frame),
+      rotated_(domain.frame != Eigen::Matrix3d::Identity()) {
   const nurbs::Patch& patch = domain.background;
   if (dim_ != 2 && dim_ != 3)
     throw nurbs::InputError("immersed domain: dimension is " + std::to_string(dim_) +
                             "; it must be 2 or 3");
+  if (rotated_ &&
+      (dim_ != 3 ||
+       ((frame_.transpose() * frame_ - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-12)))
+    throw nurbs::InputError(
+        "immersed domain: the frame must be a rotation (orthonormal columns), and the identity "
+        "in 2D");
   if (patch.param_dim() != dim_)
     throw nurbs::InputError("immersed domain: the background patch has parametric dimension " +
                             std::to_string(patch.param_dim()) + " but the domain is " +
@@ -30,8 +38,8 @@ BackgroundBasis::BackgroundBasis(const geometry::ImmersedDomain& domain, bool va
     scale_[static_cast<size_t>(d)] = (patch.param_max(d) - patch.param_min(d)) / extent_[d];
     count_ *= patch.degree(d) + 1;
   }
-  // The affine map holds when every control point sits at origin + extent * (Greville
-  // abscissa) and the weights are equal (a rational box with equal weights is polynomial).
+  // The affine map holds when every control point sits at frame * (origin + extent * (Greville
+  // abscissa)) and the weights are equal (a rational box with equal weights is polynomial).
   const double tolerance = 1e-9 * extent_.head(dim_).norm();
   for (int a = 0; validate && a < patch.num_points(); ++a) {
     const auto ijk = patch.net_position(a);
@@ -45,11 +53,11 @@ BackgroundBasis::BackgroundBasis(const geometry::ImmersedDomain& domain, bool va
     }
     double error = 0;
     for (int d = 0; d < dim_; ++d)
-      error = std::max(error, std::abs(patch.control_point(a)[d] - expected[d]));
+      error = std::max(error, std::abs(patch.control_point(a)[d] - to_world(expected)[d]));
     if (error > tolerance || patch.weight(a) != patch.weight(0)) {
       std::ostringstream message;
       message << "immersed domain: control point " << a
-              << " of the background patch is not where the affine box origin + extent * u "
+              << " of the background patch is not where the affine box frame (origin + extent * u) "
                  "puts it (or its weight differs): the background must be a uniform-weight "
                  "B-spline box over [origin, origin + extent]";
       throw nurbs::InputError(message.str());
@@ -61,7 +69,8 @@ double BackgroundBasis::param(int d, double x) const {
   return patch_->param_min(d) + (x - origin_[d]) * scale_[static_cast<size_t>(d)];
 }
 
-Element BackgroundBasis::element_of(const Eigen::Vector3d& x) const {
+Element BackgroundBasis::element_of(const Eigen::Vector3d& world) const {
+  const Eigen::Vector3d x = to_grid(world);
   Element e{0, 0, 0};
   for (int d = 0; d < dim_; ++d) {
     const int span = patch_->knots(d).find_span(param(d, x[d]));
@@ -120,7 +129,8 @@ struct Rows {
 
 }  // namespace
 
-void BackgroundBasis::evaluate(const Element& e, const Eigen::Vector3d& x, BasisAt& out) const {
+void BackgroundBasis::evaluate(const Element& e, const Eigen::Vector3d& world, BasisAt& out) const {
+  const Eigen::Vector3d x = to_grid(world);
   Rows rows;
   for (int d = 0; d < 3; ++d) {
     auto& r = rows.data[static_cast<size_t>(d)];
@@ -152,10 +162,13 @@ void BackgroundBasis::evaluate(const Element& e, const Eigen::Vector3d& x, Basis
         if (dim_ == 3)
           out.gradients(a, 2) = nu * nv * r[2][static_cast<size_t>(o[2] + k)] * scale_[2];
       }
+  // d/dx_j = sum_d d/dy_d dy_d/dx_j with y = frame^T x: each row (a gradient) times frame^T.
+  if (rotated_) out.gradients = out.gradients * frame_.transpose();
 }
 
-void BackgroundBasis::directional_derivative(const Element& e, const Eigen::Vector3d& x, int dir,
-                                             int order, Eigen::VectorXd& out) const {
+void BackgroundBasis::directional_derivative(const Element& e, const Eigen::Vector3d& world,
+                                             int dir, int order, Eigen::VectorXd& out) const {
+  const Eigen::Vector3d x = to_grid(world);
   Rows rows;
   std::array<int, 3> row_of{0, 0, 0};  // which derivative row each direction contributes
   for (int d = 0; d < 3; ++d) {

@@ -1,7 +1,8 @@
 #pragma once
 // The background B-spline basis of an immersed domain evaluated at physical points: the grid is
-// an affine box, so parameters follow from coordinates directly and physical derivatives are the
-// parametric ones times a constant per direction.
+// an affine box (in the domain's frame), so parameters follow from coordinates directly and
+// physical derivatives are the parametric ones times a constant per direction, turned from the
+// grid's axes to the world's.
 #include <Eigen/Core>
 #include <array>
 #include <vector>
@@ -34,14 +35,23 @@ class BackgroundBasis {
   int flat(const Element& e) const { return e[0] + elements(0) * (e[1] + elements(1) * e[2]); }
   /// The element containing x (the upper one on a grid line), clamped to the grid.
   Element element_of(const Eigen::Vector3d& x) const;
-  /// Physical bounds of an element.
+  /// Grid coordinates (along the frame's axes) of a world point, and back.
+  Eigen::Vector3d to_grid(const Eigen::Vector3d& x) const {
+    return rotated_ ? Eigen::Vector3d(frame_.transpose() * x) : x;
+  }
+  Eigen::Vector3d to_world(const Eigen::Vector3d& y) const {
+    return rotated_ ? Eigen::Vector3d(frame_ * y) : y;
+  }
+  /// Bounds of an element in grid coordinates.
   Eigen::Vector3d element_lo(const Element& e) const;
   Eigen::Vector3d element_hi(const Element& e) const;
   /// Control points of the element's basis, in the order of BasisAt.
   void control_points(const Element& e, std::vector<int>& out) const;
-  /// Values and physical gradients of the element's basis at x (x may lie on its closure).
+  /// Values and physical (world) gradients of the element's basis at world point x (x may lie on
+  /// its closure).
   void evaluate(const Element& e, const Eigen::Vector3d& x, BasisAt& out) const;
-  /// d^k/dx_dir^k of the element's basis at x, from the element's polynomial pieces.
+  /// The k-th derivative along the grid's axis `dir` of the element's basis at world point x,
+  /// from the element's polynomial pieces.
   void directional_derivative(const Element& e, const Eigen::Vector3d& x, int dir, int k,
                               Eigen::VectorXd& out) const;
 
@@ -51,6 +61,8 @@ class BackgroundBasis {
   int dim_;
   int count_ = 1;
   Eigen::Vector3d origin_, extent_;
+  Eigen::Matrix3d frame_;                  // the grid's axes in the world (ImmersedDomain::frame)
+  bool rotated_ = false;                   // frame_ is not the identity
   std::array<std::vector<int>, 3> spans_;  // knot-span index of each element
   std::array<double, 3> scale_{1, 1, 1};   // du/dx per direction
 };

@@ -54,8 +54,9 @@ CellRule reduced_cell_rule(const BackgroundBasis& basis, const Element& e,
   std::array<std::array<double, 2 * nurbs::kMaxDegree + 1>, 3> l{};
   for (auto& row : l) row[0] = 1.0;
   for (size_t q = 0; q < points.size(); ++q) {
+    const Eigen::Vector3d y = basis.to_grid(points[q]);  // the element's bounds are grid ones
     for (int d = 0; d < dim; ++d)
-      polynomials[static_cast<size_t>(d)]((2.0 * points[q][d] - lo[d] - hi[d]) / (hi[d] - lo[d]),
+      polynomials[static_cast<size_t>(d)]((2.0 * y[d] - lo[d] - hi[d]) / (hi[d] - lo[d]),
                                           l[static_cast<size_t>(d)].data());
     size_t k = 0;
     for (int z = 0; z < n[2]; ++z)
@@ -68,13 +69,13 @@ CellRule reduced_cell_rule(const BackgroundBasis& basis, const Element& e,
   for (int z = 0; z < n[2]; ++z)
     for (int y = 0; y < n[1]; ++y)
       for (int x = 0; x < n[0]; ++x) {
-        Eigen::Vector3d p = points.front();  // beyond the dimension: the cells' plane
+        Eigen::Vector3d p = basis.to_grid(points.front());  // beyond the dimension: the plane
         const std::array<int, 3> i{x, y, z};
         for (int d = 0; d < dim; ++d)
           p[d] = 0.5 * (lo[d] + hi[d]) +
                  0.5 * (hi[d] - lo[d]) *
                      nodes[static_cast<size_t>(d)][static_cast<size_t>(i[static_cast<size_t>(d)])];
-        rule.points.push_back(p);
+        rule.points.push_back(basis.to_world(p));
       }
   return rule;
 }

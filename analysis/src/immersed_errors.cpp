@@ -38,7 +38,7 @@ void inside_rule(const geometry::ImmersedDomain& domain, const geometry::Immerse
           x[d] = lo[d] + 0.5 * size[d] * (rule.points[q] + 1);
           w *= 0.5 * size[d] * rule.weights[q];
         }
-        points.push_back(x);
+        points.push_back(domain.to_world(x));  // x is in grid coordinates
         weights.push_back(w);
       }
 }

@@ -83,8 +83,9 @@ void ghost_face_matrix(const ImmersedContext& context, const std::pair<int, int>
       w *= 0.5 * (hi[e] - lo[e]) * g.weights[k];
       ++t;
     }
-    basis.directional_derivative(lower, x, d, p, lower_d);
-    basis.directional_derivative(upper, x, d, p, upper_d);
+    // x is in grid coordinates (the element's bounds); the basis takes world points.
+    basis.directional_derivative(lower, basis.to_world(x), d, p, lower_d);
+    basis.directional_derivative(upper, basis.to_world(x), d, p, upper_d);
     Eigen::VectorXd jump = Eigen::VectorXd::Zero(m);
     for (size_t a = 0; a < lower_cps.size(); ++a)
       jump[place[lower_cps[a]]] += lower_d[static_cast<Eigen::Index>(a)];

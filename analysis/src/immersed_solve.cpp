@@ -136,8 +136,9 @@ ImmersedPointValue evaluate_immersed(const geometry::ImmersedDomain& domain,
                                      const ImmersedResult& result, const Eigen::Vector3d& x) {
   const int dim = domain.dimension;
   const double slack = 1e-9 * domain.extent.head(dim).norm();
-  if (((x - domain.origin).head(dim).array() < -slack).any() ||
-      ((x - domain.origin - domain.extent).head(dim).array() > slack).any()) {
+  const Eigen::Vector3d y = domain.to_grid(x);
+  if (((y - domain.origin).head(dim).array() < -slack).any() ||
+      ((y - domain.origin - domain.extent).head(dim).array() > slack).any()) {
     std::ostringstream message;
     message << "immersed evaluation: the point (" << x.transpose()
             << ") lies outside the background grid";

@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cad_placement.hpp"
 #include "cad_solid_shape.hpp"
 #include "immersed_cad_budget.hpp"
 #include "immersed_cad_cells.hpp"
@@ -433,13 +434,38 @@ ImmersedDomain immerse(const CadSolid& solid, const ImmersionOptions& o, Immersi
   return domain;
 }
 
+// A frame other than the identity: the part turned into the frame (grid coordinates y =
+// frame^T x), immersed there on an axis-aligned grid, and its quadrature, normals and background
+// control points turned back to the world. Rotating a point costs a round-off (1e-16 of its
+// distance from the origin), so the result equals the world-aligned immersion of the turned part,
+// turned back, to that.
+ImmersedDomain immerse_in_frame(const CadSolid& solid, const ImmersionOptions& o,
+                                ImmersionStats& stats) {
+  detail::check_rotation(o.frame, solid.name() + ": immersion option frame");
+  if (detail::is_identity(o.frame)) return immerse(solid, o, stats);
+  const Eigen::Matrix3d& frame = o.frame;
+  ImmersionOptions in_frame = o;
+  in_frame.frame = Eigen::Matrix3d::Identity();
+  ImmersedDomain domain = immerse(transform_solid(solid, frame.transpose()), in_frame, stats);
+  domain.frame = frame;
+  for (ImmersedCell& cell : domain.cells)
+    for (Eigen::Vector3d& x : cell.points) x = frame * x;
+  for (BoundaryPoint& b : domain.boundary) {
+    b.point = frame * b.point;
+    b.normal = frame * b.normal;
+  }
+  for (int a = 0; a < domain.background.num_points(); ++a)
+    domain.background.set_control_point(a, frame * domain.background.control_point(a));
+  return domain;
+}
+
 }  // namespace
 
 ImmersedDomain immerse_solid(const CadSolid& solid, const ImmersionOptions& options,
                              ImmersionStats* stats) {
   ImmersionStats local;
   try {
-    return immerse(solid, options, stats ? *stats : local);
+    return immerse_in_frame(solid, options, stats ? *stats : local);
   } catch (const Standard_Failure& e) {
     throw InputError(solid.name() + ": OpenCascade failed immersing the solid (" +
                      e.GetMessageString() + "); check the part in the CAD program");

@@ -1,6 +1,8 @@
 // Reader of immersed case files (see immersed_case.hpp).
 #include "isospring/io/immersed_case.hpp"
 
+#include <Eigen/Geometry>
+#include <cmath>
 #include <set>
 
 #include "case_file_json.hpp"
@@ -33,7 +35,7 @@ std::array<bool, 3> read_components(const Field& field) {
 // "grading": {"face": F, "smallest": m, "ratio": r}, or a list of such items: cells graded towards
 // face F's outline (F an index or a selector, as for supports), or with "plane": {"axis": "x",
 // "at": m} instead of "face", towards that plane.
-void read_grading(const Field& field, ImmersedCase& c) {
+void read_grading(const Field& field, const geometry::CadSolid& in_frame, ImmersedCase& c) {
   detail::ImmersedFaceChooser chooser(*c.cad);
   const std::vector<Field> items =
       field.json().is_array() ? field.elements(false) : std::vector<Field>{field};
@@ -54,15 +56,44 @@ void read_grading(const Field& field, ImmersedCase& c) {
     }
     for (int face : chooser.faces(item))
       for (const geometry::GradingPlane& p :
-           geometry::grading_towards_face(*c.cad, face, smallest, ratio))
+           geometry::grading_towards_face(in_frame, face, smallest, ratio))
         c.immersion.grading.push_back(p);
   }
+}
+
+// "frame": "principal" (the part's principal axes of inertia) or {"x": [...], "y": [...]} (the
+// grid's x and y axes in world coordinates, z = x cross y): the axes the background grid follows.
+void read_frame(const Field& field, ImmersedCase& c) {
+  if (field.json().is_string()) {
+    if (field.string() == "file") return;
+    if (field.string() != "principal")
+      field.fail(": '" + field.string() +
+                 "' is not a frame; give \"principal\" (the part's principal axes of inertia), "
+                 "\"file\" (its own axes) or {\"x\": [...], \"y\": [...]}");
+    const geometry::PrincipalFrame principal = geometry::principal_frame(*c.cad);
+    c.immersion.frame = principal.axes;
+    c.frame = "principal";
+    c.frame_note = principal.note;
+    return;
+  }
+  field.expect_object({"x", "y"});
+  const Eigen::Vector3d x = field.at("x").vector(3), y = field.at("y").vector(3);
+  if (!(x.norm() > 0.0) || !(y.norm() > 0.0))
+    field.fail(": \"x\" and \"y\" must be nonzero directions (they are normalised)");
+  const Eigen::Vector3d ux = x.normalized(), uy = y.normalized();
+  if (std::abs(ux.dot(uy)) > 1e-9)
+    field.fail(": \"x\" and \"y\" must be at right angles (their unit vectors' dot product is " +
+               std::to_string(ux.dot(uy)) + ", above 1e-9)");
+  c.immersion.frame.col(0) = ux;
+  c.immersion.frame.col(1) = uy;
+  c.immersion.frame.col(2) = ux.cross(uy);
+  c.frame = "user";
 }
 
 void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c) {
   const Field g = root.at("geometry");
   g.expect_object({"type", "file", "solid", "cells", "cell_size", "degree", "margin", "gauss",
-                   "max_depth", "grading", "keep_planar_faces"});
+                   "max_depth", "grading", "keep_planar_faces", "frame"});
   const Field file = g.at("file");
   c.part = case_file.parent_path() / file.string();
   if (!fs::is_regular_file(c.part))
@@ -90,10 +121,16 @@ void read_geometry(const Field& root, const fs::path& case_file, ImmersedCase& c
     if (what.find("solid") == std::string::npos) file.fail(": " + what);
     (g.has("solid") ? g.at("solid") : g).fail(": " + what);
   }
-  if (g.has("grading")) read_grading(g.at("grading"), c);
+  if (g.has("frame")) read_frame(g.at("frame"), c);
+  // Grading planes and kept planes are coordinates along the grid's axes: taken from the part
+  // turned into the frame.
+  const geometry::CadSolid in_frame = o.frame == Eigen::Matrix3d::Identity()
+                                          ? *c.cad
+                                          : geometry::transform_solid(*c.cad, o.frame.transpose());
+  if (g.has("grading")) read_grading(g.at("grading"), in_frame, c);
   // The planar faces normal to an axis on grid planes, so that they cut no cell.
   if (g.has("keep_planar_faces") && g.at("keep_planar_faces").boolean())
-    o.breaks = geometry::planar_face_coordinates(*c.cad);
+    o.breaks = geometry::planar_face_coordinates(in_frame);
 }
 
 analysis::Material read_material(const Field& root) {

@@ -11,6 +11,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -49,6 +50,12 @@ TEST(ImportImmersed, RefusedPartGoesFromImportToAnalyze) {
   EXPECT_EQ(report.at("faces").size(), 12u);
   const double volume = report.at("immersed").at("cad_volume");  // OpenCascade's BRepGProp
   EXPECT_NEAR(volume, report.at("cad_volume").get<double>(), 1e-12 * volume);
+  // The case's grid follows the file's axes; the principal axes it names are a rotation.
+  EXPECT_EQ(report.at("immersed").at("frame"), "file");
+  Eigen::Matrix3d axes;
+  for (int k = 0; k < 3; ++k) axes.col(k) = vec3(report.at("immersed").at("principal_axes").at(k));
+  EXPECT_LT((axes.transpose() * axes - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(axes.determinant(), 1.0, 1e-12);
 
   // The case: the part relative to the case's folder, every face listed, with the STEP names.
   const json c = read_json(out.path() / "bracket.json");

@@ -112,6 +112,24 @@ ImmersedAnalysis run_analyze_immersed(const ImmersedCase& c, analysis::SolverOpt
   return a;
 }
 
+namespace {
+
+// The grid's axes in words, for the report.
+std::string frame_sentence(const ImmersedCase& c) {
+  if (c.frame == "file") return "the file's axes";
+  const Eigen::Matrix3d& f = c.immersion.frame;
+  std::string text =
+      c.frame == "principal" ? "the part's principal axes of inertia" : "the case's axes";
+  for (int k = 0; k < 3; ++k)
+    text += std::string(k ? ", " : " (") + "xyz"[k] + " = [" + format_number(f(0, k), 6) + ", " +
+            format_number(f(1, k), 6) + ", " + format_number(f(2, k), 6) + "]";
+  text += ")";
+  if (!c.frame_note.empty()) text += "; " + c.frame_note;
+  return text;
+}
+
+}  // namespace
+
 nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
                                       const std::filesystem::path& out_dir,
                                       const Progress& progress,
@@ -135,6 +153,12 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
                          {"cut_cells", a.stats.cut_cells},
                          {"seconds", a.immersion_seconds},
                          {"warnings", a.domain.warnings}};
+  // The grid's axes: the file's, the part's principal axes of inertia, or the case's own.
+  const Eigen::Matrix3d& f = a.domain.frame;
+  report["immersion"]["frame"] = c.frame;
+  report["immersion"]["frame_axes"] = {
+      {f(0, 0), f(1, 0), f(2, 0)}, {f(0, 1), f(1, 1), f(2, 1)}, {f(0, 2), f(1, 2), f(2, 2)}};
+  if (!c.frame_note.empty()) report["immersion"]["frame_note"] = c.frame_note;
   report["measures"] = {
       {"opencascade", measures_json(a.occ)},
       {"quadrature", measures_json(a.quadrature)},
@@ -150,8 +174,8 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
                format_number(a.occ.volume) + " m^3 from OpenCascade; " +
                std::to_string(a.stats.inside_cells) + " inside and " +
                std::to_string(a.stats.cut_cells) + " cut cells, immersed in " +
-               format_number(a.immersion_seconds, 3) +
-               " s. Volumetric strain: " + volumetric_sentence(c.volumetric) + ".");
+               format_number(a.immersion_seconds, 3) + " s, the grid along " + frame_sentence(c) +
+               ". Volumetric strain: " + volumetric_sentence(c.volumetric) + ".");
   std::vector<SurfacePointField> fields;
   std::vector<std::vector<std::string>> rows;
   for (const ImmersedLoadCaseResult& lc : a.load_cases) {

@@ -46,6 +46,7 @@ ImportCommandResult run_import(const ImportCommandOptions& options, std::ostream
       geometry::read_cad_solid(options.input, model.solids > 1 ? path.solid : -1);
   r.immersed_solid = path.solid;
   r.immersed_volume = geometry::measure_solid(solid).volume;
+  r.principal = geometry::principal_frame(solid);
   r.faces = geometry::solid_faces(solid);
   const std::string output = options.output.empty() ? "immersed.json" : options.output;
   r.immersed_case =

@@ -188,12 +188,32 @@ std::string immersed_case_text(const nlohmann::ordered_json& c) {
   return text + "\n}\n";
 }
 
+namespace {
+
+std::string axes_text(const Eigen::Matrix3d& axes) {
+  std::string text;
+  for (int k = 0; k < 3; ++k)
+    text += std::string(k ? ", " : "") + "[" + io::format_number(clean(axes(0, k)), 4) + ", " +
+            io::format_number(clean(axes(1, k)), 4) + ", " +
+            io::format_number(clean(axes(2, k)), 4) + "]";
+  return text;
+}
+
+}  // namespace
+
 void immersed_import_report(const ImportCommandResult& r, const ImportCommandOptions& options,
                             const std::string& output, nlohmann::json& j, io::MarkdownReport& md) {
   j["immersed"] = {{"solid", r.immersed_solid},
                    {"cad_volume", r.immersed_volume},
                    {"case_file", output},
                    {"solid_faces", nlohmann::json::parse(faces_json(r.faces).dump())}};
+  // The case's grid follows the file's axes; the principal axes are what "frame": "principal"
+  // would take (a part placed obliquely in its file gets a tighter grid along them).
+  const Eigen::Matrix3d& axes = r.principal.axes;
+  j["immersed"]["frame"] = "file";
+  j["immersed"]["principal_axes"] = {{axes(0, 0), axes(1, 0), axes(2, 0)},
+                                     {axes(0, 1), axes(1, 1), axes(2, 1)},
+                                     {axes(0, 2), axes(1, 2), axes(2, 2)}};
   md.heading(1, "isospring import: " + options.input);
   md.paragraph("Path: immersed. " + r.path_reason + ".");
   md.paragraph("Wrote " + output + ", an immersed case of " +
@@ -203,7 +223,10 @@ void immersed_import_report(const ImportCommandResult& r, const ImportCommandOpt
                " m^3). Its support, load and material are placeholders (see its \"description\"): "
                "choose supports and loads from the faces below, by index or by a selector "
                "(plane, box, cylinder, STEP name), then run `isospring analyze " +
-               output + " -o OUTDIR`.");
+               output + " -o OUTDIR`. The grid follows the file's axes; the part's principal " +
+               "axes of inertia are " + axes_text(r.principal.axes) +
+               " (\"frame\": \"principal\" in \"geometry\" aligns the grid with them" +
+               (r.principal.note.empty() ? std::string() : "; " + r.principal.note) + ").");
   std::vector<std::vector<std::string>> rows;
   for (const geometry::SolidFace& f : r.faces) {
     const auto v = [](const Eigen::Vector3d& x) {

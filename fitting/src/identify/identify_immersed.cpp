@@ -58,7 +58,9 @@ Eigen::SparseMatrix<double> full_symmetric(const Eigen::SparseMatrix<double>& up
 
 // Background basis at a physical point: control points and values (nurbs::Patch::basis at the
 // affine box's parameter).
-nurbs::RationalBasis basis_at(const geometry::ImmersedDomain& domain, const Eigen::Vector3d& x) {
+nurbs::RationalBasis basis_at(const geometry::ImmersedDomain& domain,
+                              const Eigen::Vector3d& world) {
+  const Eigen::Vector3d x = domain.to_grid(world);
   nurbs::Param u{0.0, 0.0, 0.0};
   for (int d = 0; d < domain.dimension; ++d)
     u[static_cast<size_t>(d)] = std::clamp((x[d] - domain.origin[d]) / domain.extent[d], 0.0, 1.0);
@@ -254,11 +256,11 @@ std::vector<int> immersed_markers_outside(const geometry::ImmersedDomain& domain
   const double slack = 1e-9 * domain.extent.head(dim).norm();
   const std::vector<bool> active = identify_loop::active_control_points(domain);
   for (size_t m = 0; m < markers.size(); ++m) {
-    const Eigen::Vector3d& x = markers[m].position;
+    const Eigen::Vector3d x = domain.to_grid(markers[m].position);
     bool in = ((x - domain.origin).head(dim).array() >= -slack).all() &&
               ((x - domain.origin - domain.extent).head(dim).array() <= slack).all();
     if (in) {
-      const nurbs::RationalBasis basis = basis_at(domain, x);
+      const nurbs::RationalBasis basis = basis_at(domain, markers[m].position);
       for (size_t a = 0; a < basis.indices.size() && in; ++a)
         in = basis.values[static_cast<Eigen::Index>(a)] == 0.0 ||
              active[static_cast<size_t>(basis.indices[a])];

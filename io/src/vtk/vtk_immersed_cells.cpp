@@ -17,8 +17,8 @@ namespace {
 // quadrature points (which lie in the cell), not from a stored index.
 std::array<double, 2> interval(const geometry::ImmersedDomain& domain,
                                const geometry::ImmersedCell& cell, int d) {
-  double mean = 0;
-  for (const Eigen::Vector3d& x : cell.points) mean += x[d];
+  double mean = 0;  // in grid coordinates (along the frame's axes)
+  for (const Eigen::Vector3d& x : cell.points) mean += domain.to_grid(x)[d];
   mean /= static_cast<double>(cell.points.size());
   const nurbs::KnotVector& knots = domain.background.knots(d);
   const double u = std::clamp((mean - domain.origin[d]) / domain.extent[d], 0.0, 1.0);
@@ -51,7 +51,13 @@ void write_immersed_cells_vtu(const std::filesystem::path& path,
     const double corners[8][3] = {{x[0], y[0], z[0]}, {x[1], y[0], z[0]}, {x[1], y[1], z[0]},
                                   {x[0], y[1], z[0]}, {x[0], y[0], z[1]}, {x[1], y[0], z[1]},
                                   {x[1], y[1], z[1]}, {x[0], y[1], z[1]}};
-    for (int k = 0; k < 8; ++k) ids[k] = points->InsertNextPoint(corners[k]);
+    // The corners are grid coordinates; the file holds world ones (the hexahedron turned by the
+    // frame, which keeps its orientation and volume).
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d world =
+          domain.to_world(Eigen::Vector3d(corners[k][0], corners[k][1], corners[k][2]));
+      ids[k] = points->InsertNextPoint(world.x(), world.y(), world.z());
+    }
     grid->InsertNextCell(VTK_HEXAHEDRON, 8, ids);
     double volume = 0;
     for (double w : cell.weights) volume += w;

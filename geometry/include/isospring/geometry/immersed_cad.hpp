@@ -69,6 +69,31 @@ class CadSolid {
 /// (BRepCheck_Analyzer), several solids without a choice, or a solid index out of range.
 CadSolid read_cad_solid(const std::filesystem::path& file, int solid = -1);
 
+/// The solid placed rigidly: every point x goes to rotation * x + translation. OpenCascade
+/// transforms the B-rep's geometry itself (BRepBuilderAPI_Transform with a copy), which is exact
+/// up to round-off; the faces keep their order and their indices as `isospring info` prints them
+/// for the file, and the name stays the file's. Throws nurbs::InputError when `rotation` is not
+/// orthonormal (|R^T R - I| > 1e-12) or is a reflection (det R = -1), naming the fix.
+CadSolid transform_solid(const CadSolid& solid, const Eigen::Matrix3d& rotation,
+                         const Eigen::Vector3d& translation = Eigen::Vector3d::Zero());
+
+/// The solid's principal axes of inertia (OpenCascade's GProp_PrincipalProps of the volume),
+/// as the columns of a rotation, ordered by increasing moment (so the first axis runs along the
+/// part's longest extent). Signs: the first two axes point where their largest component (in
+/// absolute value; the lower index on a tie to 1e-12) is positive, and the third is their cross
+/// product (det = +1). Where two moments are equal to 1e-6 of the largest, the axes in their
+/// plane are not defined by the part: the odd one keeps its place in the order, and the first of
+/// the pair is the world axis least aligned with the odd one, projected into the plane (the
+/// second follows by the cross product); where all three are equal the frame is the world's.
+/// `note` says which fallback was taken (empty when none).
+struct PrincipalFrame {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: the axes in world coordinates
+  Eigen::Vector3d moments = Eigen::Vector3d::Zero();   // about the centroid, per unit density
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  std::string note;
+};
+PrincipalFrame principal_frame(const CadSolid& solid);
+
 /// OpenCascade's volume, area and centroid of the solid (BRepGProp, adaptive, 1e-10).
 struct SolidMeasures {
   double volume = 0.0;
@@ -111,8 +136,16 @@ struct ImmersionOptions {
   std::array<std::vector<double>, 3> breaks;
   /// Added on every side of the part's bounding box (m); ignored with a user box.
   double margin = 0.0;
-  /// A user box (axis-aligned, m) instead of the bounding box; it must contain the part. Used
-  /// when box_max > box_min in every direction.
+  /// The grid's axes: a rotation whose columns are the grid's x, y and z axes in world
+  /// coordinates (identity: the file's axes). The grid is the box of the part's extent along
+  /// these axes, so a part placed obliquely in its file gets a tight box and faces that lie on
+  /// grid planes (e.g. with principal_frame's axes). `box_min`, `box_max`, `grading` and
+  /// `breaks` are then coordinates along the frame's axes (y = frame^T x); the domain's points,
+  /// normals and background control points are world coordinates (ImmersedDomain::frame).
+  /// Throws nurbs::InputError for a matrix that is not a rotation (as transform_solid).
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
+  /// A user box (axis-aligned in the frame, m) instead of the bounding box; it must contain the
+  /// part. Used when box_max > box_min in every direction.
   Eigen::Vector3d box_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d box_max = Eigen::Vector3d::Zero();
   /// Gauss points per direction and piece in cut cells and on faces (>= degree + 1; 0: degree

@@ -33,14 +33,23 @@ struct BoundaryPoint {
 struct ImmersedDomain {
   int dimension = 3;
   // The background grid: an affine B-spline box (parametric [0,1]^d mapped linearly onto the box),
-  // so physical and parametric coordinates are related by `origin` and `extent`.
+  // so grid coordinates y and parametric ones are related by `origin` and `extent`
+  // (y = origin + extent * u), and world coordinates x by the rotation `frame`, whose columns are
+  // the grid's axes in the world (x = frame * y; identity unless the grid was placed in a user
+  // frame, always in 2D). Points, normals and the background's control points are world
+  // coordinates; `origin` and `extent` are grid coordinates.
   nurbs::Patch background;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   Eigen::Vector3d extent = Eigen::Vector3d::Ones();
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
   std::vector<ImmersedCell> cells;      // inside and cut cells only
   std::vector<BoundaryPoint> boundary;  // the part's whole boundary
   int face_count = 0;                   // number of boundary faces / curves
   std::vector<std::string> warnings;    // e.g. cells whose quadrature could not be refined further
+
+  // Grid coordinates of a world point, and back.
+  Eigen::Vector3d to_grid(const Eigen::Vector3d& x) const { return frame.transpose() * x; }
+  Eigen::Vector3d to_world(const Eigen::Vector3d& y) const { return frame * y; }
 };
 
 }  // namespace isospring::geometry

@@ -49,6 +49,10 @@ struct ImmersedCase {
   int solid = -1;              // as read_cad_solid takes it
   std::shared_ptr<const geometry::CadSolid> cad;  // read and validated
   geometry::ImmersionOptions immersion;
+  /// Which axes the grid follows ("geometry": {"frame": ...}), for reports: "file" (the file's
+  /// axes, the default), "principal" (the part's principal axes of inertia) or "user".
+  std::string frame = "file";
+  std::string frame_note;  // principal_frame's fallback, when it took one
   analysis::Material material;
   /// "analysis": {"volumetric": "bbar"}: mean-dilatation B-bar (analysis::ImmersedOptions), for
   /// nearly incompressible parts; "displacement" (the default) otherwise.

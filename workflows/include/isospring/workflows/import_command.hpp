@@ -14,6 +14,7 @@
 
 #include "isospring/geometry/cad.hpp"
 #include "isospring/geometry/cad_face_selection.hpp"
+#include "isospring/geometry/immersed_cad.hpp"
 #include "isospring/io/report.hpp"
 #include "isospring/nurbs/patch.hpp"
 
@@ -47,6 +48,9 @@ struct ImportCommandResult {
   std::vector<geometry::SolidFace> faces;
   nlohmann::ordered_json immersed_case;
   double immersed_volume = 0.0;  // OpenCascade's, of the chosen solid (m^3)
+  /// The solid's principal axes of inertia (geometry::principal_frame): the case's grid follows
+  /// the file's axes, and "frame": "principal" would align it with these.
+  geometry::PrincipalFrame principal;
 };
 
 /// Reads and converts the part; writes options.display when given. `report` gets the per-face
