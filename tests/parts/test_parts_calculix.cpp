@@ -203,9 +203,16 @@ void check_part(const std::string& name, const std::string& frame = "") {
                              ? reference.at("estimated_error").get<double>()
                              : std::max(finest.at("change_strain_energy").get<double>(),
                                         finest.at("change_max_displacement").get<double>());
+  // B-bar (a mixed formulation: the mean dilatation is projected per cell) is not bounded by the
+  // exact energy from below; there only the finer run's coming closer is tested.
+  const bool bounded_below = grid.value("volumetric", std::string()) != "bbar";
   if (std::abs(coarser.strain_energy / energy - 1) > settled) {
-    EXPECT_LT(coarser.strain_energy, finer.strain_energy);
-    EXPECT_LT(finer.strain_energy, energy * (1 + settled));
+    if (bounded_below) {
+      EXPECT_LT(coarser.strain_energy, finer.strain_energy);
+      EXPECT_LT(finer.strain_energy, energy * (1 + settled));
+    } else {
+      EXPECT_LT(std::abs(finer.strain_energy - energy), std::abs(coarser.strain_energy - energy));
+    }
     EXPECT_LT(std::abs(finer.displacement - displacement),
               std::abs(coarser.displacement - displacement));
   } else {
@@ -242,6 +249,13 @@ TEST(PartsCalculix, GmshPart) {
 // 90 degrees (no re-entrant edge anywhere), and bent across its thickness by its weight.
 TEST(PartsCalculix, CaxifGd1) {
   check_part("caxif_gd1");
+}
+// The same block and clamp made of a soft, nearly incompressible material (E 100 kPa, nu 0.45,
+// 1000 kg/m^3: a gel), analysed with B-bar (the cell-mean dilatation), as tissue-like parts are.
+// CalculiX's quadratic tetrahedra do not lock at this nu; the reference's rates fall from 2 to
+// about 1.7 (the clamp's outline is more singular towards incompressibility).
+TEST(PartsCalculix, CaxifGd1SoftNu045) {
+  check_part("caxif_gd1_nu045");
 }
 
 // FreeCAD-library's M4 washer (a flat ring, outer radius 5 mm, bore radius 2 mm, 0.8 mm thick,
