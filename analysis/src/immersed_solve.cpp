@@ -41,6 +41,15 @@ ImmersedPointValue value_on_element(const BackgroundBasis& basis, const Element&
 
 namespace {
 
+// Cholesky found the stiffness not positive definite.
+struct NotPositiveDefinite : std::runtime_error {
+  NotPositiveDefinite() : std::runtime_error("not positive definite") {}
+};
+
+// The largest share of a cell below which solve_immersed's fallback still penalises it: beyond
+// it the penalty acts on well-cut cells too and costs accuracy (docs/immersed.md).
+constexpr double kLargestGhostFraction = 0.16;
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -67,11 +76,53 @@ Eigen::VectorXd solve_system(const ImmersedSystem& system, const ImmersedOptions
   }
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
   cholesky.compute(system.stiffness);
-  if (cholesky.info() != Eigen::Success)
-    throw std::runtime_error(
-        "immersed analysis: the stiffness matrix could not be factorised (not positive "
-        "definite); raise nitsche_factor or ghost_penalty");
+  if (cholesky.info() != Eigen::Success) throw NotPositiveDefinite();
   return cholesky.solve(system.force);
+}
+
+std::string fraction_text(double fraction) {
+  std::ostringstream text;
+  text << fraction;
+  return text.str();
+}
+
+// Assembles and factorises; when the stiffness is not positive definite, stabilises more cut
+// cells (ghost_fraction doubled, up to kLargestGhostFraction) and says so in the result's
+// warnings. Returns the displacement on the DOFs; `system` and `used` are those it came from.
+Eigen::VectorXd assemble_and_solve(const geometry::ImmersedDomain& domain,
+                                   const ImmersedOptions& options, ImmersedSystem& system,
+                                   ImmersedOptions& used, ImmersedResult& result) {
+  used = options;
+  for (;;) {
+    auto start = std::chrono::steady_clock::now();
+    system = assemble_immersed(domain, used);
+    result.assembly_seconds += seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    try {
+      Eigen::VectorXd u = solve_system(system, used, result);
+      result.solve_seconds += seconds_since(start);
+      return u;
+    } catch (const NotPositiveDefinite&) {
+      result.solve_seconds += seconds_since(start);
+      if (used.ghost_penalty <= 0.0 || used.ghost_fraction >= kLargestGhostFraction)
+        throw std::runtime_error(
+            "immersed analysis: the stiffness matrix could not be factorised (not positive "
+            "definite) with ghost_fraction " +
+            fraction_text(used.ghost_fraction) +
+            ": a basis function keeps too little of its support in the part; raise "
+            "ghost_fraction (the cut cells stabilised by the ghost penalty) or ghost_penalty, "
+            "or move the grid (a cell size or margin a little different)");
+      const double next = std::min(kLargestGhostFraction,
+                                   used.ghost_fraction > 0.0 ? 2.0 * used.ghost_fraction : 0.02);
+      result.warnings.push_back(
+          "the stiffness was not positive definite with ghost_fraction " +
+          fraction_text(used.ghost_fraction) +
+          " (a basis function keeps too little of its support in the part); the ghost penalty "
+          "now stabilises every cut cell with less than " +
+          fraction_text(next) + " of the part");
+      used.ghost_fraction = next;
+    }
+  }
 }
 
 ImmersedPointValue point_value(const detail::BackgroundBasis& basis, const ImmersedResult& result,
@@ -109,15 +160,13 @@ ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
                               const ImmersedOptions& options) {
   ImmersedResult result;
   result.dim = domain.dimension;
-  auto start = std::chrono::steady_clock::now();
-  const ImmersedSystem system = assemble_immersed(domain, options);
-  result.assembly_seconds = seconds_since(start);
+  ImmersedSystem system;
+  ImmersedOptions used;
+  const Eigen::VectorXd u = assemble_and_solve(domain, options, system, used, result);
+  result.ghost_fraction = used.ghost_fraction;
   result.max_nitsche_penalty = system.max_nitsche_penalty;
   result.ghost_faces = system.ghost_faces;
   result.dofs = static_cast<int>(system.force.size());
-  start = std::chrono::steady_clock::now();
-  const Eigen::VectorXd u = solve_system(system, options, result);
-  result.solve_seconds = seconds_since(start);
   result.control_displacements.assign(system.node_of_control_point.size(), Eigen::Vector3d::Zero());
   result.active.assign(system.node_of_control_point.size(), false);
   for (size_t node = 0; node < system.control_point_of_node.size(); ++node) {
@@ -126,9 +175,9 @@ ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
     for (int c = 0; c < system.dim; ++c)
       result.control_displacements[cp][c] = u[static_cast<Eigen::Index>(node) * system.dim + c];
   }
-  result.strain_energy = options.volumetric == Volumetric::kBbar
-                             ? detail::bbar_strain_energy(domain, result, options)
-                             : strain_energy(domain, result, options);
+  result.strain_energy = used.volumetric == Volumetric::kBbar
+                             ? detail::bbar_strain_energy(domain, result, used)
+                             : strain_energy(domain, result, used);
   return result;
 }
 

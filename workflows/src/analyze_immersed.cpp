@@ -99,6 +99,10 @@ ImmersedAnalysis run_analyze_immersed(const ImmersedCase& c, analysis::SolverOpt
     analysis::ImmersedOptions o = immersed_options(c, load);
     o.method = method;
     lc.result = analysis::solve_immersed(a.domain, o);
+    // The stabilisation the solve needed (solve_immersed widens it where the stiffness was not
+    // positive definite); the reactions and stresses below use the same.
+    o.ghost_fraction = lc.result.ghost_fraction;
+    for (const std::string& w : lc.result.warnings) progress.warn("load case " + lc.id + ": " + w);
     lc.reaction = analysis::immersed_reaction(a.domain, lc.result, o);
     lc.support_traction = support_traction(a, o, lc.result);
     lc.applied_load = applied_force(a.domain, o);

@@ -138,6 +138,7 @@ StudyRow solve_level(const ImmersedCase& c, const geometry::ImmersionOptions& gr
   for (const std::string& w : domain.warnings) progress.warn(w);
   analysis::ImmersedOptions o = immersed_options(c, load);
   const analysis::ImmersedResult result = analysis::solve_immersed(domain, o);
+  for (const std::string& w : result.warnings) progress.warn(w);
   StudyRow row;
   row.degree = grid.degree;
   row.elements = domain.background.knots(0).num_elements();

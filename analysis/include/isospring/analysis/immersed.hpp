@@ -130,10 +130,19 @@ struct ImmersedResult {
   double assembly_seconds = 0, solve_seconds = 0;
   double max_nitsche_penalty = 0;
   int ghost_faces = 0;
+  /// The ghost_fraction the solution was stabilised with: the options' own, or larger where the
+  /// stiffness was not positive definite with it (then `warnings` says so).
+  double ghost_fraction = 0;
+  std::vector<std::string> warnings;
 };
 
-/// Assembles and solves. Throws nurbs::InputError for bad input and std::runtime_error when the
-/// factorisation or CG fails.
+/// Assembles and solves. Where the Cholesky factorisation finds the stiffness not positive
+/// definite (a basis function left with a sliver of its support in the part although no cell's
+/// share lies below ghost_fraction), the ghost penalty is extended to more cut cells
+/// (ghost_fraction doubled, up to 0.16) and the system solved again, with a warning in the
+/// result; the same options then reproduce the result with its `ghost_fraction`. Throws
+/// nurbs::InputError for bad input and std::runtime_error when the factorisation fails even so,
+/// or CG fails.
 ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
                               const ImmersedOptions& options);
 
