@@ -37,6 +37,9 @@ py::dict load_case(const workflows::ImmersedLoadCaseResult& lc) {
   d["reaction_sum"] = Eigen::Vector3d(lc.reaction);
   d["applied_load"] = Eigen::Vector3d(lc.applied_load);
   d["iterations"] = lc.result.iterations;
+  // The stabilisation the solve needed, and why it was widened (empty when it was not).
+  d["ghost_fraction"] = lc.result.ghost_fraction;
+  d["warnings"] = lc.result.warnings;
   d["displacement"] = rows(lc.surface_displacement);
   d["von_mises"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
       lc.surface_von_mises.data(), static_cast<Eigen::Index>(lc.surface_von_mises.size())));

@@ -197,7 +197,8 @@ nlohmann::json write_immersed_outputs(const ImmersedAnalysis& a,
                                     {"solve_seconds", r.solve_seconds},
                                     {"iterations", r.iterations},
                                     {"max_nitsche_penalty", r.max_nitsche_penalty},
-                                    {"ghost_faces", r.ghost_faces}});
+                                    {"ghost_faces", r.ghost_faces},
+                                    {"ghost_fraction", r.ghost_fraction}});
     fields.push_back({"displacement_" + lc.id, lc.surface_displacement, {}});
     fields.push_back({"von_mises_" + lc.id, {}, lc.surface_von_mises});
     rows.push_back({lc.id, std::to_string(r.dofs), format_number(lc.max_displacement),
