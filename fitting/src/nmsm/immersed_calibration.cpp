@@ -130,8 +130,12 @@ void solve_references(const geometry::ImmersedDomain& domain,
       cholesky.compute(system.stiffness);
       if (cholesky.info() != Eigen::Success)
         throw std::runtime_error(
-            "immersed analysis: the stiffness matrix could not be factorised (not positive "
-            "definite); raise nitsche_factor or ghost_penalty");
+            "immersed calibration: the reference's stiffness matrix could not be factorised (not "
+            "positive definite with ghost_fraction " +
+            std::to_string(cases[c].options.ghost_fraction) +
+            "): a basis function keeps too little of its support in the part; move the grid (a "
+            "cell size or margin a little different) or, through the library, raise the "
+            "options' ghost_fraction");
     }
     fit.loads.push_back(system.force);
     result.reference.push_back(immersed_solution(system, cholesky));
