@@ -9,6 +9,7 @@
 #include <cmath>
 #include <set>
 #include <stdexcept>
+#include <string>
 
 #include "isospring/analysis/immersed_particles.hpp"
 #include "isospring/fitting/step_cost.hpp"
