@@ -68,6 +68,20 @@ class KeptTangentCantilever : public ::testing::Test {
   const Effect* nonlinear() const { return effects_[0].get(); }
   long tangents() const { return setup_.factorizations->tangent_factorizations; }
   long reuses() const { return setup_.factorizations->kept_state_reuses; }
+  // A hold-out fold's fitted half: every other marker of each load case.
+  std::vector<bool> every_other_marker() const {
+    std::vector<bool> even(markers_.size(), false);
+    for (const auto& ids : setup_.markers)
+      for (size_t k = 0; k < ids.size(); k += 2) even[static_cast<size_t>(ids[k])] = true;
+    return even;
+  }
+  // A cache with the loop's solutions (Newton's starts) but none of its tangents.
+  std::shared_ptr<FactorizationCache> starts_only_cache() const {
+    auto cache = make_factorization_cache();
+    cache->nonlinear_starts = setup_.factorizations->nonlinear_starts;
+    cache->linear_starts = setup_.factorizations->linear_starts;
+    return cache;
+  }
 
   static constexpr double kSigma = 1e-3 * 3.17e-4 * kLoad;
   analysis::Problem prior_ = cantilever();
@@ -113,16 +127,12 @@ Difference difference(const ModelEvaluation& a, const ModelEvaluation& b) {
 // Jacobian's, one per load case), and the fold's evaluation at its fit (a load-case fold's
 // residual) on its own last tangent without a factorisation.
 TEST_F(KeptTangentCantilever, AFoldsRefitOnTheLoopsTangentsMatchesOneWithoutThem) {
-  std::vector<bool> even(markers_.size(), false);
-  for (const auto& ids : setup_.markers)
-    for (size_t k = 0; k < ids.size(); k += 2) even[static_cast<size_t>(ids[k])] = true;
+  const std::vector<bool> even = every_other_marker();
   const auto fold_weights = identify_loop::make_weights(setup_, kSigma, even);
 
   const auto kept = identify_loop::fold_cache(*setup_.factorizations);
   kept->jacobians_on_kept_tangents = false;  // exact Jacobians (the next test: the folds' own)
-  const auto starts_only = make_factorization_cache();
-  starts_only->nonlinear_starts = setup_.factorizations->nonlinear_starts;
-  starts_only->linear_starts = setup_.factorizations->linear_starts;
+  const auto starts_only = starts_only_cache();
   const Model with_kept = identify_loop::build_model(setup_, {nonlinear()}, fit_.theta, kept);
   const Model without = identify_loop::build_model(setup_, {nonlinear()}, fit_.theta, starts_only);
   const Fit a = identify_loop::run_fit(setup_, with_kept, fold_weights);
@@ -163,15 +173,11 @@ TEST_F(KeptTangentCantilever, AFoldsRefitOnTheLoopsTangentsMatchesOneWithoutThem
 // refit's (where J_k^T r = 0 instead of J^T r = 0, J_k - J of the order of the relative change
 // of E). The held-out markers' prediction, what a fold is for, moves by far less than the noise.
 TEST_F(KeptTangentCantilever, AFoldsRefitWithJacobiansOnTheKeptTangentEndsNearTheExactOne) {
-  std::vector<bool> even(markers_.size(), false);
-  for (const auto& ids : setup_.markers)
-    for (size_t k = 0; k < ids.size(); k += 2) even[static_cast<size_t>(ids[k])] = true;
+  const std::vector<bool> even = every_other_marker();
   const auto fold_weights = identify_loop::make_weights(setup_, kSigma, even);
   const auto fold = identify_loop::fold_cache(*setup_.factorizations);
   ASSERT_TRUE(fold->jacobians_on_kept_tangents);
-  const auto exact = make_factorization_cache();
-  exact->nonlinear_starts = setup_.factorizations->nonlinear_starts;
-  exact->linear_starts = setup_.factorizations->linear_starts;
+  const auto exact = starts_only_cache();
   const Model on_kept = identify_loop::build_model(setup_, {nonlinear()}, fit_.theta, fold);
   const Model reference = identify_loop::build_model(setup_, {nonlinear()}, fit_.theta, exact);
   const Fit a = identify_loop::run_fit(setup_, on_kept, fold_weights);

@@ -64,16 +64,18 @@ Eigen::Matrix3d placement(const json& part) {
       .toRotationMatrix();
 }
 
-// One immersed analysis of `part` with the grid options `grid` (parts.json's "immersed"; its
-// "frame": "placement" puts the grid in the placement's frame, "principal" in the part's
-// principal axes, else the grid follows the world's axes).
-Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vector3d& at) {
-  const auto start = std::chrono::steady_clock::now();
-  const std::clock_t cpu = std::clock();
+// The part as the CalculiX script meshes it: read from its file and placed by "placement".
+geometry::CadSolid read_placed_solid(const json& part) {
   const geometry::CadSolid read =
       geometry::read_cad_solid(kParts / part.at("file").get<std::string>());
-  const geometry::CadSolid solid =
-      part.contains("placement") ? geometry::transform_solid(read, placement(part)) : read;
+  return part.contains("placement") ? geometry::transform_solid(read, placement(part)) : read;
+}
+
+// The background grid of parts.json's "immersed" options `grid` at `degree`: "frame":
+// "placement" puts it in the placement's frame, "principal" in the part's principal axes, else
+// it follows the world's axes.
+geometry::ImmersionOptions immersion_options(const json& part, const json& grid, int degree,
+                                             const geometry::CadSolid& solid) {
   geometry::ImmersionOptions immersion;
   if (grid.value("frame", std::string()) == "placement") immersion.frame = placement(part);
   if (grid.value("frame", std::string()) == "principal")
@@ -100,9 +102,12 @@ Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vec
           {axis, g.at("at").get<double>(), g.at("smallest").get<double>(), g.value("ratio", 1.5)});
     }
   }
-  geometry::ImmersionStats stats;
-  const geometry::ImmersedDomain domain = geometry::immerse_solid(solid, immersion, &stats);
+  return immersion;
+}
 
+// The problem of `part`: its material, the clamp on its face, its gravity, and the grid options'
+// formulation and ghost penalty.
+analysis::ImmersedOptions analysis_options(const json& part, const json& grid) {
   analysis::ImmersedOptions options;
   options.material.youngs_modulus = part.at("material").at("E").get<double>();
   options.material.poisson_ratio = part.at("material").at("nu").get<double>();
@@ -113,13 +118,25 @@ Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vec
   // The ghost penalty's strength and the cut fraction below which it acts (ImmersedOptions).
   options.ghost_penalty = grid.value("ghost_penalty", options.ghost_penalty);
   options.ghost_fraction = grid.value("ghost_fraction", options.ghost_fraction);
-  options.nitsche_factor = grid.value("nitsche_factor", options.nitsche_factor);
   analysis::ImmersedSupport clamp;
   clamp.face = part.at("clamp_face").get<int>();
   clamp.fixed = {true, true, true};
   options.supports = {clamp};
   const auto g = part.at("gravity").get<std::vector<double>>();
   options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
+  return options;
+}
+
+// One immersed analysis of `part` with the grid options `grid` at `degree`.
+Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vector3d& at) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu = std::clock();
+  const geometry::CadSolid solid = read_placed_solid(part);
+  const geometry::ImmersionOptions immersion = immersion_options(part, grid, degree, solid);
+  geometry::ImmersionStats stats;
+  const geometry::ImmersedDomain domain = geometry::immerse_solid(solid, immersion, &stats);
+
+  const analysis::ImmersedOptions options = analysis_options(part, grid);
   const analysis::ImmersedResult result = analysis::solve_immersed(domain, options);
 
   Outcome outcome;
@@ -129,7 +146,7 @@ Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vec
       domain.to_grid(at).cwiseMax(domain.origin).cwiseMin(domain.origin + domain.extent));
   outcome.displacement = analysis::evaluate_immersed(domain, result, inside).displacement.norm();
   for (const auto& b : domain.boundary)
-    if (b.face == clamp.face) outcome.clamp_area += b.weight;
+    if (b.face == options.supports.front().face) outcome.clamp_area += b.weight;
   outcome.dofs = result.dofs;
   outcome.cut_cells = stats.cut_cells;
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -137,13 +154,18 @@ Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vec
   return outcome;
 }
 
+// parts.json's entry `name` (null when there is none).
+json find_part(const std::string& name) {
+  const json parts = read_json(kParts / "parts.json");
+  for (const auto& p : parts.at("parts"))
+    if (p.at("name") == name) return p;
+  return json();
+}
+
 void check_part(const std::string& name, const std::string& frame = "") {
   if (!fs::exists(kParts / "parts.json") || !fs::exists(kParts / "calculix_reference.json"))
     GTEST_SKIP() << "tests/data/parts (third-party parts and their CalculiX reference) is absent";
-  const json parts = read_json(kParts / "parts.json");
-  json part;
-  for (const auto& p : parts.at("parts"))
-    if (p.at("name") == name) part = p;
+  const json part = find_part(name);
   ASSERT_FALSE(part.is_null()) << name << " is not in parts.json";
   if (!fs::exists(kParts / part.at("file").get<std::string>()))
     GTEST_SKIP() << "tests/data/parts/" << part.at("file").get<std::string>() << " is absent";
@@ -288,7 +310,7 @@ TEST(PartsCalculix, FreecadWasherM4) {
 
 // The CAx-IF B-rep-with-voids model bv1 (a 100 mm cube with two box-shaped cavities, each an
 // inner shell of the solid): clamped on the face x = 0, which meets its neighbours at 90 degrees,
-// and bent by its weight across the clamp (-z), a stubby cantilever. The larger cavity lies 10 mm
+// and bent by its weight across the clamp (-z), a short, thick cantilever. The larger cavity lies 10 mm
 // behind the clamp and 20 mm under the top face, where the bending stresses are largest, so the
 // cavities' faces carry stress; the cavities' 24 edges are re-entrant and graded in CalculiX's
 // meshes.
@@ -314,27 +336,15 @@ TEST(PartsCalculix, CaxifNutObliqueInItsFrame) {
 // does not help). solve_immersed then penalises the cut cells below 0.04 and says so; the result
 // is the one those options give directly. Without the ghost penalty it fails, naming the option.
 TEST(ImmersedStabilisationFallback, TurnedNutOnTheWorldAxes) {
-  if (!fs::exists(kParts / "caxif_nut.stp"))
-    GTEST_SKIP() << "tests/data/parts/caxif_nut.stp (a third-party part) is absent";
-  const Eigen::Matrix3d turn =
-      Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d(1, 2, 3).normalized())
-          .toRotationMatrix();
-  const geometry::CadSolid solid =
-      geometry::transform_solid(geometry::read_cad_solid(kParts / "caxif_nut.stp"), turn);
-  geometry::ImmersionOptions grid;
-  grid.cell_size = 0.001;
-  grid.tolerance = 1e-6;
-  grid.max_depth = 2;
-  const geometry::ImmersedDomain domain = geometry::immerse_solid(solid, grid);
-  analysis::ImmersedOptions options;
-  options.material.youngs_modulus = 210e9;
-  options.material.poisson_ratio = 0.3;
-  options.material.density = 7850;
-  analysis::ImmersedSupport clamp;
-  clamp.face = 4;
-  clamp.fixed = {true, true, true};
-  options.supports = {clamp};
-  options.gravity = turn * Eigen::Vector3d(0, 0, -9.81);
+  if (!fs::exists(kParts / "parts.json") || !fs::exists(kParts / "caxif_nut.stp"))
+    GTEST_SKIP() << "tests/data/parts (third-party parts) is absent";
+  const json part = find_part("caxif_nut_oblique");
+  ASSERT_FALSE(part.is_null()) << "caxif_nut_oblique is not in parts.json";
+  const json& grid = part.at("immersed");
+  const geometry::CadSolid solid = read_placed_solid(part);
+  const geometry::ImmersedDomain domain = geometry::immerse_solid(
+      solid, immersion_options(part, grid, grid.at("degree").get<int>(), solid));
+  const analysis::ImmersedOptions options = analysis_options(part, grid);
 
   const analysis::ImmersedResult widened = analysis::solve_immersed(domain, options);
   ASSERT_EQ(widened.warnings.size(), 1u);
