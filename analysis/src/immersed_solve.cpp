@@ -2,7 +2,6 @@
 // evaluation of the solution at physical points.
 #include <Eigen/CholmodSupport>
 #include <chrono>
-#include <sstream>
 #include <stdexcept>
 
 #include "immersed_basis.hpp"
@@ -46,10 +45,6 @@ struct NotPositiveDefinite : std::runtime_error {
   NotPositiveDefinite() : std::runtime_error("not positive definite") {}
 };
 
-// The largest share of a cell below which solve_immersed's fallback still penalises it: beyond
-// it the penalty acts on well-cut cells too and costs accuracy (docs/immersed.md).
-constexpr double kLargestGhostFraction = 0.16;
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -80,49 +75,30 @@ Eigen::VectorXd solve_system(const ImmersedSystem& system, const ImmersedOptions
   return cholesky.solve(system.force);
 }
 
-std::string fraction_text(double fraction) {
-  std::ostringstream text;
-  text << fraction;
-  return text.str();
-}
-
-// Assembles and factorises; when the stiffness is not positive definite, stabilises more cut
-// cells (ghost_fraction doubled, up to kLargestGhostFraction) and says so in the result's
-// warnings. Returns the displacement on the DOFs; `system` and `used` are those it came from.
+// Assembles and solves through assemble_stabilised_immersed (which widens the ghost penalty
+// where Cholesky finds the stiffness not positive definite, with a warning in the result).
+// Returns the displacement on the DOFs; `system` is the one it came from.
 Eigen::VectorXd assemble_and_solve(const geometry::ImmersedDomain& domain,
                                    const ImmersedOptions& options, ImmersedSystem& system,
-                                   ImmersedOptions& used, ImmersedResult& result) {
-  used = options;
-  for (;;) {
-    auto start = std::chrono::steady_clock::now();
-    system = assemble_immersed(domain, used);
-    result.assembly_seconds += seconds_since(start);
-    start = std::chrono::steady_clock::now();
+                                   ImmersedResult& result) {
+  Eigen::VectorXd u;
+  double solving = 0.0;
+  const auto start = std::chrono::steady_clock::now();
+  const auto solve = [&](const ImmersedSystem& candidate) {
+    const auto begin = std::chrono::steady_clock::now();
     try {
-      Eigen::VectorXd u = solve_system(system, used, result);
-      result.solve_seconds += seconds_since(start);
-      return u;
+      u = solve_system(candidate, candidate.options, result);
     } catch (const NotPositiveDefinite&) {
-      result.solve_seconds += seconds_since(start);
-      if (used.ghost_penalty <= 0.0 || used.ghost_fraction >= kLargestGhostFraction)
-        throw std::runtime_error(
-            "immersed analysis: the stiffness matrix could not be factorised (not positive "
-            "definite) with ghost_fraction " +
-            fraction_text(used.ghost_fraction) +
-            ": a basis function keeps too little of its support in the part; raise "
-            "ghost_fraction (the cut cells stabilised by the ghost penalty) or ghost_penalty, "
-            "or move the grid (a cell size or margin a little different)");
-      const double next = std::min(kLargestGhostFraction,
-                                   used.ghost_fraction > 0.0 ? 2.0 * used.ghost_fraction : 0.02);
-      result.warnings.push_back(
-          "the stiffness was not positive definite with ghost_fraction " +
-          fraction_text(used.ghost_fraction) +
-          " (a basis function keeps too little of its support in the part); the ghost penalty "
-          "now stabilises every cut cell with less than " +
-          fraction_text(next) + " of the part");
-      used.ghost_fraction = next;
+      solving += seconds_since(begin);
+      return false;
     }
-  }
+    solving += seconds_since(begin);
+    return true;
+  };
+  system = assemble_stabilised_immersed(domain, options, solve, result.warnings);
+  result.solve_seconds += solving;
+  result.assembly_seconds += seconds_since(start) - solving;
+  return u;
 }
 
 ImmersedPointValue point_value(const detail::BackgroundBasis& basis, const ImmersedResult& result,
@@ -161,9 +137,8 @@ ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
   ImmersedResult result;
   result.dim = domain.dimension;
   ImmersedSystem system;
-  ImmersedOptions used;
-  const Eigen::VectorXd u = assemble_and_solve(domain, options, system, used, result);
-  result.ghost_fraction = used.ghost_fraction;
+  const Eigen::VectorXd u = assemble_and_solve(domain, options, system, result);
+  result.ghost_fraction = system.options.ghost_fraction;
   result.max_nitsche_penalty = system.max_nitsche_penalty;
   result.ghost_faces = system.ghost_faces;
   result.dofs = static_cast<int>(system.force.size());
@@ -175,9 +150,9 @@ ImmersedResult solve_immersed(const geometry::ImmersedDomain& domain,
     for (int c = 0; c < system.dim; ++c)
       result.control_displacements[cp][c] = u[static_cast<Eigen::Index>(node) * system.dim + c];
   }
-  result.strain_energy = used.volumetric == Volumetric::kBbar
-                             ? detail::bbar_strain_energy(domain, result, used)
-                             : strain_energy(domain, result, used);
+  result.strain_energy = system.options.volumetric == Volumetric::kBbar
+                             ? detail::bbar_strain_energy(domain, result, system.options)
+                             : strain_energy(domain, result, system.options);
   return result;
 }
 

@@ -143,16 +143,21 @@ analysis::Material read_material(const Field& root) {
   return m;
 }
 
-/// "analysis": {"type": "solid", "volumetric": "displacement" | "bbar"}: the key of body-fitted
-/// cases. An immersed CAD part is always a solid, so "type" may only say so.
-analysis::Volumetric read_immersed_analysis(const Field& root) {
-  if (!root.has("analysis")) return analysis::Volumetric::kDisplacement;
+/// "analysis": {"type": "solid", "volumetric": "displacement" | "bbar", "ghost_fraction": f,
+/// "ghost_penalty": g}: "volumetric" is the key of body-fitted cases; an immersed CAD part is
+/// always a solid, so "type" may only say so. The ghost penalty's keys set the stabilisation of
+/// cut cells (analysis::ImmersedOptions): the share of the part below which a cut cell's faces
+/// are penalised, and the penalty's strength (0 switches it off).
+void read_immersed_analysis(const Field& root, ImmersedCase& c) {
+  if (!root.has("analysis")) return;
   const Field field = root.at("analysis");
-  field.expect_object({"type", "volumetric"});
+  field.expect_object({"type", "volumetric", "ghost_fraction", "ghost_penalty"});
   if (field.has("type") && field.at("type").string() != "solid")
     field.at("type").fail(": an immersed CAD part is a 3D solid; '" + field.at("type").string() +
                           "' is not available for it. Use \"solid\" or leave \"type\" out");
-  return case_json::read_volumetric(field, analysis::Formulation::kSolid);
+  c.volumetric = case_json::read_volumetric(field, analysis::Formulation::kSolid);
+  if (field.has("ghost_fraction")) c.ghost_fraction = field.at("ghost_fraction").within(0.0, 1.0);
+  if (field.has("ghost_penalty")) c.ghost_penalty = field.at("ghost_penalty").non_negative();
 }
 
 std::vector<analysis::ImmersedSupport> read_supports(const Field& boundary,
@@ -254,7 +259,7 @@ ImmersedCase build_immersed_case(const json& document, const fs::path& case_file
     if (output.has("cells")) c.write_cells = output.at("cells").boolean();
   }
   c.material = read_material(root);
-  c.volumetric = read_immersed_analysis(root);
+  read_immersed_analysis(root, c);
   read_geometry(root, case_file, c);
   detail::ImmersedFaceChooser chooser(*c.cad);
   c.supports = read_supports(root.at("boundary"), chooser);
@@ -288,6 +293,8 @@ analysis::ImmersedOptions immersed_options(const ImmersedCase& c, const Immersed
   o.formulation = analysis::Formulation::kSolid;
   o.material = c.material;
   o.volumetric = c.volumetric;
+  o.ghost_fraction = c.ghost_fraction;
+  o.ghost_penalty = c.ghost_penalty;
   o.supports = c.supports;
   o.tractions = load.tractions;
   o.pressures = load.pressures;

@@ -29,19 +29,14 @@
 
 #include "isospring/analysis/immersed.hpp"
 #include "isospring/geometry/immersed_cad.hpp"
+#include "parts_harness.hpp"
 
 namespace isospring {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-const fs::path kParts = fs::path(ISOSPRING_SOURCE_DIR) / "tests/data/parts";
-
-json read_json(const fs::path& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
+using namespace parts_harness;
 
 struct Outcome {
   double strain_energy = 0;
@@ -52,80 +47,6 @@ struct Outcome {
   double seconds = 0;
   double cpu_seconds = 0;  // of the process (all threads)
 };
-
-// parts.json's "placement": {"axis": [x, y, z], "angle_deg": a}, the rotation by a degrees about
-// the axis through the origin that the CalculiX script applies with gmsh's occ.rotate (identity
-// without it).
-Eigen::Matrix3d placement(const json& part) {
-  if (!part.contains("placement")) return Eigen::Matrix3d::Identity();
-  const auto axis = part.at("placement").at("axis").get<std::vector<double>>();
-  const double angle = part.at("placement").at("angle_deg").get<double>() * M_PI / 180.0;
-  return Eigen::AngleAxisd(angle, Eigen::Vector3d(axis[0], axis[1], axis[2]).normalized())
-      .toRotationMatrix();
-}
-
-// The part as the CalculiX script meshes it: read from its file and placed by "placement".
-geometry::CadSolid read_placed_solid(const json& part) {
-  const geometry::CadSolid read =
-      geometry::read_cad_solid(kParts / part.at("file").get<std::string>());
-  return part.contains("placement") ? geometry::transform_solid(read, placement(part)) : read;
-}
-
-// The background grid of parts.json's "immersed" options `grid` at `degree`: "frame":
-// "placement" puts it in the placement's frame, "principal" in the part's principal axes, else
-// it follows the world's axes.
-geometry::ImmersionOptions immersion_options(const json& part, const json& grid, int degree,
-                                             const geometry::CadSolid& solid) {
-  geometry::ImmersionOptions immersion;
-  if (grid.value("frame", std::string()) == "placement") immersion.frame = placement(part);
-  if (grid.value("frame", std::string()) == "principal")
-    immersion.frame = geometry::principal_frame(solid).axes;
-  immersion.degree = degree;
-  immersion.cell_size = grid.at("cell_size").get<double>();
-  immersion.margin = grid.value("margin", 0.0);
-  immersion.tolerance = grid.value("tolerance", 1e-7);
-  immersion.max_depth = grid.value("max_depth", 4);
-  if (grid.contains("grading")) {
-    // Cells graded towards the clamped face's outline, where the stresses are singular.
-    const json& g = grid.at("grading");
-    immersion.grading =
-        geometry::grading_towards_face(solid, part.at("clamp_face").get<int>(),
-                                       g.at("smallest").get<double>(), g.at("ratio").get<double>());
-  }
-  if (grid.contains("grading_planes")) {
-    // Cells graded towards planes through the part's re-entrant edges (where the stresses are
-    // singular too), as a case file's "grading": [{"plane": {"axis", "at"}, ...}] gives them.
-    for (const json& g : grid.at("grading_planes")) {
-      const int axis = std::string("xyz").find(g.at("axis").get<std::string>());
-      EXPECT_TRUE(axis >= 0 && axis <= 2) << "grading_planes: axis must be \"x\", \"y\" or \"z\"";
-      immersion.grading.push_back(
-          {axis, g.at("at").get<double>(), g.at("smallest").get<double>(), g.value("ratio", 1.5)});
-    }
-  }
-  return immersion;
-}
-
-// The problem of `part`: its material, the clamp on its face, its gravity, and the grid options'
-// formulation and ghost penalty.
-analysis::ImmersedOptions analysis_options(const json& part, const json& grid) {
-  analysis::ImmersedOptions options;
-  options.material.youngs_modulus = part.at("material").at("E").get<double>();
-  options.material.poisson_ratio = part.at("material").at("nu").get<double>();
-  options.material.density = part.at("material").at("density").get<double>();
-  // "volumetric": "bbar" for nearly incompressible parts (mean-dilatation B-bar).
-  if (grid.value("volumetric", std::string()) == "bbar")
-    options.volumetric = analysis::Volumetric::kBbar;
-  // The ghost penalty's strength and the cut fraction below which it acts (ImmersedOptions).
-  options.ghost_penalty = grid.value("ghost_penalty", options.ghost_penalty);
-  options.ghost_fraction = grid.value("ghost_fraction", options.ghost_fraction);
-  analysis::ImmersedSupport clamp;
-  clamp.face = part.at("clamp_face").get<int>();
-  clamp.fixed = {true, true, true};
-  options.supports = {clamp};
-  const auto g = part.at("gravity").get<std::vector<double>>();
-  options.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
-  return options;
-}
 
 // One immersed analysis of `part` with the grid options `grid` at `degree`.
 Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vector3d& at) {
@@ -152,14 +73,6 @@ Outcome analyse(const json& part, const json& grid, int degree, const Eigen::Vec
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   outcome.cpu_seconds = static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
   return outcome;
-}
-
-// parts.json's entry `name` (null when there is none).
-json find_part(const std::string& name) {
-  const json parts = read_json(kParts / "parts.json");
-  for (const auto& p : parts.at("parts"))
-    if (p.at("name") == name) return p;
-  return json();
 }
 
 void check_part(const std::string& name, const std::string& frame = "") {
@@ -310,9 +223,9 @@ TEST(PartsCalculix, FreecadWasherM4) {
 
 // The CAx-IF B-rep-with-voids model bv1 (a 100 mm cube with two box-shaped cavities, each an
 // inner shell of the solid): clamped on the face x = 0, which meets its neighbours at 90 degrees,
-// and bent by its weight across the clamp (-z), a short, thick cantilever. The larger cavity lies 10 mm
-// behind the clamp and 20 mm under the top face, where the bending stresses are largest, so the
-// cavities' faces carry stress; the cavities' 24 edges are re-entrant and graded in CalculiX's
+// and bent by its weight across the clamp (-z), a short, thick cantilever. The larger cavity lies
+// 10 mm behind the clamp and 20 mm under the top face, where the bending stresses are largest, so
+// the cavities' faces carry stress; the cavities' 24 edges are re-entrant and graded in CalculiX's
 // meshes.
 TEST(PartsCalculix, CaxifBv1) {
   check_part("caxif_bv1");
@@ -328,45 +241,6 @@ TEST(PartsCalculix, CaxifNutOblique) {
 }
 TEST(PartsCalculix, CaxifNutObliqueInItsFrame) {
   check_part("caxif_nut_oblique", "placement");
-}
-
-// On the world's axes the turned nut's 1 mm grid leaves a basis function with a sliver of its
-// support in the part next to cells whose share lies above the default ghost_fraction (0.02): the
-// stiffness is then not positive definite (raising nitsche_factor to 16 or ghost_penalty to 0.1
-// does not help). solve_immersed then penalises the cut cells below 0.04 and says so; the result
-// is the one those options give directly. Without the ghost penalty it fails, naming the option.
-TEST(ImmersedStabilisationFallback, TurnedNutOnTheWorldAxes) {
-  if (!fs::exists(kParts / "parts.json") || !fs::exists(kParts / "caxif_nut.stp"))
-    GTEST_SKIP() << "tests/data/parts (third-party parts) is absent";
-  const json part = find_part("caxif_nut_oblique");
-  ASSERT_FALSE(part.is_null()) << "caxif_nut_oblique is not in parts.json";
-  const json& grid = part.at("immersed");
-  const geometry::CadSolid solid = read_placed_solid(part);
-  const geometry::ImmersedDomain domain = geometry::immerse_solid(
-      solid, immersion_options(part, grid, grid.at("degree").get<int>(), solid));
-  const analysis::ImmersedOptions options = analysis_options(part, grid);
-
-  const analysis::ImmersedResult widened = analysis::solve_immersed(domain, options);
-  ASSERT_EQ(widened.warnings.size(), 1u);
-  EXPECT_NE(widened.warnings[0].find("ghost_fraction 0.02"), std::string::npos)
-      << widened.warnings[0];
-  EXPECT_EQ(widened.ghost_fraction, 0.04);
-
-  analysis::ImmersedOptions direct = options;
-  direct.ghost_fraction = 0.04;
-  const analysis::ImmersedResult same = analysis::solve_immersed(domain, direct);
-  EXPECT_TRUE(same.warnings.empty());
-  EXPECT_EQ(same.strain_energy, widened.strain_energy);
-  EXPECT_EQ(same.ghost_faces, widened.ghost_faces);
-
-  analysis::ImmersedOptions unstabilised = options;
-  unstabilised.ghost_penalty = 0.0;
-  try {
-    analysis::solve_immersed(domain, unstabilised);
-    ADD_FAILURE() << "an unstabilised turned nut factorised";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("raise ghost_fraction"), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace

@@ -89,6 +89,10 @@ nlohmann::json report_json(const ImmersedCalibrateResult& r) {
       {"cut_cells", r.stats.cut_cells},     {"volume", r.quadrature.volume},
       {"volume_opencascade", r.occ.volume}, {"seconds", r.immersion_seconds}};
   report["volumetric"] = volumetric_key(r.c.volumetric);  // of the reference solves
+  // The ghost penalty's reach the reference was solved with: the default's, or wider where its
+  // stiffness was not positive definite (then a warning says so).
+  if (!r.calibration.reference.empty())
+    report["ghost_fraction"] = r.calibration.reference.front().ghost_fraction;
   const std::string freedom =
       r.request.settings.per_spring
           ? "one stiffness per spring (" + std::to_string(result.parameters) +

@@ -109,6 +109,7 @@ IdentifyCommandResult run_identify_immersed(const ImmersedCase& c,
     cases.push_back({load.id, immersed_options(c, load)});
   r.identify = fitting::identify_immersed(domain, cases, r.markers, identify_options,
                                           immersed_grid_ladder(*c.cad, c.immersion, domain));
+  for (const std::string& w : r.identify.warnings) progress.warn(w);
   r.identify_options = identify_options;
   r.identify_options.progress = nullptr;  // it refers to `progress`, which the result outlives
   r.recalibration_error =

@@ -271,6 +271,9 @@ IdentifyResult run_loop(const LoopInputs& in) {
   Discretisation chosen;
   choose_discretisation(in, case_nominal, result, chosen);
   const Setup& setup = loop_setup(case_nominal, chosen);
+  result.warnings = case_nominal.setup.warnings;
+  if (&setup != &case_nominal.setup)
+    for (const std::string& w : setup.warnings) result.warnings.push_back("refined level: " + w);
   // The loop factorises models of a few thousand DOFs many times: one thread. CHOLMOD's OpenMP
   // workers gain little at this size and spin between calls (measured: 22 % of the CPU time of
   // a 3D run went to spinning workers on a loaded 2-core machine).

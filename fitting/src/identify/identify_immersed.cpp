@@ -4,6 +4,7 @@
 
 #include <omp.h>
 
+#include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -191,8 +192,18 @@ void make_immersed_setup(Setup& setup, const geometry::ImmersedDomain& domain,
   if (markers.empty()) throw nurbs::InputError("measurements: no markers to fit");
   setup.dim = domain.dimension;
   setup.material_parameters = 1;
-  const analysis::ImmersedSystem system =
-      analysis::assemble_immersed(domain, cases.front().options);
+  // Stabilised as solve_immersed's: where Cholesky finds the stiffness not positive definite,
+  // the ghost penalty is widened (every load case then takes the widened options' stiffness,
+  // which is the only one the loop uses; the loads do not depend on the penalty).
+  const auto positive_definite = [](const analysis::ImmersedSystem& candidate) {
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
+    cholesky.compute(candidate.stiffness);
+    return cholesky.info() == Eigen::Success;
+  };
+  const analysis::ImmersedSystem system = analysis::assemble_stabilised_immersed(
+      domain, cases.front().options, positive_definite, setup.warnings, "immersed identification");
+  for (const std::string& w : setup.warnings)
+    if (say) say("warning: " + w);
   setup.num_dofs = static_cast<int>(system.control_point_of_node.size()) * system.dim;
   if (say) say("assembled the immersed stiffness (" + std::to_string(setup.num_dofs) + " DOFs)");
   setup.scaled_stiffness = full_symmetric(system.stiffness);

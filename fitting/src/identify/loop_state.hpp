@@ -69,6 +69,8 @@ struct Setup {
   std::map<std::string, int> case_index;  // load case id -> index
   // The last K_ff factorisation, shared by every model of the loop (identify_model.hpp).
   std::shared_ptr<FactorizationCache> factorizations = make_factorization_cache();
+  // What the setup had to adapt, for the report (an immersed stiffness stabilised further).
+  std::vector<std::string> warnings;
   // A fit ends once a step and its Gauss-Newton prediction gain less RSS than this, in units of
   // the residual variance (fit_stopping.hpp); 0: only Ceres' relative tolerances end fits.
   double negligible_rss = kNegligibleRss;

@@ -106,6 +106,20 @@ struct ImmersedSystem {
 ImmersedSystem assemble_immersed(const geometry::ImmersedDomain& domain,
                                  const ImmersedOptions& options);
 
+/// Assembles the system of `options` and hands it to `factorise`, which returns false when the
+/// stiffness is not positive definite (a basis function left with a sliver of its support in the
+/// part although no cell's share lies below ghost_fraction). Then the ghost penalty is extended
+/// to more cut cells (ghost_fraction doubled, up to 0.16), a warning appended to `warnings` and
+/// the system assembled again; the system returned carries the options it was assembled with
+/// (`system.options.ghost_fraction`). Throws std::runtime_error, beginning with `who` and naming
+/// ghost_fraction, ghost_penalty and moving the grid, when the penalty is off or 0.16 does not
+/// do. solve_immersed, the immersed calibration's reference and the identification stabilise
+/// through it, so the same options give the same system everywhere.
+ImmersedSystem assemble_stabilised_immersed(
+    const geometry::ImmersedDomain& domain, const ImmersedOptions& options,
+    const std::function<bool(const ImmersedSystem&)>& factorise, std::vector<std::string>& warnings,
+    const std::string& who = "immersed analysis");
+
 /// The right-hand side alone of `options` on `system`'s DOFs, as assemble_immersed would give it
 /// (the same sums in the same order, so the same vector to the last bit): body force and
 /// gravity, tractions and pressures, and the Nitsche terms of support values with the system's

@@ -188,6 +188,9 @@ struct IdentifyResult {
   /// measurement-frame effect (rigid_offset) is not part of it. Always on the DOFs of the problem
   /// passed in (the case's discretisation), also when the loop ran on a refined level.
   std::vector<Eigen::VectorXd> corrected_displacements;
+  /// What the loop had to adapt: e.g. an immersed stiffness that needed more of the ghost
+  /// penalty than its options' ghost_fraction (on the case's grid or the level chosen).
+  std::vector<std::string> warnings;
   double seconds = 0.0;
 };
 

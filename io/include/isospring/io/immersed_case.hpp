@@ -10,7 +10,8 @@
 //   {"name": "cylinder", "geometry": {"type": "immersed", "file": "part.step", "solid": 1,
 //                                      "cells": [6, 6, 6], "degree": 2},
 //    "material": {"E": 2.1e11, "nu": 0.3, "density": 7850},
-//    "analysis": {"volumetric": "bbar"},   (optional; "displacement" by default)
+//    "analysis": {"volumetric": "bbar", "ghost_fraction": 0.02, "ghost_penalty": 0.01},
+//                                          (optional; "displacement" and these values by default)
 //    "boundary": [{"face": 0, "fix": ["x", "y", "z"]},
 //                 {"face": {"plane": {"point": [0, 0, 0.01], "normal": [0, 0, 1]}},
 //                  "symmetry": true}],
@@ -57,6 +58,11 @@ struct ImmersedCase {
   /// "analysis": {"volumetric": "bbar"}: mean-dilatation B-bar (analysis::ImmersedOptions), for
   /// nearly incompressible parts; "displacement" (the default) otherwise.
   analysis::Volumetric volumetric = analysis::Volumetric::kDisplacement;
+  /// "analysis": {"ghost_fraction": f, "ghost_penalty": g}: the ghost penalty on the faces of cut
+  /// cells with less of the part than f, of strength g (analysis::ImmersedOptions' defaults
+  /// without them). A solve whose stiffness is not positive definite widens f and warns.
+  double ghost_fraction = analysis::ImmersedOptions{}.ghost_fraction;
+  double ghost_penalty = analysis::ImmersedOptions{}.ghost_penalty;
   std::vector<analysis::ImmersedSupport> supports;
   std::vector<ImmersedLoadCase> load_cases;
   bool write_cells = false;  // "output": {"cells": true}: also the background cells (cells.vtu)
