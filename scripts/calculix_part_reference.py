@@ -179,9 +179,14 @@ def mesh_part(step, h, clamp_face, part, level=0):
              gmsh.model.getBoundary([(2, clamp_face + 1)], combined=False, oriented=False)]
     refine_near(2, [clamp_face + 1], h / clamp_refine, 4 * h)
     # Re-entrant (concave) edges anywhere on the part are singular as well (the stress grows
-    # like r^(lambda - 1), lambda < 1), so they are graded like the clamp's outline.
+    # like r^(lambda - 1), lambda < 1), so they are graded like the clamp's outline, or by their
+    # own factor `concave_refine` where the two singularities weigh differently (a clamp whose
+    # outline carries the load's whole moment beside a slot that only a small part hangs on).
+    concave = []
     if part.get("refine_concave", True):
-        edges = sorted(set(edges) | set(concave_edges()))
+        concave = [e for e in concave_edges() if e not in edges]
+        if "concave_refine" not in part:
+            edges, concave = sorted(set(edges) | set(concave)), []
     # `edge_power` > 0 shrinks the singular edges' elements faster than h: h / edge_refine times
     # (h / h_m)^edge_power, so that their error, which falls only like h^(2 lambda) under a fixed
     # grading, falls about as fast as the smooth part's.
@@ -191,11 +196,14 @@ def mesh_part(step, h, clamp_face, part, level=0):
     # edge_size + r / edge_distance at distance r), which nested meshes, whose grading refinement
     # does not sharpen, need where the edges' singularity dominates the error.
     refine_near(1, edges, edge_size, part.get("edge_distance", 3) * h)
+    concave_size = edge_size * edge_refine / part.get("concave_refine", edge_refine)
+    if concave:
+        refine_near(1, concave, concave_size, part.get("edge_distance", 3) * h)
     smallest = gmsh.model.mesh.field.add("Min")
     gmsh.model.mesh.field.setNumbers(smallest, "FieldsList", [f for f, _ in fields])
     gmsh.model.mesh.field.setAsBackgroundMesh(smallest)
     gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-    gmsh.option.setNumber("Mesh.MeshSizeMin", edge_size / 2)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", min([edge_size] + ([concave_size] if concave else [])) / 2)
     # Elements per 2 pi of curvature (`curvature` at the part's first mesh size, default 12), in
     # proportion to 1 / h.
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature",
@@ -230,7 +238,7 @@ def mesh_part(step, h, clamp_face, part, level=0):
     volume, inverted = mesh_volume()
     exact = gmsh.model.occ.getMass(3, volumes[0][1])
     geometry = {"mesh_volume_error": volume / exact - 1, "inverted_gauss_points": inverted,
-                "refined_edges": len(edges)}
+                "refined_edges": len(edges) + len(concave)}
     if straightened:
         geometry["straightened_midside_nodes"] = straightened
     return nodes, tets, sorted(int(t) for t in clamped), area, h, geometry
@@ -539,7 +547,7 @@ def converge(part, folder, earlier=(), on_mesh=None):
 PROBLEM_KEYS = ("file", "clamp_face", "gravity", "material", "h_m", "curvature", "edge_refine",
                 "clamp_refine", "edge_power", "refine", "refine_concave", "straight_midside",
                 "high_order_optimize", "nested")
-OPTIONAL_PROBLEM_KEYS = ("edge_distance", "placement")
+OPTIONAL_PROBLEM_KEYS = ("edge_distance", "placement", "concave_refine")
 
 
 def main():

@@ -231,6 +231,16 @@ TEST(PartsCalculix, CaxifBv1) {
   check_part("caxif_bv1");
 }
 
+// Analysis Situs' blend test model bb_boxblend_03: a block on a smaller boss, joined by concave
+// fillets, with convex fillets (cylinders and tori) and a vertex blend (a sphere) on its lower
+// rim and the boss. Every concave junction is a fillet, so no edge is re-entrant. Clamped on its
+// end x = -41.6 mm, the one side whose outline meets all its neighbours at 90 degrees (the
+// others run into fillets tangentially), and bent by its weight (-z): a stubby cantilever with
+// its fillets and the boss in the bent span.
+TEST(PartsCalculix, AnalysisSitusBoxBlend) {
+  check_part("analysissitus_boxblend");
+}
+
 // The nut turned by 40 degrees about the axis (1, 2, 3) (no face normal to a coordinate axis)
 // and its gravity with it, so the problem is the nut's seen from another frame: CalculiX's
 // Richardson limits of the turned meshes are the unturned ones' to 0.005 %, inside both GCIs.
