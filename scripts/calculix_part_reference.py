@@ -145,6 +145,7 @@ def mesh_part(step, h, clamp_face, part, level=0):
     gmsh.clear()
     gmsh.option.setString("Geometry.OCCTargetUnit", "M")
     gmsh.model.occ.importShapes(step)
+    close_faces_into_a_solid(step)
     place(part)
     gmsh.model.occ.synchronize()
     volumes = gmsh.model.getEntities(3)
@@ -242,6 +243,23 @@ def mesh_part(step, h, clamp_face, part, level=0):
     if straightened:
         geometry["straightened_midside_nodes"] = straightened
     return nodes, tets, sorted(int(t) for t in clamped), area, h, geometry
+
+
+def close_faces_into_a_solid(step):
+    """A file of faces without a solid (a closed shell in a surface model) is closed into one, as
+    isospring's reader does (sewn, then made a solid): the surfaces keep their tags, so face i is
+    still gmsh's surface i + 1 (checked by their centres of mass)."""
+    if gmsh.model.occ.getEntities(3):
+        return
+    surfaces = [tag for _, tag in gmsh.model.occ.getEntities(2)]
+    centres = {tag: gmsh.model.occ.getCenterOfMass(2, tag) for tag in surfaces}
+    loop = gmsh.model.occ.addSurfaceLoop(surfaces, sewing=True)
+    gmsh.model.occ.addVolume([loop])
+    after = {tag: gmsh.model.occ.getCenterOfMass(2, tag)
+             for _, tag in gmsh.model.occ.getEntities(2)}
+    if after.keys() != centres.keys() or any(
+            max(abs(a - b) for a, b in zip(after[t], centres[t])) > 1e-12 for t in surfaces):
+        raise SystemExit("%s: closing the faces into a solid renumbered them" % step)
 
 
 def place(part):

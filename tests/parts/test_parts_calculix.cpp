@@ -241,6 +241,15 @@ TEST(PartsCalculix, AnalysisSitusBoxBlend) {
   check_part("analysissitus_boxblend");
 }
 
+// Analysis Situs' wavy cube: a 1 mm square column whose top is a freeform face (one bicubic
+// Bezier patch, twisted and bulged, between heights 0.8 and 1.2 mm), written as a closed shell
+// without a solid entity, which both readers close into the solid it bounds. Standing on its
+// square bottom (whose outline meets the planar sides at 90 degrees) and loaded sideways by its
+// weight (-x): the largest displacement is at the top's highest corner, on the freeform face.
+TEST(PartsCalculix, AnalysisSitusWavyCube) {
+  check_part("analysissitus_wavy_cube");
+}
+
 // The nut turned by 40 degrees about the axis (1, 2, 3) (no face normal to a coordinate axis)
 // and its gravity with it, so the problem is the nut's seen from another frame: CalculiX's
 // Richardson limits of the turned meshes are the unturned ones' to 0.005 %, inside both GCIs.
