@@ -79,21 +79,31 @@ std::vector<double> surface_breaks(const BRepAdaptor_Surface& surface, bool u) {
 }
 
 // The hatcher's confusion distance in (u, v): iso-lines and trimming curves closer than this meet.
+// It bounds how exactly an iso-line's ends are placed, so it is also relative to the face's
+// parameter range (hatch_confusion): on a planar face, whose (u, v) are metres, 1e-8 m is 1e-5 of
+// a millimetre part's side, and Analysis Situs' 1 mm wavy cube came out with two side faces 1.05e-5
+// too large.
 constexpr double kHatchConfusion = 1e-8;
+constexpr double kRelativeHatchConfusion = 1e-7;
+
+double hatch_confusion(double u_range, double v_range) {
+  return std::min(kHatchConfusion, kRelativeHatchConfusion * std::max(u_range, v_range));
+}
 
 // Sorted break points in [lo, hi], both ends included, without near-duplicates. Breaks closer than
 // the hatcher's confusion distance are one: a trimming curve fitted by a polynomial (a circle's
 // pcurve) overshoots the u of its end vertex by a few 1e-9 (the CAx-IF GD&T block: 5.7e-9), and
 // every iso-line in that sliver grazes the curve within the hatcher's tolerance, so the hatcher
 // fails on it; the sliver's area is below 1e-8 of the face's u range times its v-extent there.
-std::vector<double> cleaned(std::vector<double> breaks, double lo, double hi) {
+std::vector<double> cleaned(std::vector<double> breaks, double lo, double hi,
+                            double confusion = kHatchConfusion) {
   breaks.push_back(lo);
   breaks.push_back(hi);
   std::vector<double> kept;
   std::sort(breaks.begin(), breaks.end());
   for (double b : breaks) {
     if (b < lo || b > hi) continue;
-    if (!kept.empty() && b - kept.back() <= std::max(1e-12 * (hi - lo), kHatchConfusion)) continue;
+    if (!kept.empty() && b - kept.back() <= std::max(1e-12 * (hi - lo), confusion)) continue;
     kept.push_back(b);
   }
   if (kept.back() < hi) kept.back() = hi;
@@ -107,8 +117,8 @@ class FaceIntegrator {
         index_(index),
         rule_(nurbs::gauss_legendre(order)),
         surface_(face, true),
-        hatcher_(Geom2dHatch_Intersector(1e-10, 1e-10), kHatchConfusion, kHatchConfusion, true,
-                 false) {
+        confusion_(face_confusion(face)),
+        hatcher_(Geom2dHatch_Intersector(1e-10, 1e-10), confusion_, confusion_, true, false) {
     BRepTools::UVBounds(face, u0_, u1_, v0_, v1_);
     std::vector<double> ubreaks = surface_breaks(surface_, true);
     const TopoDS_Face forward = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
@@ -121,7 +131,7 @@ class FaceIntegrator {
       curve_breaks(c, ubreaks);
       hatcher_.AddElement(Geom2dAdaptor_Curve(c.curve, c.first, c.last), c.orientation);
     }
-    ubreaks_ = cleaned(ubreaks, u0_, u1_);
+    ubreaks_ = cleaned(ubreaks, u0_, u1_, confusion_);
     vbreaks_ = surface_breaks(surface_, false);
   }
 
@@ -147,6 +157,12 @@ class FaceIntegrator {
   }
 
  private:
+  static double face_confusion(const TopoDS_Face& face) {
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    return hatch_confusion(u1 - u0, v1 - v0);
+  }
+
   void add_iso_line(double u, double wu, int pieces, std::vector<BoundaryPoint>& out) {
     const int id = hatcher_.AddHatching(
         Geom2dAdaptor_Curve(new Geom2d_Line(gp_Pnt2d(u, 0.0), gp_Dir2d(0.0, 1.0))));
@@ -169,7 +185,7 @@ class FaceIntegrator {
                       std::vector<BoundaryPoint>& out) const {
     if (!(b > a)) return;
     std::vector<double> breaks = vbreaks_;
-    const std::vector<double> v = cleaned(breaks, a, b);
+    const std::vector<double> v = cleaned(breaks, a, b, confusion_);
     const bool reversed = face_.Orientation() == TopAbs_REVERSED;
     for (size_t s = 0; s + 1 < v.size(); ++s) {
       const int n =
@@ -200,6 +216,7 @@ class FaceIntegrator {
   int index_;
   nurbs::GaussRule rule_;
   BRepAdaptor_Surface surface_;
+  double confusion_;
   Geom2dHatch_Hatcher hatcher_;
   double u0_ = 0, u1_ = 0, v0_ = 0, v1_ = 0;
   std::vector<double> ubreaks_, vbreaks_;
