@@ -68,6 +68,7 @@ py::dict identify(const io::Case& c, std::optional<int> max_dofs, bool discretiz
   d["measured"] = rows(measured);
   d["model_before"] = rows(r.model_before);
   d["model_after"] = rows(r.model_after);
+  d["warnings"] = r.warnings;  // what the loop adapted (e.g. a widened ghost penalty)
   d["seconds"] = r.seconds;
   return d;
 }
@@ -81,7 +82,8 @@ void bind_identify(py::module_& m) {
         "fits E (and nu), adds the missing effects. Returns a dict: effects_added, parameters and "
         "parameters_before (effect, name, unit, value, standard_error), youngs_modulus, "
         "poisson_ratio, rms/max before and after, noise_estimate, and per marker load_case, "
-        "positions, measured, model_before and model_after (m, 3) displacements.");
+        "positions, measured, model_before and model_after (m, 3) displacements; warnings (what "
+        "the loop adapted, e.g. a widened ghost penalty).");
 }
 
 }  // namespace isospring::python

@@ -272,6 +272,7 @@ def test_identify_matches_the_program():
     assert result["effects_added"] == report["effects_added"] == ["gravity",
                                                                   "rigid_offset_per_load"]
     assert len(result["positions"]) == report["markers"]
+    assert result["warnings"] == []  # a body-fitted plate: nothing adapted
     for key in ("rms_before", "rms_after", "max_before", "max_after", "noise_estimate"):
         assert abs(result[key] - report[key]) <= 1e-12 * abs(report[key]), key
     for ours, theirs in zip(result["parameters"], report["parameters"]):
