@@ -95,8 +95,7 @@ double hatch_confusion(double u_range, double v_range) {
 // pcurve) overshoots the u of its end vertex by a few 1e-9 (the CAx-IF GD&T block: 5.7e-9), and
 // every iso-line in that sliver grazes the curve within the hatcher's tolerance, so the hatcher
 // fails on it; the sliver's area is below 1e-8 of the face's u range times its v-extent there.
-std::vector<double> cleaned(std::vector<double> breaks, double lo, double hi,
-                            double confusion = kHatchConfusion) {
+std::vector<double> cleaned(std::vector<double> breaks, double lo, double hi, double confusion) {
   breaks.push_back(lo);
   breaks.push_back(hi);
   std::vector<double> kept;
@@ -110,6 +109,17 @@ std::vector<double> cleaned(std::vector<double> breaks, double lo, double hi,
   return kept;
 }
 
+// A face's parameter bounds (BRepTools::UVBounds).
+struct UvBox {
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+};
+
+UvBox uv_box(const TopoDS_Face& face) {
+  UvBox box;
+  BRepTools::UVBounds(face, box.u0, box.u1, box.v0, box.v1);
+  return box;
+}
+
 class FaceIntegrator {
  public:
   FaceIntegrator(const TopoDS_Face& face, int index, int order)
@@ -117,9 +127,9 @@ class FaceIntegrator {
         index_(index),
         rule_(nurbs::gauss_legendre(order)),
         surface_(face, true),
-        confusion_(face_confusion(face)),
+        box_(uv_box(face)),
+        confusion_(hatch_confusion(box_.u1 - box_.u0, box_.v1 - box_.v0)),
         hatcher_(Geom2dHatch_Intersector(1e-10, 1e-10), confusion_, confusion_, true, false) {
-    BRepTools::UVBounds(face, u0_, u1_, v0_, v1_);
     std::vector<double> ubreaks = surface_breaks(surface_, true);
     const TopoDS_Face forward = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
     for (TopExp_Explorer e(forward, TopAbs_EDGE); e.More(); e.Next()) {
@@ -131,7 +141,7 @@ class FaceIntegrator {
       curve_breaks(c, ubreaks);
       hatcher_.AddElement(Geom2dAdaptor_Curve(c.curve, c.first, c.last), c.orientation);
     }
-    ubreaks_ = cleaned(ubreaks, u0_, u1_, confusion_);
+    ubreaks_ = cleaned(ubreaks, box_.u0, box_.u1, confusion_);
     vbreaks_ = surface_breaks(surface_, false);
   }
 
@@ -141,7 +151,8 @@ class FaceIntegrator {
     std::vector<BoundaryPoint> out;
     for (size_t b = 0; b + 1 < ubreaks_.size(); ++b) {
       const double a = ubreaks_[b], c = ubreaks_[b + 1];
-      const int n = std::max(1, static_cast<int>(std::ceil(pieces * (c - a) / (u1_ - u0_))));
+      const int n =
+          std::max(1, static_cast<int>(std::ceil(pieces * (c - a) / (box_.u1 - box_.u0))));
       // Where an iso-line touches a trimming curve (a u-extremum, e.g. the ends of a disc) the
       // v-range behaves like sqrt(u - a): the substitution u = a + (c - a) s(t) with
       // s = 3t^2 - 2t^3 (s' = 0 at both ends) makes it smooth in t, so Gauss converges
@@ -157,12 +168,6 @@ class FaceIntegrator {
   }
 
  private:
-  static double face_confusion(const TopoDS_Face& face) {
-    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
-    BRepTools::UVBounds(face, u0, u1, v0, v1);
-    return hatch_confusion(u1 - u0, v1 - v0);
-  }
-
   void add_iso_line(double u, double wu, int pieces, std::vector<BoundaryPoint>& out) {
     const int id = hatcher_.AddHatching(
         Geom2dAdaptor_Curve(new Geom2d_Line(gp_Pnt2d(u, 0.0), gp_Dir2d(0.0, 1.0))));
@@ -174,9 +179,9 @@ class FaceIntegrator {
     }
     for (int d = 1; d <= hatcher_.NbDomains(id); ++d) {
       const HatchGen_Domain& domain = hatcher_.Domain(id, d);
-      const double a = domain.HasFirstPoint() ? domain.FirstPoint().Parameter() : v0_;
-      const double b = domain.HasSecondPoint() ? domain.SecondPoint().Parameter() : v1_;
-      add_v_interval(u, wu, std::max(a, v0_), std::min(b, v1_), pieces, out);
+      const double a = domain.HasFirstPoint() ? domain.FirstPoint().Parameter() : box_.v0;
+      const double b = domain.HasSecondPoint() ? domain.SecondPoint().Parameter() : box_.v1;
+      add_v_interval(u, wu, std::max(a, box_.v0), std::min(b, box_.v1), pieces, out);
     }
     hatcher_.RemHatching(id);
   }
@@ -188,8 +193,8 @@ class FaceIntegrator {
     const std::vector<double> v = cleaned(breaks, a, b, confusion_);
     const bool reversed = face_.Orientation() == TopAbs_REVERSED;
     for (size_t s = 0; s + 1 < v.size(); ++s) {
-      const int n =
-          std::max(1, static_cast<int>(std::ceil(pieces * (v[s + 1] - v[s]) / (v1_ - v0_))));
+      const int n = std::max(
+          1, static_cast<int>(std::ceil(pieces * (v[s + 1] - v[s]) / (box_.v1 - box_.v0))));
       const double h = (v[s + 1] - v[s]) / n;
       for (int k = 0; k < n; ++k)
         for (size_t g = 0; g < rule_.points.size(); ++g) {
@@ -216,9 +221,9 @@ class FaceIntegrator {
   int index_;
   nurbs::GaussRule rule_;
   BRepAdaptor_Surface surface_;
+  UvBox box_;
   double confusion_;
   Geom2dHatch_Hatcher hatcher_;
-  double u0_ = 0, u1_ = 0, v0_ = 0, v1_ = 0;
   std::vector<double> ubreaks_, vbreaks_;
 };
 

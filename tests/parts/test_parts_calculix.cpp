@@ -235,8 +235,8 @@ TEST(PartsCalculix, CaxifBv1) {
 // fillets, with convex fillets (cylinders and tori) and a vertex blend (a sphere) on its lower
 // rim and the boss. Every concave junction is a fillet, so no edge is re-entrant. Clamped on its
 // end x = -41.6 mm, the one side whose outline meets all its neighbours at 90 degrees (the
-// others run into fillets tangentially), and bent by its weight (-z): a stubby cantilever with
-// its fillets and the boss in the bent span.
+// others run into fillets tangentially), and bent by its weight (-z): a short, thick cantilever
+// with its fillets and the boss in the bent span.
 TEST(PartsCalculix, AnalysisSitusBoxBlend) {
   check_part("analysissitus_boxblend");
 }
