@@ -250,6 +250,15 @@ TEST(PartsCalculix, AnalysisSitusWavyCube) {
   check_part("analysissitus_wavy_cube");
 }
 
+// CAx-IF test part D1: a 40 x 50 x 50 mm block with a large chamfer (a slanted plane meeting its
+// neighbours at 131 and 139 degrees) along its top and a 10 x 10 mm notch down its free end (one
+// re-entrant edge, 270 degrees). Clamped on the end x = 0, whose outline meets every neighbour at
+// 90 degrees (the chamfer is away from the clamp's singular edges), and loaded across by its
+// weight (-z): the largest displacement is on the free end's bottom edge.
+TEST(PartsCalculix, CaxifD1) {
+  check_part("caxif_d1");
+}
+
 // The nut turned by 40 degrees about the axis (1, 2, 3) (no face normal to a coordinate axis)
 // and its gravity with it, so the problem is the nut's seen from another frame: CalculiX's
 // Richardson limits of the turned meshes are the unturned ones' to 0.005 %, inside both GCIs.
