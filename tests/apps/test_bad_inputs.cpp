@@ -63,14 +63,19 @@ std::string replace_once(std::string text, const std::string& from, const std::s
   return text;
 }
 
-// Every input of the table, written into `dir`.
-void write_inputs(const fs::path& dir) {
-  const auto write = [&](const std::string& name, const std::string& text) {
+// Writes a file under `dir`, creating its folders.
+struct InputWriter {
+  fs::path dir;
+  void operator()(const std::string& name, const std::string& text) const {
     fs::create_directories((dir / name).parent_path());
     std::ofstream(dir / name, std::ios::binary) << text;
-  };
+  }
+};
+
+// Valid inputs the table's commands start from, and files where folders are expected.
+void write_valid_inputs(const InputWriter& write) {
+  const fs::path& dir = write.dir;
   const std::string patches = file_contents(example("patches/quarter_annulus.json"));
-  const std::string step = file_contents(example("cad/block.step"));
   write("p.json", patches);
   write("o.json.report.json", patches);
   fs::create_symlink(dir / "p.json", dir / "link.json");
@@ -82,8 +87,13 @@ void write_inputs(const fs::path& dir) {
   write("case.json", box_case());
   write("rep/report.json", box_case());
   write("deck.inp.report.json", box_case());
-  write("block.step", step);
+  write("block.step", file_contents(example("cad/block.step")));
   write("afile", "a file where a folder is expected\n");
+}
+
+// CAD files OpenCascade cannot read.
+void write_corrupted_parts(const InputWriter& write) {
+  const std::string step = file_contents(example("cad/block.step"));
   // Corrupted parts: a misspelled entity (OpenCascade used to crash on it), one in a B-spline
   // free part of the file, and a file cut in half.
   write("misspelled.step", replace_once(step, "CARTESIAN_POINT(", "CARTESIAN_POINTX("));
@@ -96,6 +106,12 @@ void write_inputs(const fs::path& dir) {
   write("void_bounds.igs", file_contents(data + "block_void_bounds.igs"));
   write("cad_case.json", replace_once(file_contents(example("demo/demo.json")), "../cad/block.step",
                                       "misspelled.step"));
+}
+
+// Numbers a double cannot hold, finite inputs whose results are not, and sizes beyond the
+// machine.
+void write_unrepresentable_numbers(const InputWriter& write) {
+  const std::string patches = file_contents(example("patches/quarter_annulus.json"));
   // Numbers a double cannot hold.
   write("e_overflow.json", box_case("0.1", "[2, 1, 1]", "1e999"));
   write("size_overflow.json", box_case("1e999"));
@@ -108,7 +124,7 @@ void write_inputs(const fs::path& dir) {
                  R"("point_loads": [{"control_point": [-1, -1, -1], "force": [0, 1e999, 0]}])"));
   write("patch_overflow.json", replace_once(patches, "[2, 2, 0]", "[2, 2e999, 0]"));
   write("model_overflow.json",
-        replace_once(file_contents(dir / "model.json"), "\"k\": 100", "\"k\": 1e999"));
+        replace_once(file_contents(write.dir / "model.json"), "\"k\": 100", "\"k\": 1e999"));
   // Finite inputs whose results are not.
   write("traction_huge.json",
         box_case("0.1", "[2, 1, 1]", "50000", "1100",
@@ -123,7 +139,10 @@ void write_inputs(const fs::path& dir) {
   // Sizes beyond the machine.
   write("huge_mesh.json", box_case("0.1", "[100000, 1000, 1000]"));
   write("big_mesh.json", box_case("0.1", "[20, 4, 4]"));
-  // 7. Malformed and inconsistent files of every kind (bad/).
+}
+
+// Malformed and inconsistent case files (bad/).
+void write_malformed_cases(const InputWriter& write) {
   write("bad/syntax.json", R"BAD({"name": "box", "geometry": {"type": "box",, })BAD");
   write("bad/empty.json", R"BAD()BAD");
   write("bad/array.json", R"BAD([1,2,3])BAD");
@@ -175,6 +194,10 @@ void write_inputs(const fs::path& dir) {
   write(
       "bad/unknown_field.json",
       R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}], "materials": {}})BAD");
+}
+
+// Malformed patches, spring models and marker files (bad/).
+void write_malformed_patches_and_models(const InputWriter& write) {
   write(
       "bad/patch_wrong_knots.json",
       R"BAD({"patches": [{"degrees": [1], "knots": [[0, 0.5, 0, 1]], "control_points": [[0,0,0],[1,0,0]]}]})BAD");
@@ -207,7 +230,10 @@ L1,0.01,0.003,1e-6
   write("bad/far.csv", R"BAD(load_case,x,y,ux,uy
 L1,5.0,5.0,1e-6,1e-6
 )BAD");
-  // Measured-data cases (identify): the shipped example with one field broken.
+}
+
+// Measured-data cases (identify): the shipped example with one field broken (bad/).
+void write_bad_identify_cases(const InputWriter& write) {
   const std::string markers = std::string(ISOSPRING_SOURCE_DIR) + "/examples/identify/markers.csv";
   nlohmann::json id_case =
       nlohmann::json::parse(file_contents(example("identify/plate_hidden_gravity.json")));
@@ -237,6 +263,17 @@ L1,5.0,5.0,1e-6,1e-6
     c.erase("measurements");
     write("bad/id_no_meas.json", c.dump(1));
   }
+}
+
+// Every input of the table, written into `dir`.
+void write_inputs(const fs::path& dir) {
+  const InputWriter write{dir};
+  write_valid_inputs(write);
+  write_corrupted_parts(write);
+  write_unrepresentable_numbers(write);
+  write_malformed_cases(write);
+  write_malformed_patches_and_models(write);
+  write_bad_identify_cases(write);
 }
 
 // Every file and folder under `dir` with its contents (symlinks as their target).
