@@ -11,6 +11,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include "run_program.hpp"
@@ -141,59 +142,40 @@ void write_unrepresentable_numbers(const InputWriter& write) {
   write("big_mesh.json", box_case("0.1", "[20, 4, 4]"));
 }
 
-// Malformed and inconsistent case files (bad/).
+// Malformed and inconsistent case files (bad/): the box case with one field broken.
 void write_malformed_cases(const InputWriter& write) {
   write("bad/syntax.json", R"BAD({"name": "box", "geometry": {"type": "box",, })BAD");
   write("bad/empty.json", R"BAD()BAD");
   write("bad/array.json", R"BAD([1,2,3])BAD");
-  write(
-      "bad/nu_half.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.5, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/nu_neg.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": -1.5, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/e_neg.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": -5, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/e_string.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": "fifty", "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/no_material.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/no_loads.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": []})BAD");
-  write(
-      "bad/no_boundary.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/bad_side.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "w7", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/bad_fix.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["q"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/bad_geom.json",
-      R"BAD({"name": "box", "geometry": {"type": "dodecahedron", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/neg_size.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [-0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/zero_elems.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [0, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/deg_zero.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [0, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/trac_dim.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, -100]}]}]})BAD");
-  write(
-      "bad/dup_ids.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}, {"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}]})BAD");
-  write(
-      "bad/unknown_field.json",
-      R"BAD({"name": "box", "geometry": {"type": "box", "size": [0.1, 0.02, 0.02]}, "discretization": {"degree": [2, 2, 2], "elements": [2, 1, 1]}, "material": {"E": 50000, "nu": 0.3, "density": 1100}, "boundary": [{"side": "u0", "fix": ["x", "y", "z"]}], "load_cases": [{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}], "materials": {}})BAD");
+  const std::string box = box_case();
+  const auto broken = [&](const std::string& from, const std::string& to) {
+    if (box.find(from) == std::string::npos)
+      throw std::logic_error("the box case holds no " + from + " to break");
+    return replace_once(box, from, to);
+  };
+  write("bad/nu_half.json", broken(R"("nu": 0.3)", R"("nu": 0.5)"));
+  write("bad/nu_neg.json", broken(R"("nu": 0.3)", R"("nu": -1.5)"));
+  write("bad/e_neg.json", box_case("0.1", "[2, 1, 1]", "-5"));
+  write("bad/e_string.json", box_case("0.1", "[2, 1, 1]", R"("fifty")"));
+  write("bad/no_material.json",
+        broken(R"( "material": {"E": 50000, "nu": 0.3, "density": 1100},)", ""));
+  write("bad/no_loads.json",
+        broken(R"([{"id": "L1", "tractions": [{"side": "u1", "value": [0, 0, -100]}]}])", "[]"));
+  write("bad/no_boundary.json", broken(R"([{"side": "u0", "fix": ["x", "y", "z"]}])", "[]"));
+  write("bad/bad_side.json", broken(R"("side": "u0")", R"("side": "w7")"));
+  write("bad/bad_fix.json", broken(R"("fix": ["x", "y", "z"])", R"("fix": ["q"])"));
+  write("bad/bad_geom.json", broken(R"("type": "box")", R"("type": "dodecahedron")"));
+  write("bad/neg_size.json", box_case("-0.1"));
+  write("bad/zero_elems.json", box_case("0.1", "[0, 1, 1]"));
+  write("bad/deg_zero.json", broken(R"("degree": [2, 2, 2])", R"("degree": [0, 2, 2])"));
+  write("bad/trac_dim.json", box_case("0.1", "[2, 1, 1]", "50000", "1100",
+                                      R"("tractions": [{"side": "u1", "value": [0, -100]}])"));
+  const std::string traction = R"("tractions": [{"side": "u1", "value": [0, 0, -100]}])";
+  write("bad/dup_ids.json",
+        box_case("0.1", "[2, 1, 1]", "50000", "1100", traction + R"(}, {"id": "L1", )" + traction));
+  const std::string end_of_case = "}]}\n";
+  write("bad/unknown_field.json",
+        broken(end_of_case, R"(}], "materials": {}})" + std::string("\n")));
 }
 
 // Malformed patches, spring models and marker files (bad/).
