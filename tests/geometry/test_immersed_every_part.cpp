@@ -31,16 +31,18 @@ using test::solids_of;
 
 struct Errors {
   double volume = 0, area = 0, centroid = 0;
-  double tolerance = 1e-6;  // for volume and centroid: 1e-6, or 1e-5 for a shell that is open
+  double tolerance = 1e-6;  // volume and centroid: 1e-6, or (a shell that is open) below
 };
 
 // The quadrature against OpenCascade. A shell that does not close (its faces' trimmed pieces leave
 // gaps or overlap within the edges' tolerances) has int n dA = g != 0, and then the volume the
 // divergence theorem gives, V(c) = 1/3 int (x - c).n dA, depends on the point c by -g.c / 3:
 // OpenCascade's volume is one such value, the cells' volume (lines crossing the faces) another,
-// and neither is the part's volume better than about |g| d / (3 V) (d the box's diagonal). Three
-// shipped parts have such shells (|g| / area: gmsh's t20 nut 8.1e-6, its housing 4.9e-7, OCCT's
-// screw 4.5e-7; the others 1.4e-8 or less): they are checked to 1e-5, the rest to 1e-6.
+// and neither is the part's volume better than about |g| d / (3 V) (d the box's diagonal). Four
+// shipped parts have such shells (|g| / area: gmsh's t20 nut 8.1e-6, the CAx-IF AP209 bracket
+// 2.8e-6, gmsh's housing 4.9e-7, OCCT's screw 4.5e-7; the others 1.4e-8 or less): they are
+// checked to 1e-5 or that bound where it is larger (the bracket: 4.4e-5; its volume is 1.2e-5
+// and its centroid 2.9e-5 off), the rest to 1e-6.
 // The CAx-IF GD&T block, whose shell closes, was 1.40e-6 off: OpenCascade's reader had fitted the
 // trimming circles of its top and bottom faces loosely (1.9e-5 m off between the points it
 // checks), and both OpenCascade's volume (3.2e-7 below the closed form) and the cells' (lines
@@ -61,13 +63,13 @@ Errors check(const CadSolid& solid, const std::string& label) {
   e.volume = std::abs(q.volume / m.volume - 1.0);
   e.area = std::abs(q.area / m.area - 1.0);
   e.centroid = (q.centroid - m.centroid).norm() / std::cbrt(m.volume);
-  e.tolerance = gap.norm() / m.area < 1e-7 ? 1e-6 : 1e-5;
+  const double bound = gap.norm() * domain.extent.norm() / (3.0 * m.volume);
+  e.tolerance = gap.norm() / m.area < 1e-7 ? 1e-6 : std::max(1e-5, bound);
   std::printf(
       "[parts] %s: volume %.2e, area %.2e, centroid %.2e; |int n dA| / area %.1e (bound "
       "|g| d / 3V %.1e), tolerance %.0e (%d cut cells, %ld boxes, %.1f s CPU)\n",
-      label.c_str(), e.volume, e.area, e.centroid, gap.norm() / m.area,
-      gap.norm() * domain.extent.norm() / (3.0 * m.volume), e.tolerance, stats.cut_cells,
-      stats.cut_boxes, cpu);
+      label.c_str(), e.volume, e.area, e.centroid, gap.norm() / m.area, bound, e.tolerance,
+      stats.cut_cells, stats.cut_boxes, cpu);
   return e;
 }
 

@@ -259,6 +259,15 @@ TEST(PartsCalculix, CaxifD1) {
   check_part("caxif_d1");
 }
 
+// CAx-IF AP209 test model m1 (in inches): a corner bracket of 3/8 inch plates, a wall (the
+// clamped face, y = 0), a base and a web, joined by concave fillets (B-spline surfaces) and a
+// corner blend, the web with a window whose corners are rounded, the outlines bevelled at
+// 114-156 degrees; no re-entrant edge. Loaded by its weight (-z): the largest displacement is
+// on the base's free corner.
+TEST(PartsCalculix, CaxifAp209) {
+  check_part("caxif_ap209");
+}
+
 // The nut turned by 40 degrees about the axis (1, 2, 3) (no face normal to a coordinate axis)
 // and its gravity with it, so the problem is the nut's seen from another frame: CalculiX's
 // Richardson limits of the turned meshes are the unturned ones' to 0.005 %, inside both GCIs.
