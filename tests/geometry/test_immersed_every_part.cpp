@@ -1,9 +1,9 @@
 // Every CAD part the project ships or reads (examples/cad, examples/immersed, tests/data/parts and
 // the third-party parts of ../shared/cad): the immersed quadrature's volume, centroid (cells) and
-// area (boundary points) against OpenCascade's BRepGProp, to 1e-6 (1e-5 for a shell that does
-// not close, below). The folders are listed, not the files, so a part added to one of them is
-// checked too; a file with several solids is checked body by body; ../shared is skipped with a
-// message when it is absent.
+// area (boundary points) against OpenCascade's BRepGProp, to 1e-6 (for a shell that does not
+// close, 1e-5 or the bound its gap allows, below). The folders are listed, not the files, so a part
+// added to one of them is checked too; a file with several solids is checked body by body;
+// ../shared is skipped with a message when it is absent.
 //
 // The default grid (10 cells along the longest side); coarse grids and moved parts are
 // test_immersed_coarse_grids.cpp.
