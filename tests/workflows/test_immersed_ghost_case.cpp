@@ -55,12 +55,13 @@ TEST(ImmersedGhostCase, BadValuesAreRefusedNamingTheField) {
     }
     return "no error";
   };
-  EXPECT_NE(error({{"ghost_fraction", 1.5}}).find("analysis.ghost_fraction"), std::string::npos)
-      << error({{"ghost_fraction", 1.5}});
-  EXPECT_NE(error({{"ghost_penalty", -1.0}}).find("analysis.ghost_penalty"), std::string::npos)
-      << error({{"ghost_penalty", -1.0}});
-  EXPECT_NE(error({{"ghost", 0.1}}).find("ghost"), std::string::npos) << error({{"ghost", 0.1}});
-  EXPECT_NE(error({{"ghost", 0.1}}), "no error");
+  const std::string fraction = error({{"ghost_fraction", 1.5}});
+  EXPECT_NE(fraction.find("analysis.ghost_fraction"), std::string::npos) << fraction;
+  const std::string penalty = error({{"ghost_penalty", -1.0}});
+  EXPECT_NE(penalty.find("analysis.ghost_penalty"), std::string::npos) << penalty;
+  const std::string unknown = error({{"ghost", 0.1}});
+  EXPECT_NE(unknown.find("ghost"), std::string::npos) << unknown;
+  EXPECT_NE(unknown, "no error");
 }
 
 }  // namespace

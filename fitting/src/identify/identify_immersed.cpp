@@ -194,7 +194,8 @@ void make_immersed_setup(Setup& setup, const geometry::ImmersedDomain& domain,
   setup.material_parameters = 1;
   // Stabilised as solve_immersed's: where Cholesky finds the stiffness not positive definite,
   // the ghost penalty is widened (every load case then takes the widened options' stiffness,
-  // which is the only one the loop uses; the loads do not depend on the penalty).
+  // which is the only one the loop uses; the loads do not depend on the penalty). The warning
+  // goes to IdentifyResult::warnings, which the command prints once.
   const auto positive_definite = [](const analysis::ImmersedSystem& candidate) {
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
     cholesky.compute(candidate.stiffness);
@@ -202,8 +203,6 @@ void make_immersed_setup(Setup& setup, const geometry::ImmersedDomain& domain,
   };
   const analysis::ImmersedSystem system = analysis::assemble_stabilised_immersed(
       domain, cases.front().options, positive_definite, setup.warnings, "immersed identification");
-  for (const std::string& w : setup.warnings)
-    if (say) say("warning: " + w);
   setup.num_dofs = static_cast<int>(system.control_point_of_node.size()) * system.dim;
   if (say) say("assembled the immersed stiffness (" + std::to_string(setup.num_dofs) + " DOFs)");
   setup.scaled_stiffness = full_symmetric(system.stiffness);
